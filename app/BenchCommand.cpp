@@ -1,0 +1,55 @@
+#include "BenchCommand.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "AssetPaths.h"
+#include "CommandError.h"
+#include "bench/MaterialBenchmarks.h"
+
+namespace tissuesim::app {
+namespace {
+
+struct BenchOptions {
+  std::string tissuePath;
+  std::vector<std::string> benchmarkArguments;
+};
+
+void runBench(const BenchOptions& options) {
+  registerMaterialBenchmarks(options.tissuePath);
+  std::vector<std::string> arguments = {"tissuesim bench"};
+  arguments.insert(arguments.end(), options.benchmarkArguments.begin(),
+                   options.benchmarkArguments.end());
+  std::vector<char*> argv;
+  for (std::string& argument : arguments) argv.push_back(argument.data());
+  int argc = static_cast<int>(argv.size());
+  benchmark::Initialize(&argc, argv.data());
+  if (benchmark::ReportUnrecognizedArguments(argc, argv.data())) {
+    throw CommandError("unrecognised benchmark argument (see tissuesim bench --help)");
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+}
+
+}  // namespace
+
+void registerBenchCommand(CLI::App& app) {
+  auto options = std::make_shared<BenchOptions>();
+  CLI::App* command = app.add_subcommand(
+      "bench",
+      "Run the Google Benchmark suite. Further arguments go to Google Benchmark, e.g. "
+      "--benchmark_filter=Table --benchmark_min_time=0.05. Benchmarks report; they never fail.");
+  options->tissuePath = bundledAsset("tissues/porcine-liver.json").string();
+  command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")
+      ->capture_default_str();
+  command->allow_extras();
+  command->callback([options, command] {
+    options->benchmarkArguments = command->remaining();
+    runBench(*options);
+  });
+}
+
+}  // namespace tissuesim::app

@@ -1,0 +1,39 @@
+// tissuesim: the one executable. Subcommands do the work; each has --help.
+
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "BenchCommand.h"
+#include "UniaxialCommand.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"TissueSim: real-time soft-tissue simulation with the Equivalent Energy Spring "
+               "Model (Moreno-Guerra et al., Polymers 2022)",
+               "tissuesim"};
+  app.set_version_flag("--version", "tissuesim 0.1.0");
+  app.require_subcommand(0, 1);
+  // One line on error, as for every other failure of the program.
+  app.failure_message([](const CLI::App*, const CLI::Error& error) {
+    return std::string("tissuesim: error: ") + error.what() + " (see --help)\n";
+  });
+  tissuesim::app::registerUniaxialCommand(app);
+  tissuesim::app::registerBenchCommand(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  } catch (const std::exception& error) {
+    std::cerr << "tissuesim: error: " << error.what() << "\n";
+    return 1;
+  }
+  if (app.get_subcommands().empty()) {
+    // The trainee's window arrives with the GUI; until then say what there is.
+    std::cout << app.help() << "\nThe interactive window is not built yet; "
+                 "try: tissuesim uniaxial --help\n";
+  }
+  return 0;
+}

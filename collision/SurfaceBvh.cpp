@@ -1,0 +1,88 @@
+#include "SurfaceBvh.h"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fcl/fcl.h>
+
+namespace tissuesim {
+
+struct SurfaceBvh::Impl {
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
+  std::vector<fcl::Vector3d> points;
+  int vertexCount = 0;
+  int triangleCount = 0;
+};
+
+namespace {
+void copyVertices(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
+                  std::vector<fcl::Vector3d>& points) {
+  points.resize(static_cast<std::size_t>(vertices.rows()));
+  for (Eigen::Index i = 0; i < vertices.rows(); ++i) {
+    points[static_cast<std::size_t>(i)] = vertices.row(i).transpose();
+  }
+}
+}  // namespace
+
+SurfaceBvh::SurfaceBvh(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
+                       const Eigen::Ref<const Eigen::MatrixX3i>& triangles)
+    : m_impl(std::make_unique<Impl>()) {
+  if (vertices.rows() == 0 || triangles.rows() == 0) {
+    throw std::invalid_argument("a collision surface needs at least one vertex and one triangle");
+  }
+  if (triangles.minCoeff() < 0 || triangles.maxCoeff() >= vertices.rows()) {
+    throw std::invalid_argument("a collision triangle refers to a vertex outside 0.." +
+                                std::to_string(vertices.rows() - 1));
+  }
+  m_impl->vertexCount = static_cast<int>(vertices.rows());
+  m_impl->triangleCount = static_cast<int>(triangles.rows());
+  copyVertices(vertices, m_impl->points);
+  std::vector<fcl::Triangle> faces;
+  faces.reserve(static_cast<std::size_t>(triangles.rows()));
+  for (Eigen::Index i = 0; i < triangles.rows(); ++i) {
+    faces.emplace_back(static_cast<std::size_t>(triangles(i, 0)),
+                       static_cast<std::size_t>(triangles(i, 1)),
+                       static_cast<std::size_t>(triangles(i, 2)));
+  }
+  m_impl->model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  m_impl->model->beginModel(static_cast<int>(faces.size()), static_cast<int>(m_impl->points.size()));
+  m_impl->model->addSubModel(m_impl->points, faces);
+  m_impl->model->endModel();
+}
+
+SurfaceBvh::~SurfaceBvh() = default;
+
+void SurfaceBvh::refit(const Eigen::Ref<const Eigen::MatrixX3d>& vertices) {
+  if (vertices.rows() != m_impl->vertexCount) {
+    throw std::invalid_argument("refit needs " + std::to_string(m_impl->vertexCount) +
+                                " vertices, got " + std::to_string(vertices.rows()));
+  }
+  copyVertices(vertices, m_impl->points);
+  m_impl->model->beginUpdateModel();
+  m_impl->model->updateSubModel(m_impl->points);
+  m_impl->model->endUpdateModel(/*refit=*/true, /*bottomup=*/true);
+}
+
+CapsuleSurfaceDistance SurfaceBvh::distanceTo(const Capsule& capsule) const {
+  auto shape = std::make_shared<fcl::Capsuled>(capsule.radius_m, capsule.length_m);
+  const fcl::CollisionObjectd tool(shape, capsule.pose);
+  const fcl::CollisionObjectd surface(m_impl->model, fcl::Transform3d::Identity());
+  fcl::DistanceRequestd request(/*enable_nearest_points=*/true);
+  request.gjk_solver_type = fcl::GJKSolverType::GST_LIBCCD;
+  fcl::DistanceResultd result;
+  // Mesh first: FCL then reports the triangle in b1 and the mesh's point first.
+  fcl::distance(&surface, &tool, request, result);
+  CapsuleSurfaceDistance out;
+  out.distance_m = std::max(0.0, result.min_distance);
+  out.isColliding = result.min_distance <= 0.0;
+  out.pointOnSurface_m = result.nearest_points[0];
+  out.pointOnCapsule_m = result.nearest_points[1];
+  out.triangle = result.b1;
+  return out;
+}
+
+int SurfaceBvh::vertexCount() const { return m_impl->vertexCount; }
+int SurfaceBvh::triangleCount() const { return m_impl->triangleCount; }
+
+}  // namespace tissuesim

@@ -1,0 +1,110 @@
+#include "analysis/UniaxialTest.h"
+
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
+#include "TestTissues.h"
+#include "analysis/GoodnessOfFit.h"
+
+namespace tissuesim {
+namespace {
+
+class UniaxialTestTest : public ::testing::Test {
+ protected:
+  StrainEnergy m_energy{test::porcineLiver()};
+  StiffnessTable m_table{m_energy};
+  UniaxialTest m_test{m_energy, m_table};
+  UniaxialProtocol m_paperProtocol{{1.15, 1.23, 1.30}, 100};
+};
+
+TEST_F(UniaxialTestTest, BranchesFollowTheProtocol) {
+  const auto branches = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
+  ASSERT_EQ(branches.size(), 6u);
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    const CurveBranch& branch = branches[b];
+    EXPECT_EQ(branch.cycle, static_cast<int>(b / 2) + 1);
+    EXPECT_EQ(branch.phase, b % 2 == 0 ? LoadPhase::Loading : LoadPhase::Unloading);
+    ASSERT_EQ(branch.stretch.size(), 100u);
+    ASSERT_EQ(branch.stress_Pa.size(), 100u);
+    const double peak = m_paperProtocol.lambdaMax[b / 2];
+    const bool loading = branch.phase == LoadPhase::Loading;
+    EXPECT_DOUBLE_EQ(branch.stretch.front(), loading ? 1.0 : peak);
+    EXPECT_DOUBLE_EQ(branch.stretch.back(), loading ? peak : 1.0);
+    EXPECT_TRUE(std::is_sorted(branch.stretch.begin(), branch.stretch.end(),
+                               [&](double a, double c) { return loading ? a < c : a > c; }));
+  }
+}
+
+TEST_F(UniaxialTestTest, StateCarriesOverBetweenCycles) {
+  const auto branches = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
+  const CurveBranch& secondLoading = branches[2];  // cycle 2, up to 1.23, after a peak of 1.15
+  for (std::size_t i = 1; i < secondLoading.stretch.size(); ++i) {
+    const double lambda = secondLoading.stretch[i];
+    if (lambda < 1.149) {
+      EXPECT_LT(secondLoading.stress_Pa[i], m_energy.stress(lambda)) << "softened " << lambda;
+    } else if (lambda > 1.151) {
+      EXPECT_EQ(secondLoading.stress_Pa[i], m_energy.stress(lambda)) << "virgin " << lambda;
+    }
+  }
+}
+
+TEST_F(UniaxialTestTest, EnergyConsistentSpringReproducesTheContinuum) {
+  const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
+  const auto eesm = m_test.run(UniaxialModel::Eesm, m_paperProtocol);
+  for (std::size_t b = 0; b < sedf.size(); ++b) {
+    EXPECT_GT(coefficientOfDetermination(sedf[b].stress_Pa, eesm[b].stress_Pa), 0.999999);
+  }
+}
+
+TEST_F(UniaxialTestTest, PaperSecantSpringAndLinearSpringFallShort) {
+  const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
+  const auto paper = m_test.run(UniaxialModel::EesmPaper, m_paperProtocol);
+  const auto smm = m_test.run(UniaxialModel::Smm, m_paperProtocol);
+  for (std::size_t b = 0; b < sedf.size(); b += 2) {  // loading branches
+    EXPECT_LT(coefficientOfDetermination(sedf[b].stress_Pa, paper[b].stress_Pa), 0.9);
+    EXPECT_LT(coefficientOfDetermination(sedf[b].stress_Pa, smm[b].stress_Pa), 0.9);
+  }
+}
+
+TEST_F(UniaxialTestTest, LinearSpringIsTheLeastSquaresFit) {
+  const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
+  const auto smm = m_test.run(UniaxialModel::Smm, m_paperProtocol);
+  const double modulus = UniaxialTest::fitLinearModulus(sedf);
+  EXPECT_GT(modulus, 0.0);
+  // Least squares: residuals are orthogonal to the regressor (lambda - 1).
+  double orthogonality = 0.0;
+  double scale = 0.0;
+  for (std::size_t b = 0; b < sedf.size(); ++b) {
+    for (std::size_t i = 0; i < sedf[b].stretch.size(); ++i) {
+      const double strain = sedf[b].stretch[i] - 1.0;
+      EXPECT_DOUBLE_EQ(smm[b].stress_Pa[i], modulus * strain);
+      orthogonality += (sedf[b].stress_Pa[i] - smm[b].stress_Pa[i]) * strain;
+      scale += std::abs(sedf[b].stress_Pa[i] * strain);
+    }
+  }
+  EXPECT_LT(std::abs(orthogonality), 1e-12 * scale);
+}
+
+TEST_F(UniaxialTestTest, RejectsBadProtocols) {
+  EXPECT_THROW(m_test.validate({{1.0}, 100}), std::invalid_argument);
+  EXPECT_THROW(m_test.validate({{0.8}, 100}), std::invalid_argument);
+  EXPECT_THROW(m_test.validate({{1.2, 1.6}, 100}), std::invalid_argument);
+  EXPECT_THROW(m_test.validate({{1.2}, 1}), std::invalid_argument);
+  EXPECT_THROW(m_test.validate({{}, 100}), std::invalid_argument);
+  EXPECT_NO_THROW(m_test.validate({{m_table.range().upper}, 2}));
+  EXPECT_THROW(m_test.validate({{m_table.range().upper + 1e-9}, 2}), std::invalid_argument);
+}
+
+TEST_F(UniaxialTestTest, JustBelowLockingStaysFinite) {
+  const UniaxialProtocol extreme{{m_table.range().upper}, 200};
+  for (const UniaxialModel model : {UniaxialModel::Sedf, UniaxialModel::Eesm,
+                                    UniaxialModel::EesmPaper, UniaxialModel::Smm}) {
+    for (const CurveBranch& branch : m_test.run(model, extreme)) {
+      for (const double stress : branch.stress_Pa) EXPECT_TRUE(std::isfinite(stress));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tissuesim
