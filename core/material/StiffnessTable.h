@@ -45,6 +45,10 @@ class StiffnessTable {
   HermiteNode stressAndSlope(double lambda) const { return m_stress.valueAndSlope(lambda); }
   /// k_s(lambda) of Eq. 11 (N).
   double springStiffness(double lambda) const { return m_stiffness.value(lambda); }
+  /// k_s and dk_s/dlambda of the interpolant (N).
+  HermiteNode springStiffnessAndSlope(double lambda) const {
+    return m_stiffness.valueAndSlope(lambda);
+  }
 
   /// The nodes of the grid (for tests and reports).
   std::size_t nodeCount() const { return m_stress.size(); }

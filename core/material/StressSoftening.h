@@ -24,6 +24,7 @@
 //  - lambda_max only grows (MullinsState), until an explicit reset.
 
 #include "material/TissueParameters.h"
+#include "numerics/UniformHermiteSpline.h"
 
 namespace tissuesim {
 
@@ -57,6 +58,13 @@ class StressSoftening {
   /// The softened engineering stress (Pa) of a law with virgin stress `virginStress` (Pa) at
   /// `lambda`, following the rules above.
   double soften(double virginStress, double lambda, double lambdaMax) const;
+
+  /// The same with its derivative in lambda, given the virgin stress's (Pa). The factor F has a
+  /// vertical tangent at lambda_max (model.md); its slope is capped there, at the value
+  /// sqrt((M - m) m / M) = 1e-6 would give, so Newton sees a large but finite tangent.
+  HermiteNode softenWithSlope(HermiteNode virgin, double lambda, double lambdaMax) const;
+
+  bool isEnabled() const { return m_b > 0.0 || m_residualScale_Pa > 0.0; }
 
  private:
   double m_b;

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
-#include <regex>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -91,22 +91,36 @@ std::string formatNumber(double value) {
 /// JSON has no NaN or Infinity, and a literal like 1e999 overflows to infinity. Both would
 /// otherwise surface as a parse error without the field's name, so look for them first.
 void rejectNonFiniteLiterals(std::string_view text, const std::string& source) {
-  static const std::regex kKeyValue(R"re("([^"]*)"\s*:\s*([-+]?[A-Za-z0-9_.+-]+))re");
-  const std::string copy(text);
-  for (auto it = std::sregex_iterator(copy.begin(), copy.end(), kKeyValue);
-       it != std::sregex_iterator(); ++it) {
-    const std::string key = (*it)[1];
-    std::string literal = (*it)[2];
+  const auto isSpace = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  const auto isBare = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '+' || c == '-' ||
+           c == '_';
+  };
+  // Scan for "key" : bareword, the only place a number can stand in a tissue file.
+  std::size_t i = 0;
+  while ((i = text.find('"', i)) != std::string_view::npos) {
+    const std::size_t close = text.find('"', i + 1);
+    if (close == std::string_view::npos) return;  // the JSON parser reports the open string
+    const std::string key(text.substr(i + 1, close - i - 1));
+    std::size_t j = close + 1;
+    while (j < text.size() && isSpace(text[j])) ++j;
+    i = close + 1;
+    if (j >= text.size() || text[j] != ':') continue;
+    ++j;
+    while (j < text.size() && isSpace(text[j])) ++j;
+    std::size_t end = j;
+    while (end < text.size() && isBare(text[end])) ++end;
+    if (end == j) continue;
+    const std::string literal(text.substr(j, end - j));
     std::string lower = literal;
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (lower == "true" || lower == "false" || lower == "null") continue;
-    const bool isWordNonFinite = lower.find("nan") != std::string::npos ||
-                                 lower.find("inf") != std::string::npos;
-    bool isOverflow = false;
-    if (!isWordNonFinite && (std::isdigit(static_cast<unsigned char>(lower.back())) != 0)) {
-      isOverflow = !std::isfinite(std::strtod(literal.c_str(), nullptr));
-    }
+    const bool isWordNonFinite =
+        lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos;
+    const bool isOverflow = !isWordNonFinite &&
+                            std::isdigit(static_cast<unsigned char>(lower.back())) != 0 &&
+                            !std::isfinite(std::strtod(literal.c_str(), nullptr));
     if (isWordNonFinite || isOverflow) {
       fail(source, "field '" + key + "' is " + literal +
                        ", which is not a finite number; expected a finite JSON number");
@@ -179,6 +193,11 @@ TissueParameters parseTissueJson(std::string_view text, const std::string& sourc
     fail(source, "the file is empty; expected a JSON object of tissue parameters "
                  "(see docs/tissue-file.md)");
   }
+  // Control bytes other than whitespace never occur in a JSON text file.
+  const bool isBinary = std::any_of(text.begin(), text.end(), [](unsigned char c) {
+    return c < 0x20 && c != '\n' && c != '\r' && c != '\t';
+  });
+  if (isBinary) fail(source, "contains binary data; expected a JSON text file of tissue parameters");
   rejectNonFiniteLiterals(text, source);
 
   Json root;
@@ -188,9 +207,15 @@ TissueParameters parseTissueJson(std::string_view text, const std::string& sourc
     std::size_t line = 0;
     std::size_t column = 0;
     lineAndColumn(text, error.byte == 0 ? 0 : error.byte - 1, line, column);
+    // nlohmann's text is "[json.exception...] parse error at line L, column C: WHAT; last read:
+    // 'TEXT'": keep WHAT, which never echoes the file's bytes back to the terminal.
     std::string detail = error.what();
-    const auto colon = detail.rfind(": ");
-    if (colon != std::string::npos) detail = detail.substr(colon + 2);
+    if (const auto colon = detail.find(": "); colon != std::string::npos) {
+      detail = detail.substr(colon + 2);
+    }
+    if (const auto lastRead = detail.find("; last read"); lastRead != std::string::npos) {
+      detail = detail.substr(0, lastRead);
+    }
     fail(source, "line " + std::to_string(line) + ", column " + std::to_string(column) +
                      ": not valid JSON (" + detail + ")");
   } catch (const Json::exception& error) {

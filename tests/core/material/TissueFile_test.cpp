@@ -61,7 +61,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadTissueCase{"whitespace-only.json", "the file is empty"},
         BadTissueCase{"not-json.json", "line 1, column 1: not valid JSON"},
         BadTissueCase{"missing-comma.json", "line 4, column 10: not valid JSON"},
-        BadTissueCase{"binary-garbage.json", "not valid JSON"},
+        BadTissueCase{"binary-garbage.json", "contains binary data"},
         BadTissueCase{"top-level-array.json", "expected a JSON object"},
         BadTissueCase{"missing-mu.json", "missing field 'mu_kpa'"},
         BadTissueCase{"wrong-type.json", "field 'N' must be a number"},

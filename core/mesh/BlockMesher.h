@@ -1,0 +1,19 @@
+#pragma once
+// A box meshed with tets: a regular grid of cells, each split into six tets around its main
+// diagonal (Kuhn's subdivision), which needs no alternation for conforming faces. Used for the
+// virtual tensile specimen (the paper's samples were 55 x 20 x 5 mm) and for test blocks.
+
+#include <Eigen/Core>
+
+#include "mesh/TetMesh.h"
+
+namespace tissuesim {
+
+/// @param size_m    edge lengths along x, y, z (m), each > 0
+/// @param cells     cells along x, y, z, each >= 1
+/// @param origin_m  the box's minimum corner (m)
+/// Node (i, j, k) has index i + (nx + 1) (j + (ny + 1) k). All tets are positively oriented.
+TetMesh makeBlockMesh(const Eigen::Vector3d& size_m, const Eigen::Vector3i& cells,
+                      const Eigen::Vector3d& origin_m = Eigen::Vector3d::Zero());
+
+}  // namespace tissuesim

@@ -1,0 +1,65 @@
+#pragma once
+// Mesh-level loops over the springs: forces, stiffness blocks, the explicit stability bound and
+// the per-spring Mullins state. The per-spring kernels are SpringForceLaw's; this class only
+// gathers positions, scatters forces and keeps the state.
+//
+// For spring (a, b) with n = (x_b - x_a) / L, lambda = L / L0 and P = P(lambda):
+//   F_a = +(V_e / L0) P n,  F_b = -F_a                                                 (N)
+//   K_e = (V_e / L0^2) P' n n^T + (V_e P / (L0 L)) (I - n n^T)                        (N/m)
+// and the energy Hessian has blocks [K_e, -K_e; -K_e, K_e] on (a, b). Both coefficients are
+// clamped at zero (the PSD projection of a spring's Hessian), so assembled matrices stay
+// positive semi-definite in compression and on softening branches.
+
+#include <Eigen/Core>
+
+#include "springs/SpringForceLaw.h"
+#include "springs/SpringMesh.h"
+
+namespace tissuesim {
+
+/// What one evaluation saw (for the instability report).
+struct SpringFieldReport {
+  int beyondRangeCount = 0;  ///< springs past the material's usable range (locking barrier)
+  int collapsedCount = 0;    ///< springs of (near) zero length: no direction, no force
+  double minStretch = 1.0;
+  double maxStretch = 1.0;
+};
+
+class SpringForceField {
+ public:
+  /// Both must outlive this object.
+  SpringForceField(const SpringMesh& mesh, const SpringForceLaw& law);
+
+  /// forces (3 by #V, N) += spring forces at positions x (3 by #V, m).
+  SpringFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces) const;
+
+  /// The same, and blocks (9 by #S, column-major 3x3 K_e per spring, N/m) overwritten.
+  SpringFieldReport addForcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                          Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks) const;
+
+  /// An upper bound on the squared highest angular frequency of the linearised network at x
+  /// (1/s^2), from Gershgorin: max over nodes of (2 / m_i) sum_e ||K_e||. The explicit
+  /// integrator is stable for dt < 2 / sqrt(this).
+  double frequencySquaredBound(const Eigen::Matrix3Xd& x) const;
+
+  /// Records the current stretches in the Mullins state (lambda_max only grows). Call once per
+  /// converged step, not inside solver iterations.
+  void commitStretchHistory(const Eigen::Matrix3Xd& x);
+  void resetStretchHistory() { m_lambdaMax.setOnes(); }
+  const Eigen::VectorXd& lambdaMax() const { return m_lambdaMax; }
+
+  const SpringMesh& mesh() const { return m_mesh; }
+  const SpringForceLaw& law() const { return m_law; }
+
+ private:
+  template <bool withStiffness>
+  SpringFieldReport accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                               Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks) const;
+
+  const SpringMesh& m_mesh;
+  const SpringForceLaw& m_law;
+  Eigen::VectorXd m_lambdaMax;               ///< #S, 1 when never stretched
+  mutable Eigen::VectorXd m_nodeStiffness;   ///< #V scratch for the frequency bound
+};
+
+}  // namespace tissuesim

@@ -1,0 +1,56 @@
+#pragma once
+// The force law of one spring, as a nominal stress P(lambda) (Pa) and its slope: a spring of
+// rest length L0 and volume V_e at stretch lambda = L / L0 pulls its ends together with
+//
+//   |F| = (V_e / L0) P(lambda)                                                 (N)
+//
+// and its energy is V_e W(lambda) where W' = P (shared/notes/model.md, "The EESM spring").
+//   eesm        P = W_T'(lambda) from the StiffnessTable (energy-consistent, the default)
+//   eesm-paper  P = k_s(lambda) lambda / v_ij, the published secant force (Eq. 10)
+//   smm         P = E (lambda - 1), a linear spring with one fitted modulus E (Eq. 1)
+// The EESM laws soften on unloading when the scene turns it on (StressSoftening).
+//
+// Locking: the material has no value past the table's range (StrainEnergy::usableRange()).
+// There the law continues linearly with the end slope: a stiff, C1 barrier that resists
+// further stretch, and the evaluation says so (isBeyondRange) so the caller can report it.
+
+#include "material/StiffnessTable.h"
+#include "material/StressSoftening.h"
+
+namespace tissuesim {
+
+enum class SpringLaw { Eesm, EesmPaper, Smm };
+
+struct SpringStress {
+  double stress;        ///< P (Pa)
+  double slope;         ///< dP/dlambda (Pa)
+  bool isBeyondRange;   ///< lambda was outside the material's usable range
+};
+
+class SpringForceLaw {
+ public:
+  /// @param linearModulus_Pa E of the smm law (ignored by the others).
+  /// @param isSoftening      whether the EESM laws apply the Mullins effect.
+  SpringForceLaw(SpringLaw law, const StiffnessTable& table, const TissueParameters& parameters,
+                 double linearModulus_Pa, bool isSoftening);
+
+  /// P and dP/dlambda at stretch lambda for a spring whose largest stretch so far is lambdaMax.
+  SpringStress evaluate(double lambda, double lambdaMax) const;
+
+  SpringLaw law() const { return m_law; }
+  bool isSoftening() const { return m_isSoftening; }
+  StretchRange range() const { return m_range; }
+
+ private:
+  HermiteNode virgin(double lambda) const;
+
+  SpringLaw m_law;
+  const StiffnessTable& m_table;
+  StressSoftening m_softening;
+  double m_linearModulus_Pa;
+  double m_inverseArea;  ///< 1 / v_ij (1/m^2)
+  bool m_isSoftening;
+  StretchRange m_range;
+};
+
+}  // namespace tissuesim

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# TissueSim: set up, build and run on Debian 12.
+#
+#   ./tissuesim.sh run        install missing packages, build (Release), run the simulator
+#   ./tissuesim.sh test       install missing packages, build (Release), run every test (ctest)
+#   ./tissuesim.sh sanitize   the same tests in a separate ASan+UBSan build (build-asan/)
+#   ./tissuesim.sh bench      the Google Benchmark suite (tissuesim bench)
+#
+# Re-running is fast: packages are only installed when missing, and the build is incremental.
+set -euo pipefail
+cd "$(dirname "$0")"
+
+PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  libeigen3-dev nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
+  libfcl-dev libccd-dev libassimp-dev libvtk9-qt-dev qtbase5-dev
+  xvfb xauth
+)
+JOBS=${JOBS:-2}
+
+say() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }
+
+install_packages() {
+  local missing=()
+  for package in "${PACKAGES[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+      missing+=("$package")
+    fi
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  local sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "tissuesim.sh: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    sudo=(sudo)
+  fi
+  say "installing Debian packages: ${missing[*]}"
+  "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+  "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+# build DIR [extra cmake args...]
+build() {
+  local dir=$1
+  shift
+  if [ ! -f "$dir/CMakeCache.txt" ]; then
+    say "configuring $dir"
+    cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
+  fi
+  say "building $dir"
+  cmake --build "$dir" -j "$JOBS"
+}
+
+run_tests() {
+  local dir=$1
+  say "testing $dir"
+  ctest --test-dir "$dir" --output-on-failure -j "$JOBS"
+}
+
+case "${1:-}" in
+  run)
+    install_packages
+    build build
+    # Until the trainee's window exists: the bundled liver tissue's cyclic uniaxial curve (the
+    # paper's three cycles) as a CSV, with its fit against the continuum on the terminal.
+    csv=build/porcine-liver-uniaxial.csv
+    build/app/tissuesim uniaxial --tissue assets/tissues/porcine-liver.json --model eesm \
+      --lambda-max 1.15,1.23,1.30 --points 100 --output "$csv"
+    say "uniaxial curve (every 10th point; all of it in $csv)"
+    awk -F, 'NR == 1 || NR % 10 == 2' "$csv" | column -t -s,
+    ;;
+  test)
+    install_packages
+    build build
+    run_tests build
+    ;;
+  sanitize)
+    install_packages
+    build build-asan -DTISSUESIM_SANITIZE=ON
+    ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 run_tests build-asan
+    ;;
+  bench)
+    install_packages
+    build build
+    shift
+    build/app/tissuesim bench "$@"
+    ;;
+  *)
+    echo "usage: ./tissuesim.sh run|test|sanitize|bench" >&2
+    exit 2
+    ;;
+esac
