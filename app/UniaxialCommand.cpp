@@ -1,13 +1,12 @@
 #include "UniaxialCommand.h"
 
 #include <cstdio>
-#include <fstream>
-#include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "CommandError.h"
+#include "CurveCsv.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialTest.h"
 #include "material/StiffnessTable.h"
@@ -24,19 +23,6 @@ struct UniaxialOptions {
   int points = 100;
   std::string outputPath;
 };
-
-void writeCsv(std::ostream& out, const std::vector<CurveBranch>& branches) {
-  constexpr double kPaPerKpa = 1000.0;
-  out << "cycle,phase,lambda,stress_kpa\n";
-  char line[128];
-  for (const CurveBranch& branch : branches) {
-    for (std::size_t i = 0; i < branch.stretch.size(); ++i) {
-      std::snprintf(line, sizeof line, "%d,%s,%.9g,%.9g\n", branch.cycle, phaseName(branch.phase),
-                    branch.stretch[i], branch.stress_Pa[i] / kPaPerKpa);
-      out << line;
-    }
-  }
-}
 
 void runUniaxial(const UniaxialOptions& options) {
   const auto model = parseUniaxialModel(options.modelName);
@@ -58,14 +44,7 @@ void runUniaxial(const UniaxialOptions& options) {
   const std::vector<CurveBranch> curve = test.run(*model, protocol);
   const std::vector<CurveBranch> reference = test.run(UniaxialModel::Sedf, protocol);
 
-  if (options.outputPath.empty()) {
-    writeCsv(std::cout, curve);
-  } else {
-    std::ofstream out(options.outputPath);
-    if (!out) throw CommandError("cannot write --output " + options.outputPath);
-    writeCsv(out, curve);
-    if (!out.flush()) throw CommandError("failed writing --output " + options.outputPath);
-  }
+  writeCurveCsv(options.outputPath, curve);
 
   std::fprintf(stderr, "tissue: %s; model: %s; locking at lambda = %.4f, usable up to %.4f\n",
                parameters.name.c_str(), options.modelName.c_str(), energy.lockingRange().upper,

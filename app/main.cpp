@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "BenchCommand.h"
+#include "TensileCommand.h"
 #include "UniaxialCommand.h"
 
 int main(int argc, char** argv) {
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
     return std::string("tissuesim: error: ") + error.what() + " (see --help)\n";
   });
   tissuesim::app::registerUniaxialCommand(app);
+  tissuesim::app::registerTensileCommand(app);
   tissuesim::app::registerBenchCommand(app);
 
   try {

@@ -12,14 +12,15 @@ constexpr double kCollapsedLengthFraction = 1e-9;
 SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw& law)
     : m_mesh(mesh),
       m_law(law),
-      m_lambdaMax(Eigen::VectorXd::Ones(mesh.springCount())),
-      m_nodeStiffness(Eigen::VectorXd::Zero(mesh.nodeCount())) {}
+      m_lambdaMax(Eigen::VectorXd::Ones(mesh.springCount())) {}
 
-template <bool withStiffness>
-SpringFieldReport SpringForceField::accumulate(
-    const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-    Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks) const {
+template <bool withBlocks, bool withNodeStiffness>
+SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                               Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                               Eigen::VectorXd* nodeStiffness,
+                                               bool isProjected) const {
   SpringFieldReport report;
+  if constexpr (withNodeStiffness) nodeStiffness->setZero();
   const Eigen::Index count = m_mesh.springCount();
   for (Eigen::Index s = 0; s < count; ++s) {
     const int a = m_mesh.springs(0, s);
@@ -29,7 +30,7 @@ SpringFieldReport SpringForceField::accumulate(
     const double restLength = m_mesh.restLength_m[s];
     if (!(length > kCollapsedLengthFraction * restLength)) {
       ++report.collapsedCount;
-      if constexpr (withStiffness) blocks->col(s).setZero();
+      if constexpr (withBlocks) blocks->col(s).setZero();
       continue;
     }
     const double lambda = length / restLength;
@@ -42,12 +43,25 @@ SpringFieldReport SpringForceField::accumulate(
     const Eigen::Vector3d f = (areaOverLength * p.stress) * n;
     forces.col(a) += f;
     forces.col(b) -= f;
-    if constexpr (withStiffness) {
-      const double axial = std::max(0.0, areaOverLength * p.slope / restLength);
-      const double lateral = std::max(0.0, areaOverLength * p.stress / length);
-      Eigen::Map<Eigen::Matrix3d> k(blocks->col(s).data());
-      k.noalias() = (axial - lateral) * (n * n.transpose());
-      k.diagonal().array() += lateral;
+    if constexpr (withBlocks || withNodeStiffness) {
+      double axial = areaOverLength * p.slope / restLength;
+      double lateral = areaOverLength * p.stress / length;
+      if (isProjected) {
+        axial = std::max(0.0, axial);
+        lateral = std::max(0.0, lateral);
+      }
+      if constexpr (withBlocks) {
+        Eigen::Map<Eigen::Matrix3d> k(blocks->col(s).data());
+        k.noalias() = (axial - lateral) * (n * n.transpose());
+        k.diagonal().array() += lateral;
+      }
+      if constexpr (withNodeStiffness) {
+        // ||K_e||_2 of the unprojected block: the larger of its two eigenvalues' magnitudes.
+        const double norm = std::max(std::abs(areaOverLength * p.slope / restLength),
+                                     std::abs(areaOverLength * p.stress / length));
+        (*nodeStiffness)[a] += norm;
+        (*nodeStiffness)[b] += norm;
+      }
     }
   }
   return report;
@@ -55,31 +69,26 @@ SpringFieldReport SpringForceField::accumulate(
 
 SpringFieldReport SpringForceField::addForces(const Eigen::Matrix3Xd& x,
                                               Eigen::Matrix3Xd& forces) const {
-  return accumulate<false>(x, forces, nullptr);
+  return accumulate<false, false>(x, forces, nullptr, nullptr, true);
 }
 
 SpringFieldReport SpringForceField::addForcesAndStiffness(
     const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-    Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks) const {
-  return accumulate<true>(x, forces, &blocks);
+    Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks, bool isProjected) const {
+  return accumulate<true, false>(x, forces, &blocks, nullptr, isProjected);
+}
+
+SpringFieldReport SpringForceField::addForcesAndNodeStiffness(const Eigen::Matrix3Xd& x,
+                                                              Eigen::Matrix3Xd& forces,
+                                                              Eigen::VectorXd& nodeStiffness) const {
+  return accumulate<false, true>(x, forces, nullptr, &nodeStiffness, true);
 }
 
 double SpringForceField::frequencySquaredBound(const Eigen::Matrix3Xd& x) const {
-  m_nodeStiffness.setZero();
-  for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
-    const int a = m_mesh.springs(0, s);
-    const int b = m_mesh.springs(1, s);
-    const double restLength = m_mesh.restLength_m[s];
-    const double length = (x.col(b) - x.col(a)).norm();
-    const double lambda = std::max(length, kCollapsedLengthFraction * restLength) / restLength;
-    const SpringStress p = m_law.evaluate(lambda, m_lambdaMax[s]);
-    const double areaOverLength = m_mesh.volume_m3[s] / restLength;
-    const double norm = std::max({std::abs(areaOverLength * p.slope / restLength),
-                                  std::abs(areaOverLength * p.stress / (lambda * restLength))});
-    m_nodeStiffness[a] += norm;
-    m_nodeStiffness[b] += norm;
-  }
-  return (2.0 * m_nodeStiffness.array() / m_mesh.nodeMass_kg.array()).maxCoeff();
+  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, x.cols());
+  Eigen::VectorXd nodeStiffness(x.cols());
+  addForcesAndNodeStiffness(x, scratch, nodeStiffness);
+  return (2.0 * nodeStiffness.array() / m_mesh.nodeMass_kg.array()).maxCoeff();
 }
 
 void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {

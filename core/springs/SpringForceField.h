@@ -33,13 +33,20 @@ class SpringForceField {
   /// forces (3 by #V, N) += spring forces at positions x (3 by #V, m).
   SpringFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces) const;
 
-  /// The same, and blocks (9 by #S, column-major 3x3 K_e per spring, N/m) overwritten.
+  /// The same, and blocks (9 by #S, column-major 3x3 K_e per spring, N/m) overwritten: the
+  /// PSD projection when `isProjected`, else the exact Hessian (which may be indefinite).
   SpringFieldReport addForcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                                          Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks) const;
+                                          Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks,
+                                          bool isProjected = true) const;
+
+  /// The same, and nodeStiffness (#V, N/m) overwritten with sum_e ||K_e|| over each node's
+  /// springs: what the explicit integrator's stability bound needs, in the same pass.
+  SpringFieldReport addForcesAndNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                              Eigen::VectorXd& nodeStiffness) const;
 
   /// An upper bound on the squared highest angular frequency of the linearised network at x
   /// (1/s^2), from Gershgorin: max over nodes of (2 / m_i) sum_e ||K_e||. The explicit
-  /// integrator is stable for dt < 2 / sqrt(this).
+  /// integrator is stable for dt < 2 / sqrt(this). Allocates scratch: for set-up and reports.
   double frequencySquaredBound(const Eigen::Matrix3Xd& x) const;
 
   /// Records the current stretches in the Mullins state (lambda_max only grows). Call once per
@@ -52,14 +59,14 @@ class SpringForceField {
   const SpringForceLaw& law() const { return m_law; }
 
  private:
-  template <bool withStiffness>
+  template <bool withBlocks, bool withNodeStiffness>
   SpringFieldReport accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                               Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks) const;
+                               Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                               Eigen::VectorXd* nodeStiffness, bool isProjected) const;
 
   const SpringMesh& m_mesh;
   const SpringForceLaw& m_law;
   Eigen::VectorXd m_lambdaMax;               ///< #S, 1 when never stretched
-  mutable Eigen::VectorXd m_nodeStiffness;   ///< #V scratch for the frequency bound
 };
 
 }  // namespace tissuesim

@@ -1,0 +1,171 @@
+#include "TensileCommand.h"
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "CommandError.h"
+#include "CurveCsv.h"
+#include "analysis/GoodnessOfFit.h"
+#include "analysis/TensileTest.h"
+#include "material/TissueFile.h"
+
+namespace tissuesim::app {
+namespace {
+
+struct TensileCommandOptions {
+  std::string tissuePath;
+  std::string modelName = "eesm";
+  std::vector<double> lambdaMax;
+  std::string size = "55x20x5";
+  int resolution = 2;
+  std::string integrator = "static";
+  int points = 25;
+  std::string outputPath;
+  std::string calibration = "small-strain";
+  double bulkModulus_kPa = 0.0;
+  bool isSofteningOff = false;
+  bool isComparing = false;
+};
+
+Eigen::Vector3d parseSize(const std::string& text) {
+  Eigen::Vector3d size_mm;
+  char x1 = 0;
+  char x2 = 0;
+  std::istringstream in(text);
+  in >> size_mm.x() >> x1 >> size_mm.y() >> x2 >> size_mm.z();
+  if (!in || x1 != 'x' || x2 != 'x' || !in.eof() || !(size_mm.array() > 0.0).all() ||
+      !size_mm.allFinite()) {
+    throw CommandError("--size '" + text + "': expected LENGTHxWIDTHxTHICKNESS in mm, e.g. 55x20x5");
+  }
+  return size_mm / 1000.0;
+}
+
+SpringLaw parseLaw(const std::string& name) {
+  if (name == "eesm") return SpringLaw::Eesm;
+  if (name == "eesm-paper") return SpringLaw::EesmPaper;
+  if (name == "smm") return SpringLaw::Smm;
+  throw CommandError("unknown --model '" + name + "'; expected one of eesm, eesm-paper, smm");
+}
+
+void runTensile(const TensileCommandOptions& options) {
+  const SpringLaw law = parseLaw(options.modelName);
+  if (options.calibration != "small-strain" && options.calibration != "none") {
+    throw CommandError("unknown --calibration '" + options.calibration +
+                       "'; expected small-strain or none");
+  }
+  if (options.resolution < 1 || options.resolution > 40) {
+    throw CommandError("--resolution " + std::to_string(options.resolution) +
+                       " is out of range; expected 1 to 40 cells across the thickness");
+  }
+  if (options.bulkModulus_kPa < 0.0) throw CommandError("--bulk-modulus-kpa must be >= 0");
+  const TissueParameters parameters = loadTissueFile(options.tissuePath);
+  const StrainEnergy energy(parameters);
+  const StiffnessTable table(energy);
+  const UniaxialTest continuum(energy, table);
+  const UniaxialProtocol protocol{options.lambdaMax, options.points};
+  try {
+    continuum.validate(protocol);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(std::string(error.what()) + " (tissue " + options.tissuePath + ")");
+  }
+  const std::vector<CurveBranch> reference = continuum.run(UniaxialModel::Sedf, protocol);
+
+  const TensileSpecimen specimen{parseSize(options.size), options.resolution};
+  const TensileTest test(table, parameters, specimen);
+  const double calibration = options.calibration == "none"
+                                 ? 1.0
+                                 : test.smallStrainCalibration(energy.initialShearModulus());
+
+  std::vector<SpringLaw> laws = {law};
+  if (options.isComparing) {
+    for (const SpringLaw other : {SpringLaw::Eesm, SpringLaw::EesmPaper, SpringLaw::Smm}) {
+      if (other != law) laws.push_back(other);
+    }
+  }
+  std::fprintf(stderr,
+               "tensile: %.4g x %.4g x %.4g mm, %d cells across the thickness, integrator %s, "
+               "calibration %s (V_e x %.4f)\n",
+               specimen.size_m.x() * 1e3, specimen.size_m.y() * 1e3, specimen.size_m.z() * 1e3,
+               specimen.cellsAcrossThickness, options.integrator.c_str(),
+               options.calibration.c_str(), calibration);
+  std::fprintf(stderr, "%-11s %-28s %10s %10s\n", "model", "branch", "R^2 load", "R^2 unload");
+  for (const SpringLaw each : laws) {
+    TensileOptions run;
+    run.law = each;
+    run.isSoftening = !options.isSofteningOff;
+    run.volumeScale = calibration;
+    run.bulkModulus_Pa = options.bulkModulus_kPa * 1000.0;
+    run.integrator = options.integrator;
+    run.linearModulus_Pa = UniaxialTest::fitLinearModulus(reference);
+    TensilePointStats stats;
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<CurveBranch> curve;
+    try {
+      curve = test.run(run, protocol, &stats);
+    } catch (const std::invalid_argument& error) {
+      throw CommandError(error.what());
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const char* name = each == SpringLaw::Eesm ? "eesm" : each == SpringLaw::EesmPaper ? "eesm-paper" : "smm";
+    for (std::size_t b = 0; b + 1 < curve.size(); b += 2) {
+      char branch[64];
+      std::snprintf(branch, sizeof branch, "cycle %d (lambda_max %.3f)", curve[b].cycle,
+                    options.lambdaMax[static_cast<std::size_t>(curve[b].cycle - 1)]);
+      std::fprintf(stderr, "%-11s %-28s %9.4f%% %9.4f%%\n", name, branch,
+                   100.0 * coefficientOfDetermination(reference[b].stress_Pa, curve[b].stress_Pa),
+                   100.0 * coefficientOfDetermination(reference[b + 1].stress_Pa,
+                                                      curve[b + 1].stress_Pa));
+    }
+    std::fprintf(stderr,
+                 "%-11s %d nodes, %d springs; converged to max |net force| %.2g N (worst %d "
+                 "iterations), %d unconverged points; %.2f s\n",
+                 name, stats.nodes, stats.springs, stats.worstResidual_N, stats.worstIterations,
+                 stats.unconvergedPoints, seconds);
+    if (each == law) writeCurveCsv(options.outputPath, curve);
+  }
+}
+
+}  // namespace
+
+void registerTensileCommand(CLI::App& app) {
+  auto options = std::make_shared<TensileCommandOptions>();
+  CLI::App* command = app.add_subcommand(
+      "tensile",
+      "Virtual tensile test: a meshed block specimen pulled quasi-statically through the spring "
+      "network to each lambda_max and back. CSV as `uniaxial`; R^2 against sedf on stderr.");
+  command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")->required();
+  command->add_option("--model", options->modelName, "Spring law: eesm, eesm-paper, smm")
+      ->capture_default_str();
+  command->add_option("--lambda-max", options->lambdaMax,
+                      "Peak stretch of each cycle, comma-separated (e.g. 1.15,1.23,1.30)")
+      ->required()
+      ->delimiter(',');
+  command->add_option("--size", options->size, "Specimen LENGTHxWIDTHxTHICKNESS in mm")
+      ->capture_default_str();
+  command->add_option("--resolution", options->resolution, "Cells across the thickness (1-40)")
+      ->capture_default_str();
+  command->add_option("--integrator", options->integrator,
+                      "static (Newton on equilibrium), implicit, quasi-newton or explicit "
+                      "(damped pseudo-time to the same tolerance)")
+      ->capture_default_str();
+  command->add_option("--points", options->points, "Points per branch (>= 2)")
+      ->capture_default_str();
+  command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
+  command->add_option("--calibration", options->calibration,
+                      "small-strain (scale V_e so the network's initial modulus is 3 mu0) or none")
+      ->capture_default_str();
+  command->add_option("--bulk-modulus-kpa", options->bulkModulus_kPa,
+                      "Volume term's bulk modulus in kPa (0: off)")
+      ->capture_default_str();
+  command->add_flag("--no-softening", options->isSofteningOff, "Turn the Mullins effect off");
+  command->add_flag("--compare", options->isComparing,
+                    "Also run the other two spring laws and print their R^2 (CSV: --model only)");
+  command->callback([options] { runTensile(*options); });
+}
+
+}  // namespace tissuesim::app

@@ -1,0 +1,167 @@
+#include "analysis/TensileTest.h"
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "integrators/ImplicitEulerSolver.h"
+#include "integrators/QuasiNewtonSolver.h"
+#include "integrators/SymplecticEulerSolver.h"
+#include "mesh/BlockMesher.h"
+#include "springs/SpringMesh.h"
+
+namespace tissuesim {
+namespace {
+
+struct Specimen {
+  SpringMesh mesh;
+  std::vector<int> movingNodes;  ///< x = L face
+  double length_m;
+  double section_m2;
+};
+
+Specimen buildSpecimen(const TensileSpecimen& spec, double density) {
+  if (spec.cellsAcrossThickness < 1) {
+    throw std::invalid_argument("--resolution must be at least 1 cell across the thickness");
+  }
+  const double h = spec.size_m.z() / spec.cellsAcrossThickness;
+  const Eigen::Vector3i cells(std::max(1, static_cast<int>(std::lround(spec.size_m.x() / h))),
+                              std::max(1, static_cast<int>(std::lround(spec.size_m.y() / h))),
+                              spec.cellsAcrossThickness);
+  Specimen out{buildSpringMesh(makeBlockMesh(spec.size_m, cells), density), {}, spec.size_m.x(),
+               spec.size_m.y() * spec.size_m.z()};
+  for (Eigen::Index i = 0; i < out.mesh.nodeCount(); ++i) {
+    if (std::abs(out.mesh.restPositions_m(0, i) - spec.size_m.x()) < 1e-12) {
+      out.movingNodes.push_back(static_cast<int>(i));
+    }
+  }
+  return out;
+}
+
+void clampSpecimen(MechanicalSystem& system, const Specimen& specimen, const Eigen::Vector3d& size) {
+  const Eigen::Matrix3Xd& rest = specimen.mesh.restPositions_m;
+  for (Eigen::Index i = 0; i < rest.cols(); ++i) {
+    const Eigen::Vector3d p = rest.col(i);
+    const int node = static_cast<int>(i);
+    if (std::abs(p.x()) < 1e-12) {
+      system.fixDof(node, 0);
+      if (p.y() < 1e-12 && p.z() < 1e-12) system.fixNode(node);
+      if (std::abs(p.y() - size.y()) < 1e-12 && p.z() < 1e-12) system.fixDof(node, 2);
+      if (p.y() < 1e-12 && std::abs(p.z() - size.z()) < 1e-12) system.fixDof(node, 1);
+    }
+  }
+  for (const int node : specimen.movingNodes) system.fixDof(node, 0);
+}
+
+/// Damped pseudo-time relaxation with a time integrator, to the same force tolerance.
+NewtonReport relax(TimeIntegrator& integrator, MechanicalSystem& system, MechanicalState& state,
+                   double dt, double tolerance, int maxSteps, Eigen::Matrix3Xd& scratch) {
+  NewtonReport report;
+  for (int stepIndex = 0; stepIndex < maxSteps; ++stepIndex) {
+    const StepReport step = integrator.step(system, state, dt);
+    report.iterations = stepIndex + 1;
+    if (step.refused || !step.isFinite) break;
+    report.forces = system.forces(state.x, scratch);
+    report.residual_N = scratch.cwiseAbs().maxCoeff();
+    if (report.residual_N <= tolerance) {
+      report.converged = true;
+      break;
+    }
+  }
+  return report;
+}
+
+}  // namespace
+
+TensileTest::TensileTest(const StiffnessTable& table, const TissueParameters& parameters,
+                         TensileSpecimen specimen)
+    : m_table(table), m_parameters(parameters), m_specimen(specimen) {}
+
+std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
+                                          const UniaxialProtocol& protocol,
+                                          TensilePointStats* stats) const {
+  Specimen specimen = buildSpecimen(m_specimen, m_parameters.density_kg_m3);
+  specimen.mesh.volume_m3 *= options.volumeScale;
+  const SpringForceLaw law(options.law, m_table, m_parameters, options.linearModulus_Pa,
+                           options.isSoftening);
+  SpringForceField springs(specimen.mesh, law);
+  std::unique_ptr<VolumeForceField> volume;
+  if (options.bulkModulus_Pa > 0.0) {
+    volume = std::make_unique<VolumeForceField>(specimen.mesh, options.bulkModulus_Pa);
+  }
+  MechanicalSystem system(springs, volume.get());
+  clampSpecimen(system, specimen, m_specimen.size_m);
+
+  IntegratorSettings settings;
+  settings.massDamping_1_s = 0.0;
+  settings.forceTolerance_N = options.forceTolerance_N;
+  settings.maxIterations = options.maxIterationsPerPoint;
+  std::unique_ptr<TimeIntegrator> integrator;
+  if (options.integrator == "implicit") {
+    integrator = std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::Cholesky);
+  } else if (options.integrator == "quasi-newton") {
+    integrator = std::make_unique<QuasiNewtonSolver>(settings);
+  } else if (options.integrator == "explicit") {
+    settings.maxSubsteps = 1 << 20;
+    integrator = std::make_unique<SymplecticEulerSolver>(settings);
+  } else if (options.integrator != "static") {
+    throw std::invalid_argument("unknown --integrator '" + options.integrator +
+                                "'; expected static, implicit, quasi-newton or explicit");
+  }
+  NewtonSolver newton(LinearSolverKind::Cholesky);
+
+  MechanicalState state = system.restState();
+  Eigen::Matrix3Xd scratch(3, specimen.mesh.nodeCount());
+  Eigen::Matrix3Xd internal(3, specimen.mesh.nodeCount());
+  double currentStretch = 1.0;
+  TensilePointStats localStats;
+  localStats.springs = static_cast<int>(specimen.mesh.springCount());
+  localStats.nodes = static_cast<int>(specimen.mesh.nodeCount());
+
+  std::vector<CurveBranch> branches = protocolStretches(protocol);
+  for (CurveBranch& branch : branches) {
+    for (const double lambda : branch.stretch) {
+      // Affine predictor along x from the last equilibrium, then the grip's new position.
+      const double ratio = lambda / currentStretch;
+      state.x.row(0) *= ratio;
+      for (const int node : specimen.movingNodes) state.x(0, node) = lambda * specimen.length_m;
+      state.v.setZero();
+      currentStretch = lambda;
+
+      NewtonReport report;
+      if (integrator) {
+        // Pseudo-time: a step long against the specimen's lowest mode, with strong damping.
+        report = relax(*integrator, system, state, 1e-2, options.forceTolerance_N,
+                       options.maxIterationsPerPoint, scratch);
+      } else {
+        report = newton.solve(system, state.x, state.x, 0.0, 0.0, options.maxIterationsPerPoint,
+                              options.forceTolerance_N);
+      }
+      localStats.worstIterations = std::max(localStats.worstIterations, report.iterations);
+      localStats.worstResidual_N = std::max(localStats.worstResidual_N, report.residual_N);
+      localStats.unconvergedPoints += report.converged ? 0 : 1;
+      if (!integrator) springs.commitStretchHistory(state.x);
+
+      // Reaction at the moving grip: minus the springs' (and volume term's) pull on its nodes.
+      internal.setZero();
+      springs.addForces(state.x, internal);
+      if (volume) volume->addForces(state.x, internal, nullptr);
+      double reaction = 0.0;
+      for (const int node : specimen.movingNodes) reaction -= internal(0, node);
+      branch.stress_Pa.push_back(reaction / specimen.section_m2);
+    }
+  }
+  if (stats != nullptr) *stats = localStats;
+  return branches;
+}
+
+double TensileTest::smallStrainCalibration(double initialShearModulus_Pa) const {
+  TensileOptions options;
+  options.isSoftening = false;
+  const double strain = 1e-4;
+  const std::vector<CurveBranch> branches = run(options, {{1.0 + strain}, 2});
+  const double networkModulus = branches.front().stress_Pa.back() / strain;
+  return 3.0 * initialShearModulus_Pa / networkModulus;
+}
+
+}  // namespace tissuesim

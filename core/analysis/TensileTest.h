@@ -1,0 +1,71 @@
+#pragma once
+// The virtual tensile test of the paper's Section 4: a meshed block specimen (default
+// 55 x 20 x 5 mm) pulled quasi-statically along x to each lambda_max and back, cycle after
+// cycle, through the spring network; engineering stress = grip reaction / initial section.
+//
+// Grips: the nodes of the face x = 0 are held in x, those of x = L are moved in x; both faces
+// are free to contract laterally (frictionless grips, a homogeneous uniaxial state to compare
+// with the continuum). Three more DOFs at x = 0 remove the rigid motions: node (0, 0, 0) fixed,
+// node (0, W, 0) held in z, node (0, 0, T) held in y.
+//
+// Quasi-static means converged: every point is a static equilibrium, max |net force| on free
+// DOFs below `forceTolerance_N` (Newton with line search; or, with a time integrator named,
+// damped pseudo-time steps until the same tolerance). The Mullins state is committed after
+// each converged point, as in a slow experiment.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/UniaxialTest.h"
+#include "integrators/NewtonSolver.h"
+#include "springs/SpringForceLaw.h"
+
+namespace tissuesim {
+
+struct TensileSpecimen {
+  Eigen::Vector3d size_m{0.055, 0.020, 0.005};
+  int cellsAcrossThickness = 2;  ///< resolution: cells along z; x and y get the same spacing
+};
+
+struct TensileOptions {
+  SpringLaw law = SpringLaw::Eesm;
+  bool isSoftening = true;
+  double linearModulus_Pa = 0.0;  ///< smm only
+  /// Scales every spring's volume V_e (see docs/tensile-calibration in README): 1 = none.
+  double volumeScale = 1.0;
+  double bulkModulus_Pa = 0.0;    ///< > 0 turns the volume term on
+  std::string integrator = "static";  ///< static | implicit | quasi-newton | explicit
+  double forceTolerance_N = 1e-8;
+  int maxIterationsPerPoint = 200;
+};
+
+struct TensilePointStats {
+  int worstIterations = 0;
+  double worstResidual_N = 0.0;
+  int unconvergedPoints = 0;
+  int springs = 0;
+  int nodes = 0;
+};
+
+class TensileTest {
+ public:
+  TensileTest(const StiffnessTable& table, const TissueParameters& parameters,
+              TensileSpecimen specimen);
+
+  /// Runs the protocol (UniaxialTest::validate's rules apply). @throws std::invalid_argument.
+  std::vector<CurveBranch> run(const TensileOptions& options, const UniaxialProtocol& protocol,
+                               TensilePointStats* stats = nullptr) const;
+
+  /// The stiffness correction for the network's missing Poisson effect: the ratio of the
+  /// continuum's small-strain modulus 3 mu0 to the specimen network's (measured by one
+  /// small stretch of this mesh). Scaling V_e by it matches the initial slope.
+  double smallStrainCalibration(double initialShearModulus_Pa) const;
+
+ private:
+  const StiffnessTable& m_table;
+  const TissueParameters& m_parameters;
+  TensileSpecimen m_specimen;
+};
+
+}  // namespace tissuesim

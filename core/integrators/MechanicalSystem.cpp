@@ -1,0 +1,126 @@
+#include "integrators/MechanicalSystem.h"
+
+#include <cmath>
+
+namespace tissuesim {
+
+MechanicalSystem::MechanicalSystem(SpringForceField& springs, const VolumeForceField* volume)
+    : externalForces_N(Eigen::Matrix3Xd::Zero(3, springs.mesh().nodeCount())),
+      m_springs(springs),
+      m_volume(volume),
+      m_isFixed(static_cast<std::size_t>(3 * springs.mesh().nodeCount()), 0),
+      m_springBlocks(9, springs.mesh().springCount()),
+      m_tetBlocks(144, volume != nullptr ? springs.mesh().tets.cols() : 0) {}
+
+MechanicalState MechanicalSystem::restState() const {
+  return {mesh().restPositions_m, Eigen::Matrix3Xd::Zero(3, mesh().nodeCount())};
+}
+
+void MechanicalSystem::fixNode(int node) {
+  for (int axis = 0; axis < 3; ++axis) m_isFixed[static_cast<std::size_t>(3 * node + axis)] = 1;
+  ++m_constraintRevision;
+}
+
+void MechanicalSystem::fixDof(int node, int axis) {
+  m_isFixed[static_cast<std::size_t>(3 * node + axis)] = 1;
+  ++m_constraintRevision;
+}
+
+void MechanicalSystem::releaseAll() {
+  std::fill(m_isFixed.begin(), m_isFixed.end(), 0);
+  ++m_constraintRevision;
+}
+
+void MechanicalSystem::addExternalAndZeroFixed(Eigen::Matrix3Xd& f) const {
+  const Eigen::VectorXd& mass = mesh().nodeMass_kg;
+  for (Eigen::Index i = 0; i < f.cols(); ++i) f.col(i) += mass[i] * gravity_m_s2;
+  f += externalForces_N;
+  double* flat = f.data();
+  for (std::size_t d = 0; d < m_isFixed.size(); ++d) {
+    if (m_isFixed[d] != 0) flat[d] = 0.0;
+  }
+}
+
+ForceReport MechanicalSystem::forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
+  f.setZero();
+  ForceReport report;
+  report.springs = m_springs.addForces(x, f);
+  if (m_volume != nullptr) report.volume = m_volume->addForces(x, f, nullptr);
+  addExternalAndZeroFixed(f);
+  return report;
+}
+
+ForceReport MechanicalSystem::forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                                     Eigen::VectorXd& nodeStiffness) const {
+  f.setZero();
+  ForceReport report;
+  report.springs = m_springs.addForcesAndNodeStiffness(x, f, nodeStiffness);
+  if (m_volume != nullptr) {
+    report.volume = m_volume->addForces(x, f, nullptr);
+    for (Eigen::Index t = 0; t < mesh().tets.cols(); ++t) {
+      const double bound = m_volume->stiffnessBound(t, x);
+      for (int i = 0; i < 4; ++i) nodeStiffness[mesh().tets(i, t)] += bound;
+    }
+  }
+  addExternalAndZeroFixed(f);
+  return report;
+}
+
+ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                                 NodeBlockMatrix& stiffness,
+                                                 bool isProjected) const {
+  f.setZero();
+  stiffness.setZero();
+  ForceReport report;
+  report.springs = m_springs.addForcesAndStiffness(x, f, m_springBlocks, isProjected);
+  const Eigen::Matrix2Xi& springs = mesh().springs;
+  for (Eigen::Index s = 0; s < springs.cols(); ++s) {
+    stiffness.addEdgeStiffness(springs(0, s), springs(1, s),
+                               Eigen::Map<const Eigen::Matrix3d>(m_springBlocks.col(s).data()));
+  }
+  if (m_volume != nullptr) {
+    report.volume = m_volume->addForces(x, f, &m_tetBlocks);
+    for (Eigen::Index t = 0; t < mesh().tets.cols(); ++t) {
+      const Eigen::Map<const Eigen::Matrix<double, 12, 12>> h(m_tetBlocks.col(t).data());
+      for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+          stiffness.addBlock(mesh().tets(i, t), mesh().tets(j, t), h.block<3, 3>(3 * i, 3 * j));
+        }
+      }
+    }
+  }
+  addExternalAndZeroFixed(f);
+  return report;
+}
+
+double MechanicalSystem::totalEnergy(const MechanicalState& state) const {
+  const SpringMesh& m = mesh();
+  double energy = 0.0;
+  for (Eigen::Index i = 0; i < m.nodeCount(); ++i) {
+    energy += 0.5 * m.nodeMass_kg[i] * state.v.col(i).squaredNorm();
+    energy -= m.nodeMass_kg[i] * gravity_m_s2.dot(state.x.col(i));
+  }
+  // Elastic energy V_e W(lambda), W = integral of P from 1: the spring law's own energy.
+  for (Eigen::Index s = 0; s < m.springCount(); ++s) {
+    const double lambda =
+        (state.x.col(m.springs(1, s)) - state.x.col(m.springs(0, s))).norm() / m.restLength_m[s];
+    // Simpson's rule on [1, lambda] (16 panels): accurate for any of the three laws.
+    constexpr int kPanels = 16;
+    const double h = (lambda - 1.0) / kPanels;
+    double sum = 0.0;
+    for (int k = 0; k <= kPanels; ++k) {
+      const double weight = (k == 0 || k == kPanels) ? 1.0 : (k % 2 == 1 ? 4.0 : 2.0);
+      sum += weight * m_springs.law().evaluate(1.0 + k * h, 1.0).stress;
+    }
+    energy += m.volume_m3[s] * sum * h / 3.0;
+  }
+  if (m_volume != nullptr) {
+    for (Eigen::Index t = 0; t < m.tets.cols(); ++t) {
+      const double ratio = signedTetVolume(state.x, m.tets, t) / m.tetRestVolume_m3[t];
+      energy += 0.5 * m_volume->bulkModulus() * m.tetRestVolume_m3[t] * (ratio - 1.0) * (ratio - 1.0);
+    }
+  }
+  return energy;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,87 @@
+#pragma once
+// The mechanical system the integrators advance: lumped masses M (kg), internal forces of the
+// spring network and the optional volume term, gravity, external forces (contacts, set by the
+// caller each step) and fixed degrees of freedom (clamps and prescribed motion: a fixed DOF
+// keeps whatever value the caller puts in the state).
+//
+//   f(x) = f_springs(x) + f_volume(x) + M g + f_ext                                     (N)
+//   K(x) = -df/dx, PSD-projected per spring and Gauss-Newton per tet                  (N/m)
+//
+// Forces on fixed DOFs are zeroed; so are their rows and columns of K (identity diagonal).
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "numerics/NodeBlockMatrix.h"
+#include "springs/SpringForceField.h"
+#include "springs/VolumeForceField.h"
+
+namespace tissuesim {
+
+/// Positions (m) and velocities (m/s), each 3 by #V.
+struct MechanicalState {
+  Eigen::Matrix3Xd x;
+  Eigen::Matrix3Xd v;
+  bool isFinite() const { return x.allFinite() && v.allFinite(); }
+};
+
+struct ForceReport {
+  SpringFieldReport springs;
+  VolumeFieldReport volume;
+};
+
+class MechanicalSystem {
+ public:
+  /// `springs` (and `volume` when given) must outlive this object.
+  MechanicalSystem(SpringForceField& springs, const VolumeForceField* volume);
+
+  const SpringMesh& mesh() const { return m_springs.mesh(); }
+  SpringForceField& springs() { return m_springs; }
+  const SpringForceField& springs() const { return m_springs; }
+  const VolumeForceField* volume() const { return m_volume; }
+
+  MechanicalState restState() const;
+
+  // Constraints.
+  void fixNode(int node);
+  void fixDof(int node, int axis);
+  void releaseAll();
+  const std::vector<char>& fixedDofs() const { return m_isFixed; }
+  bool isFixed(int node, int axis) const { return m_isFixed[static_cast<std::size_t>(3 * node + axis)] != 0; }
+  /// Incremented whenever the fixed set changes (solvers refactor what depends on it).
+  int constraintRevision() const { return m_constraintRevision; }
+
+  Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();
+  Eigen::Matrix3Xd externalForces_N;  ///< 3 by #V, zero unless a caller sets it
+
+  /// f (3 by #V) overwritten with the total force at x.
+  ForceReport forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const;
+  /// The same, with nodeStiffness (#V) = sum of ||K_e|| per node (explicit stability bound).
+  ForceReport forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                     Eigen::VectorXd& nodeStiffness) const;
+  /// The same, and K overwritten with the internal stiffness (fixed DOFs not yet applied):
+  /// PSD-projected per spring when `isProjected`, else the springs' exact Hessian.
+  ForceReport forcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                 NodeBlockMatrix& stiffness, bool isProjected = true) const;
+
+  /// A matrix with this system's pattern (springs' edges plus diagonal).
+  NodeBlockMatrix makeMatrix() const { return NodeBlockMatrix(mesh().nodeCount(), mesh().springs); }
+
+  /// Total energy (J) at a state: kinetic + gravitational + elastic (springs without softening
+  /// and the volume term); for checks of energy behaviour, not for the step loop.
+  double totalEnergy(const MechanicalState& state) const;
+
+ private:
+  void addExternalAndZeroFixed(Eigen::Matrix3Xd& f) const;
+
+  SpringForceField& m_springs;
+  const VolumeForceField* m_volume;
+  std::vector<char> m_isFixed;
+  int m_constraintRevision = 0;
+  mutable Eigen::Matrix<double, 9, Eigen::Dynamic> m_springBlocks;
+  mutable Eigen::Matrix<double, 144, Eigen::Dynamic> m_tetBlocks;
+};
+
+}  // namespace tissuesim

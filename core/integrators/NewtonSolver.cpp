@@ -1,0 +1,117 @@
+#include "integrators/NewtonSolver.h"
+
+#include <cmath>
+
+namespace tissuesim {
+
+void NewtonSolver::prepare(const MechanicalSystem& system) {
+  if (m_preparedFor == &system && m_matrix) return;
+  const Eigen::Index nodes = system.mesh().nodeCount();
+  m_matrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
+  m_isPatternAnalysed = false;
+  m_force.resize(3, nodes);
+  m_r.resize(3, nodes);
+  m_trialR.resize(3, nodes);
+  m_trialX.resize(3, nodes);
+  m_rhs.resize(3 * nodes);
+  m_step.resize(3 * nodes);
+  m_preparedFor = &system;
+}
+
+double NewtonSolver::residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                              const Eigen::Matrix3Xd& xHat, double inertiaWeight,
+                              Eigen::Matrix3Xd& r, ForceReport* report) {
+  const ForceReport forces = system.forces(x, m_force);
+  if (report != nullptr) *report = forces;
+  const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
+  const std::vector<char>& fixed = system.fixedDofs();
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    r.col(i) = inertiaWeight * mass[i] * (x.col(i) - xHat.col(i)) - m_force.col(i);
+  }
+  double* flat = r.data();
+  for (std::size_t d = 0; d < fixed.size(); ++d) {
+    if (fixed[d] != 0) flat[d] = 0.0;
+  }
+  return r.cwiseAbs().maxCoeff();
+}
+
+NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3Xd& x,
+                                 const Eigen::Matrix3Xd& xHat, double inertiaWeight,
+                                 double regularization, int maxIterations, double tolerance_N) {
+  prepare(system);
+  NewtonReport report;
+  const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
+  const std::vector<char>& fixed = system.fixedDofs();
+  double rho = regularization;
+  bool isExact = m_kind == LinearSolverKind::Cholesky;
+  report.residual_N = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
+  while (report.residual_N > tolerance_N && report.iterations < maxIterations &&
+         std::isfinite(report.residual_N)) {
+    ++report.iterations;
+    system.forcesAndStiffness(x, m_force, *m_matrix, /*isProjected=*/!isExact);
+    for (Eigen::Index i = 0; i < x.cols(); ++i) m_matrix->addToDiagonal(static_cast<int>(i), (inertiaWeight + rho) * mass[i]);
+    m_matrix->applyFixedDofs(fixed);
+    m_rhs = -Eigen::Map<const Eigen::VectorXd>(m_r.data(), m_r.size());
+
+    bool isSolved = false;
+    if (m_kind == LinearSolverKind::Cholesky) {
+      if (!m_isPatternAnalysed) {
+        m_cholesky.analyzePattern(m_matrix->matrix());
+        m_isPatternAnalysed = true;
+      }
+      m_cholesky.factorize(m_matrix->matrix());
+      isSolved = m_cholesky.info() == Eigen::Success &&
+                 (m_cholesky.vectorD().array() > 0.0).all();
+      if (isSolved) m_step = m_cholesky.solve(m_rhs);
+    } else {
+      m_cg.setTolerance(1e-10);
+      m_cg.setMaxIterations(static_cast<Eigen::Index>(3 * x.cols()));
+      m_cg.compute(m_matrix->matrix());
+      m_step = m_cg.solve(m_rhs);
+      isSolved = m_cg.info() == Eigen::Success || m_cg.error() < 1e-6;
+    }
+    if ((!isSolved || !m_step.allFinite()) && isExact) {
+      isExact = false;  // indefinite: fall back to the PSD projection
+      continue;
+    }
+    if (!isSolved || !m_step.allFinite()) {
+      // Singular even so: regularise more and try again.
+      rho = rho > 0.0 ? 10.0 * rho : 1e-6 * (inertiaWeight > 0.0 ? inertiaWeight : 1.0);
+      continue;
+    }
+
+    // Backtracking on the residual's norm.
+    const double norm2 = m_r.squaredNorm();
+    double stepLength = 1.0;
+    bool isAccepted = false;
+    ForceReport trialForces;
+    for (int halving = 0; halving < 12; ++halving) {
+      m_trialX = x + stepLength * Eigen::Map<const Eigen::Matrix3Xd>(m_step.data(), 3, x.cols());
+      residual(system, m_trialX, xHat, inertiaWeight, m_trialR, &trialForces);
+      if (m_trialR.allFinite() && m_trialR.squaredNorm() <= (1.0 - 1e-4 * stepLength) * norm2) {
+        isAccepted = true;
+        break;
+      }
+      stepLength *= 0.5;
+    }
+    if (!isAccepted && isExact) {
+      isExact = false;
+      continue;
+    }
+    if (!isAccepted) {
+      // No descent along the PSD-projected direction: lean towards gradient descent.
+      rho = rho > 0.0 ? 10.0 * rho : 1e-3 * (inertiaWeight > 0.0 ? inertiaWeight : 1.0);
+      continue;
+    }
+    x.swap(m_trialX);
+    m_r.swap(m_trialR);
+    report.forces = trialForces;
+    report.residual_N = m_r.cwiseAbs().maxCoeff();
+    rho = std::max(regularization, 0.1 * rho);  // Levenberg-Marquardt: trust Newton again
+    isExact = m_kind == LinearSolverKind::Cholesky;
+  }
+  report.converged = report.residual_N <= tolerance_N;
+  return report;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,59 @@
+#pragma once
+// Newton's method for the nonlinear systems of implicit Euler and of static equilibrium:
+//
+//   r(x) = w M (x - x_hat) - f(x) = 0                        (N; fixed DOFs excluded)
+//   (K(x) + (w + rho) M) dx = -r(x),   x <- x + a dx         (a from a backtracking search on |r|)
+//
+// with K the stiffness (MechanicalSystem): with Cholesky, the exact Hessian first, for Newton's
+// quadratic convergence, and the per-spring PSD projection whenever the exact matrix is not
+// positive definite (a non-positive pivot) or gives no descent; with CG, always the projection, w >= 0 the inertia weight (1/s^2:
+// (1 + alpha h) / h^2 for implicit Euler, 0 for statics) and rho >= 0 a Levenberg-Marquardt
+// regularisation that keeps the matrix definite where K alone is singular (statics); it is
+// raised tenfold when a factorisation fails. Linear solves: sparse Cholesky (Eigen
+// SimplicialLDLT, symbolic analysis once per pattern) or conjugate gradients (Jacobi
+// preconditioner).
+
+#include <memory>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/IterativeLinearSolvers>
+
+#include "integrators/TimeIntegrator.h"
+
+namespace tissuesim {
+
+enum class LinearSolverKind { Cholesky, ConjugateGradient };
+
+struct NewtonReport {
+  int iterations = 0;
+  double residual_N = 0.0;  ///< max |r_i| at the end
+  bool converged = false;
+  ForceReport forces;
+};
+
+class NewtonSolver {
+ public:
+  explicit NewtonSolver(LinearSolverKind kind) : m_kind(kind) {}
+
+  /// Solves from the initial guess in x (3 by #V), overwriting it; fixed DOFs are not moved.
+  NewtonReport solve(const MechanicalSystem& system, Eigen::Matrix3Xd& x,
+                     const Eigen::Matrix3Xd& xHat, double inertiaWeight, double regularization,
+                     int maxIterations, double tolerance_N);
+
+ private:
+  double residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                  const Eigen::Matrix3Xd& xHat, double inertiaWeight, Eigen::Matrix3Xd& r,
+                  ForceReport* report);
+  void prepare(const MechanicalSystem& system);
+
+  LinearSolverKind m_kind;
+  const MechanicalSystem* m_preparedFor = nullptr;
+  std::unique_ptr<NodeBlockMatrix> m_matrix;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> m_cg;
+  bool m_isPatternAnalysed = false;
+  Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;
+  Eigen::VectorXd m_rhs, m_step;
+};
+
+}  // namespace tissuesim

@@ -1,0 +1,126 @@
+#include "integrators/QuasiNewtonSolver.h"
+
+#include <cmath>
+
+#include "numerics/NodeBlockMatrix.h"
+
+namespace tissuesim {
+
+void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWeight) {
+  const bool isSame = m_preparedFor == &system && m_preparedWeight == inertiaWeight &&
+                      m_preparedRevision == system.constraintRevision();
+  if (isSame) return;
+  const SpringMesh& mesh = system.mesh();
+  const Eigen::Index dofs = 3 * mesh.nodeCount();
+  NodeBlockMatrix h0 = system.makeMatrix();
+  const double restSlope = system.springs().law().evaluate(1.0, 1.0).slope;  // P'(1) (Pa)
+  for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+    const double k = mesh.volume_m3[s] * restSlope / (mesh.restLength_m[s] * mesh.restLength_m[s]);
+    h0.addEdgeStiffness(mesh.springs(0, s), mesh.springs(1, s), k * Eigen::Matrix3d::Identity());
+  }
+  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
+    h0.addToDiagonal(static_cast<int>(i), inertiaWeight * mesh.nodeMass_kg[i]);
+  }
+  h0.applyFixedDofs(system.fixedDofs());
+  m_initialHessian.compute(h0.matrix());
+
+  const auto history = static_cast<Eigen::Index>(std::max(1, m_settings.historySize));
+  for (Eigen::VectorXd* v : {&m_x, &m_xHat, &m_r, &m_newX, &m_newR, &m_q, &m_z}) v->resize(dofs);
+  m_s.resize(dofs, history);
+  m_y.resize(dofs, history);
+  m_alpha.resize(history);
+  m_rhoHistory.resize(history);
+  m_force.resize(3, mesh.nodeCount());
+  m_preparedFor = &system;
+  m_preparedWeight = inertiaWeight;
+  m_preparedRevision = system.constraintRevision();
+}
+
+double QuasiNewtonSolver::residual(const MechanicalSystem& system, const Eigen::VectorXd& x,
+                                   Eigen::VectorXd& r, ForceReport* report) {
+  const Eigen::Map<const Eigen::Matrix3Xd> positions(x.data(), 3, system.mesh().nodeCount());
+  const ForceReport forces = system.forces(positions, m_force);
+  if (report != nullptr) *report = forces;
+  const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
+  const std::vector<char>& fixed = system.fixedDofs();
+  for (Eigen::Index d = 0; d < x.size(); ++d) {
+    r[d] = fixed[static_cast<std::size_t>(d)] != 0
+               ? 0.0
+               : m_preparedWeight * mass[d / 3] * (x[d] - m_xHat[d]) - m_force.data()[d];
+  }
+  return r.cwiseAbs().maxCoeff();
+}
+
+StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& state, double dt) {
+  StepReport report;
+  const double damping = 1.0 + m_settings.massDamping_1_s * dt;
+  prepare(system, damping / (dt * dt));
+  const Eigen::Index dofs = m_x.size();
+  const Eigen::Map<const Eigen::VectorXd> x0(state.x.data(), dofs);
+  const Eigen::Map<const Eigen::VectorXd> v0(state.v.data(), dofs);
+  const std::vector<char>& fixed = system.fixedDofs();
+  m_xHat = x0 + (dt / damping) * v0;
+  for (Eigen::Index d = 0; d < dofs; ++d) {
+    m_x[d] = fixed[static_cast<std::size_t>(d)] != 0 ? x0[d] : m_xHat[d];
+  }
+  report.residual_N = residual(system, m_x, m_r, &report.forces);
+
+  const Eigen::Index capacity = m_s.cols();
+  Eigen::Index stored = 0;
+  Eigen::Index newest = -1;
+  while (report.residual_N > m_settings.forceTolerance_N &&
+         report.iterations < m_settings.maxIterations && std::isfinite(report.residual_N)) {
+    ++report.iterations;
+    // Two-loop recursion: z = H^-1 r with H0^-1 at the bottom.
+    m_q = m_r;
+    for (Eigen::Index k = 0; k < stored; ++k) {
+      const Eigen::Index i = (newest - k + capacity) % capacity;
+      m_alpha[i] = m_rhoHistory[i] * m_s.col(i).dot(m_q);
+      m_q -= m_alpha[i] * m_y.col(i);
+    }
+    m_z = m_initialHessian.solve(m_q);
+    for (Eigen::Index k = stored - 1; k >= 0; --k) {
+      const Eigen::Index i = (newest - k + capacity) % capacity;
+      const double beta = m_rhoHistory[i] * m_y.col(i).dot(m_z);
+      m_z += (m_alpha[i] - beta) * m_s.col(i);
+    }
+    // Step -z, halved while the residual grows (a cheap safeguard, not a full line search).
+    double length = 1.0;
+    double newResidual = 0.0;
+    ForceReport trialForces;
+    for (int halving = 0; halving < 6; ++halving) {
+      m_newX = m_x - length * m_z;
+      newResidual = residual(system, m_newX, m_newR, &trialForces);
+      if (std::isfinite(newResidual) && m_newR.squaredNorm() <= 4.0 * m_r.squaredNorm()) break;
+      length *= 0.5;
+    }
+    const Eigen::Index slot = (newest + 1) % capacity;
+    m_s.col(slot) = m_newX - m_x;
+    m_y.col(slot) = m_newR - m_r;
+    const double curvature = m_s.col(slot).dot(m_y.col(slot));
+    if (curvature > 1e-300) {
+      m_rhoHistory[slot] = 1.0 / curvature;
+      newest = slot;
+      stored = std::min(stored + 1, capacity);
+    }
+    m_x.swap(m_newX);
+    m_r.swap(m_newR);
+    report.residual_N = newResidual;
+    report.forces = trialForces;
+  }
+  report.converged = report.residual_N <= m_settings.forceTolerance_N;
+  if (!m_x.allFinite()) {
+    report.isFinite = false;
+    report.reason = "non-finite position after a quasi-Newton step; state rolled back";
+    return report;
+  }
+  Eigen::Map<Eigen::VectorXd> v(state.v.data(), dofs);
+  for (Eigen::Index d = 0; d < dofs; ++d) {
+    if (fixed[static_cast<std::size_t>(d)] == 0) v[d] = (m_x[d] - x0[d]) / dt;
+  }
+  Eigen::Map<Eigen::VectorXd>(state.x.data(), dofs) = m_x;
+  system.springs().commitStretchHistory(state.x);
+  return report;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,44 @@
+#pragma once
+// The interface of a time integrator: advance a MechanicalState by one fixed time step.
+
+#include <limits>
+#include <string>
+
+#include "integrators/MechanicalSystem.h"
+
+namespace tissuesim {
+
+struct StepReport {
+  int substeps = 1;            ///< explicit: substeps taken for stability
+  int iterations = 0;          ///< implicit: Newton or quasi-Newton iterations
+  double residual_N = 0.0;     ///< implicit: max |r| at the end (N)
+  bool converged = true;       ///< implicit: residual under tolerance
+  bool refused = false;        ///< the step was not taken (state unchanged): see `reason`
+  bool isFinite = true;        ///< false when NaN or infinity appeared (state not advanced)
+  double stableTimeStep_s = std::numeric_limits<double>::infinity();  ///< explicit bound
+  ForceReport forces;          ///< what the last force evaluation saw
+  std::string reason;
+};
+
+/// Settings shared by the integrators.
+struct IntegratorSettings {
+  double massDamping_1_s = 0.0;  ///< alpha: damping force -alpha m v (1/s)
+  // Explicit.
+  int maxSubsteps = 64;             ///< refuse a step that would need more
+  double stabilitySafety = 0.8;     ///< substep dt <= safety * 2 / omega_max
+  // Implicit.
+  int maxIterations = 20;           ///< Newton (or quasi-Newton) iterations per step
+  double forceTolerance_N = 1e-6;   ///< converged when max |r| is below this
+  int historySize = 5;              ///< quasi-Newton: L-BFGS pairs kept
+};
+
+class TimeIntegrator {
+ public:
+  virtual ~TimeIntegrator() = default;
+  /// Advances `state` by dt (s). On refusal or a non-finite result the state is left as it was
+  /// and the report says why; the Mullins history is committed only after a good step.
+  virtual StepReport step(MechanicalSystem& system, MechanicalState& state, double dt) = 0;
+  virtual const char* name() const = 0;
+};
+
+}  // namespace tissuesim

@@ -1,0 +1,85 @@
+#include "numerics/NodeBlockMatrix.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace tissuesim {
+
+NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi& edges)
+    : m_neighbours(static_cast<std::size_t>(nodeCount)) {
+  for (Eigen::Index v = 0; v < nodeCount; ++v) m_neighbours[static_cast<std::size_t>(v)].push_back(static_cast<int>(v));
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    m_neighbours[static_cast<std::size_t>(edges(0, e))].push_back(edges(1, e));
+    m_neighbours[static_cast<std::size_t>(edges(1, e))].push_back(edges(0, e));
+  }
+  Eigen::Index nonZeros = 0;
+  for (auto& list : m_neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    nonZeros += 9 * static_cast<Eigen::Index>(list.size());
+  }
+  const Eigen::Index size = 3 * nodeCount;
+  m_matrix.resize(size, size);
+  m_matrix.reserve(nonZeros);
+  // Insert column by column in order: Eigen builds the compressed pattern directly.
+  for (Eigen::Index j = 0; j < nodeCount; ++j) {
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Index column = 3 * j + c;
+      m_matrix.startVec(column);
+      for (const int i : m_neighbours[static_cast<std::size_t>(j)]) {
+        for (int r = 0; r < 3; ++r) m_matrix.insertBack(3 * i + r, column) = 0.0;
+      }
+    }
+  }
+  m_matrix.finalize();
+}
+
+Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
+  const auto& list = m_neighbours[static_cast<std::size_t>(j)];
+  const auto found = std::lower_bound(list.begin(), list.end(), i);
+  if (found == list.end() || *found != i) {
+    throw std::logic_error("NodeBlockMatrix: nodes " + std::to_string(i) + " and " +
+                           std::to_string(j) + " share no edge");
+  }
+  return m_matrix.outerIndexPtr()[3 * j] + 3 * (found - list.begin());
+}
+
+void NodeBlockMatrix::addBlock(int i, int j, const Eigen::Matrix3d& block) {
+  const Eigen::Index start = blockStart(i, j);
+  const Eigen::Index stride = 3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(j)].size());
+  double* values = m_matrix.valuePtr();
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) values[start + c * stride + r] += block(r, c);
+  }
+}
+
+void NodeBlockMatrix::addEdgeStiffness(int a, int b, const Eigen::Matrix3d& k) {
+  addBlock(a, a, k);
+  addBlock(b, b, k);
+  addBlock(a, b, -k);
+  addBlock(b, a, -k);
+}
+
+void NodeBlockMatrix::addToDiagonal(int i, double value) {
+  const Eigen::Index start = blockStart(i, i);
+  const Eigen::Index stride = 3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(i)].size());
+  double* values = m_matrix.valuePtr();
+  for (int c = 0; c < 3; ++c) values[start + c * stride + c] += value;
+}
+
+void NodeBlockMatrix::applyFixedDofs(const std::vector<char>& isFixed) {
+  double* values = m_matrix.valuePtr();
+  const int* rows = m_matrix.innerIndexPtr();
+  const int* outer = m_matrix.outerIndexPtr();
+  for (Eigen::Index column = 0; column < m_matrix.outerSize(); ++column) {
+    const bool isColumnFixed = isFixed[static_cast<std::size_t>(column)] != 0;
+    for (int k = outer[column]; k < outer[column + 1]; ++k) {
+      if (isColumnFixed || isFixed[static_cast<std::size_t>(rows[k])] != 0) {
+        values[k] = rows[k] == column ? 1.0 : 0.0;
+      }
+    }
+  }
+}
+
+}  // namespace tissuesim
