@@ -75,7 +75,7 @@ void runTensile(const TensileCommandOptions& options) {
   const std::vector<CurveBranch> reference = continuum.run(UniaxialModel::Sedf, protocol);
 
   const TensileSpecimen specimen{parseSize(options.size), options.resolution};
-  const TensileTest test(table, parameters, specimen);
+  const TensileTest test(energy, table, specimen);
   const double calibration = options.calibration == "none"
                                  ? 1.0
                                  : test.smallStrainCalibration(energy.initialShearModulus());

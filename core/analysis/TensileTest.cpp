@@ -73,16 +73,18 @@ NewtonReport relax(TimeIntegrator& integrator, MechanicalSystem& system, Mechani
 
 }  // namespace
 
-TensileTest::TensileTest(const StiffnessTable& table, const TissueParameters& parameters,
+TensileTest::TensileTest(const StrainEnergy& energy, const StiffnessTable& table,
                          TensileSpecimen specimen)
-    : m_table(table), m_parameters(parameters), m_specimen(specimen) {}
+    : m_energy(energy), m_table(table), m_specimen(specimen) {}
 
 std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
                                           const UniaxialProtocol& protocol,
                                           TensilePointStats* stats) const {
-  Specimen specimen = buildSpecimen(m_specimen, m_parameters.density_kg_m3);
+  UniaxialTest(m_energy, m_table).validate(protocol);
+  const TissueParameters& parameters = m_energy.parameters();
+  Specimen specimen = buildSpecimen(m_specimen, parameters.density_kg_m3);
   specimen.mesh.volume_m3 *= options.volumeScale;
-  const SpringForceLaw law(options.law, m_table, m_parameters, options.linearModulus_Pa,
+  const SpringForceLaw law(options.law, m_table, parameters, options.linearModulus_Pa,
                            options.isSoftening);
   SpringForceField springs(specimen.mesh, law);
   std::unique_ptr<VolumeForceField> volume;
@@ -102,7 +104,9 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
   } else if (options.integrator == "quasi-newton") {
     integrator = std::make_unique<QuasiNewtonSolver>(settings);
   } else if (options.integrator == "explicit") {
+    // Dynamic relaxation: heavy mass damping, as many substeps as stability needs.
     settings.maxSubsteps = 1 << 20;
+    settings.massDamping_1_s = 200.0;
     integrator = std::make_unique<SymplecticEulerSolver>(settings);
   } else if (options.integrator != "static") {
     throw std::invalid_argument("unknown --integrator '" + options.integrator +
@@ -130,9 +134,14 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
 
       NewtonReport report;
       if (integrator) {
-        // Pseudo-time: a step long against the specimen's lowest mode, with strong damping.
-        report = relax(*integrator, system, state, 1e-2, options.forceTolerance_N,
-                       options.maxIterationsPerPoint, scratch);
+        // Pseudo-time. Implicit steps of 1 s are long against the specimen's slowest mode
+        // (about 0.07 s for the liver strip), so each is nearly a static solve; explicit steps of
+        // 1 ms relax through damping.
+        const bool isExplicit = options.integrator == "explicit";
+        report = relax(*integrator, system, state, isExplicit ? 1e-3 : 1.0,
+                       options.forceTolerance_N,
+                       isExplicit ? 100 * options.maxIterationsPerPoint : options.maxIterationsPerPoint,
+                       scratch);
       } else {
         report = newton.solve(system, state.x, state.x, 0.0, 0.0, options.maxIterationsPerPoint,
                               options.forceTolerance_N);

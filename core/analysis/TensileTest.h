@@ -50,8 +50,8 @@ struct TensilePointStats {
 
 class TensileTest {
  public:
-  TensileTest(const StiffnessTable& table, const TissueParameters& parameters,
-              TensileSpecimen specimen);
+  /// `energy` and `table` (built from it) must outlive this object.
+  TensileTest(const StrainEnergy& energy, const StiffnessTable& table, TensileSpecimen specimen);
 
   /// Runs the protocol (UniaxialTest::validate's rules apply). @throws std::invalid_argument.
   std::vector<CurveBranch> run(const TensileOptions& options, const UniaxialProtocol& protocol,
@@ -63,8 +63,8 @@ class TensileTest {
   double smallStrainCalibration(double initialShearModulus_Pa) const;
 
  private:
+  const StrainEnergy& m_energy;
   const StiffnessTable& m_table;
-  const TissueParameters& m_parameters;
   TensileSpecimen m_specimen;
 };
 

@@ -1,5 +1,7 @@
 #include "integrators/ImplicitEulerSolver.h"
 
+#include <cmath>
+
 namespace tissuesim {
 
 StepReport ImplicitEulerSolver::step(MechanicalSystem& system, MechanicalState& state, double dt) {
@@ -19,9 +21,9 @@ StepReport ImplicitEulerSolver::step(MechanicalSystem& system, MechanicalState& 
   report.residual_N = newton.residual_N;
   report.converged = newton.converged;
   report.forces = newton.forces;
-  if (!m_x.allFinite()) {
+  if (!m_x.allFinite() || !std::isfinite(newton.residual_N)) {
     report.isFinite = false;
-    report.reason = "non-finite position after an implicit step; state rolled back";
+    report.reason = "non-finite force or position in an implicit step; state rolled back";
     return report;
   }
   for (std::size_t d = 0; d < fixed.size(); ++d) {

@@ -109,9 +109,9 @@ StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& st
     report.forces = trialForces;
   }
   report.converged = report.residual_N <= m_settings.forceTolerance_N;
-  if (!m_x.allFinite()) {
+  if (!m_x.allFinite() || !std::isfinite(report.residual_N)) {
     report.isFinite = false;
-    report.reason = "non-finite position after a quasi-Newton step; state rolled back";
+    report.reason = "non-finite force or position in a quasi-Newton step; state rolled back";
     return report;
   }
   Eigen::Map<Eigen::VectorXd> v(state.v.data(), dofs);

@@ -1,0 +1,48 @@
+#pragma once
+// Shared fixtures for the engine tests: the liver's tables and small spring systems.
+
+#include <memory>
+
+#include "TestTissues.h"
+#include "integrators/MechanicalSystem.h"
+#include "material/StiffnessTable.h"
+#include "mesh/BlockMesher.h"
+#include "springs/SpringForceLaw.h"
+#include "springs/SpringMesh.h"
+
+namespace tissuesim::test {
+
+/// The porcine liver's energy and tables, built once per test binary.
+struct LiverMaterial {
+  TissueParameters parameters = porcineLiver();
+  StrainEnergy energy{parameters};
+  StiffnessTable table{energy};
+
+  static const LiverMaterial& instance() {
+    static const LiverMaterial material;
+    return material;
+  }
+};
+
+/// A block of springs with its force field and system, owning everything it refers to.
+struct BlockSystem {
+  SpringMesh mesh;
+  SpringForceLaw law;
+  SpringForceField springs;
+  std::unique_ptr<VolumeForceField> volume;
+  MechanicalSystem system;
+
+  BlockSystem(const Eigen::Vector3d& size_m, const Eigen::Vector3i& cells,
+              SpringLaw springLaw = SpringLaw::Eesm, bool isSoftening = false,
+              double bulkModulus_Pa = 0.0)
+      : mesh(buildSpringMesh(makeBlockMesh(size_m, cells),
+                             LiverMaterial::instance().parameters.density_kg_m3)),
+        law(springLaw, LiverMaterial::instance().table, LiverMaterial::instance().parameters,
+            3.0 * LiverMaterial::instance().energy.initialShearModulus(), isSoftening),
+        springs(mesh, law),
+        volume(bulkModulus_Pa > 0.0 ? std::make_unique<VolumeForceField>(mesh, bulkModulus_Pa)
+                                    : nullptr),
+        system(springs, volume.get()) {}
+};
+
+}  // namespace tissuesim::test

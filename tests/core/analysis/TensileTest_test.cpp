@@ -1,0 +1,71 @@
+#include "analysis/TensileTest.h"
+
+#include <gtest/gtest.h>
+
+#include "TestSystems.h"
+#include "analysis/GoodnessOfFit.h"
+
+namespace tissuesim {
+namespace {
+
+class TensileTestTest : public ::testing::Test {
+ protected:
+  const test::LiverMaterial& m_liver = test::LiverMaterial::instance();
+  // A coarse specimen (1 cell across 5 mm) keeps the test quick; the CLI default is 2.
+  TensileTest m_test{m_liver.energy, m_liver.table, {{0.055, 0.020, 0.005}, 1}};
+  UniaxialProtocol m_protocol{{1.15, 1.23}, 8};
+  UniaxialTest m_continuum{m_liver.energy, m_liver.table};
+};
+
+TEST_F(TensileTestTest, CalibratedNetworkFollowsTheContinuumAndUncalibratedDoesNot) {
+  const double calibration = m_test.smallStrainCalibration(m_liver.energy.initialShearModulus());
+  // A central-force network without the continuum's lateral contraction is several times softer.
+  EXPECT_GT(calibration, 3.0);
+  EXPECT_LT(calibration, 10.0);
+  const auto reference = m_continuum.run(UniaxialModel::Sedf, m_protocol);
+  TensileOptions options;
+  options.volumeScale = calibration;
+  TensilePointStats stats;
+  const auto calibrated = m_test.run(options, m_protocol, &stats);
+  EXPECT_EQ(stats.unconvergedPoints, 0);
+  EXPECT_LE(stats.worstResidual_N, options.forceTolerance_N);
+  options.volumeScale = 1.0;
+  const auto raw = m_test.run(options, m_protocol);
+  for (std::size_t b = 0; b < reference.size(); ++b) {
+    const double r2 = coefficientOfDetermination(reference[b].stress_Pa, calibrated[b].stress_Pa);
+    EXPECT_GT(r2, b % 2 == 0 ? 0.999 : 0.99) << "branch " << b;
+    EXPECT_LT(coefficientOfDetermination(reference[b].stress_Pa, raw[b].stress_Pa), 0.5);
+  }
+}
+
+TEST_F(TensileTestTest, TimeIntegratorsReachTheSameEquilibria) {
+  TensileOptions options;
+  options.volumeScale = 5.0;
+  options.isSoftening = false;
+  const UniaxialProtocol protocol{{1.1}, 3};
+  const auto statics = m_test.run(options, protocol);
+  options.integrator = "implicit";
+  options.forceTolerance_N = 1e-7;
+  TensilePointStats stats;
+  const auto dynamic = m_test.run(options, protocol, &stats);
+  EXPECT_EQ(stats.unconvergedPoints, 0);
+  for (std::size_t i = 0; i < statics[0].stress_Pa.size(); ++i) {
+    EXPECT_NEAR(dynamic[0].stress_Pa[i], statics[0].stress_Pa[i],
+                1e-4 * std::abs(statics[0].stress_Pa.back()));
+  }
+}
+
+TEST_F(TensileTestTest, JustBelowLockingStaysFiniteAndConverged) {
+  TensileOptions options;
+  options.volumeScale = 5.8;
+  TensilePointStats stats;
+  const auto curve = m_test.run(options, {{m_liver.table.range().upper - 1e-3}, 4}, &stats);
+  EXPECT_EQ(stats.unconvergedPoints, 0);
+  for (const auto& branch : curve) {
+    for (const double stress : branch.stress_Pa) EXPECT_TRUE(std::isfinite(stress));
+  }
+  EXPECT_THROW(m_test.run(options, {{1.6}, 4}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tissuesim

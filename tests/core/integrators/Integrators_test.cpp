@@ -1,0 +1,284 @@
+// Tests of the three time integrators on small systems: analytic trajectories, stability at
+// the extremes, energy behaviour, refusal and rollback.
+
+#include <cmath>
+#include <memory>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "TestSystems.h"
+#include "integrators/ImplicitEulerSolver.h"
+#include "integrators/QuasiNewtonSolver.h"
+#include "integrators/SymplecticEulerSolver.h"
+
+namespace tissuesim {
+namespace {
+
+const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
+
+std::unique_ptr<TimeIntegrator> makeIntegrator(const std::string& name, IntegratorSettings settings) {
+  if (name == "explicit") return std::make_unique<SymplecticEulerSolver>(settings);
+  if (name == "implicit") return std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::Cholesky);
+  if (name == "implicit-cg") return std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
+  return std::make_unique<QuasiNewtonSolver>(settings);
+}
+
+Eigen::Vector3d centreOfMass(const SpringMesh& mesh, const Eigen::Matrix3Xd& x) {
+  return x * mesh.nodeMass_kg / mesh.nodeMass_kg.sum();
+}
+
+class EachIntegrator : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EachIntegrator, FreeFallFollowsTheDiscreteAndAnalyticTrajectory) {
+  test::BlockSystem block({0.01, 0.01, 0.01}, {1, 1, 1});
+  block.system.gravity_m_s2 = kGravity;
+  IntegratorSettings settings;
+  settings.forceTolerance_N = 1e-12;
+  auto integrator = makeIntegrator(GetParam(), settings);
+  MechanicalState state = block.system.restState();
+  const Eigen::Vector3d start = centreOfMass(block.mesh, state.x);
+  const double dt = 1e-3;
+  const int steps = 200;
+  for (int n = 0; n < steps; ++n) ASSERT_FALSE(integrator->step(block.system, state, dt).refused);
+  const double t = steps * dt;
+  const double drop = start.z() - centreOfMass(block.mesh, state.x).z();
+  // Both Euler variants give z_n = -g dt^2 n (n + 1) / 2 exactly for a rigid fall ...
+  EXPECT_NEAR(drop, 9.81 * dt * dt * steps * (steps + 1) / 2.0, 1e-9);
+  // ... which is the analytic g t^2 / 2 to first order in dt.
+  EXPECT_NEAR(drop, 9.81 * t * t / 2.0, 9.81 * dt * t / 2.0 + 1e-9);
+  // A rigid fall does not deform.
+  EXPECT_LT((state.x.colwise() - centreOfMass(block.mesh, state.x) -
+             (block.mesh.restPositions_m.colwise() - start)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST_P(EachIntegrator, NonFiniteInputIsDetectedAndTheStateKept) {
+  test::BlockSystem block({0.01, 0.01, 0.01}, {1, 1, 1});
+  auto integrator = makeIntegrator(GetParam(), IntegratorSettings{});
+  MechanicalState state = block.system.restState();
+  state.x.row(0) *= 1.05;
+  const MechanicalState good = state;
+  block.system.externalForces_N(1, 3) = std::numeric_limits<double>::quiet_NaN();
+  const StepReport report = integrator->step(block.system, state, 1e-3);
+  EXPECT_FALSE(report.isFinite && report.converged && !report.refused);
+  EXPECT_TRUE(state.isFinite());
+  EXPECT_EQ(state.x, good.x);  // the caller still has the last good state
+  EXPECT_EQ(state.v, good.v);
+}
+
+INSTANTIATE_TEST_SUITE_P(All, EachIntegrator,
+                         ::testing::Values("explicit", "implicit", "implicit-cg", "quasi-newton"),
+                         [](const auto& integratorName) {
+                           std::string name = integratorName.param;
+                           for (char& c : name) c = c == '-' ? '_' : c;
+                           return name;
+                         });
+
+TEST(SymplecticEuler, OscillationPeriodMatchesTheLinearisedSystem) {
+  // One tet, three nodes fixed; the free node oscillates with omega^2 = eig(K_33) / m_3.
+  TetMesh tet;
+  tet.nodes_m.resize(3, 4);
+  tet.nodes_m << 0, 0.01, 0, 0, 0, 0, 0.01, 0, 0, 0, 0, 0.01;
+  tet.tets.resize(4, 1);
+  tet.tets << 0, 1, 2, 3;
+  const auto& liver = test::LiverMaterial::instance();
+  const SpringMesh mesh = buildSpringMesh(tet, 1060.0);
+  const SpringForceLaw law(SpringLaw::Smm, liver.table, liver.parameters, 5000.0, false);
+  SpringForceField springs(mesh, law);
+  MechanicalSystem system(springs, nullptr);
+  for (int node = 0; node < 3; ++node) system.fixNode(node);
+  Eigen::Matrix3d k33 = Eigen::Matrix3d::Zero();
+  for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+    if (mesh.springs(1, s) != 3) continue;
+    const Eigen::Vector3d n = (mesh.restPositions_m.col(3) - mesh.restPositions_m.col(mesh.springs(0, s))).normalized();
+    k33 += mesh.volume_m3[s] * 5000.0 / (mesh.restLength_m[s] * mesh.restLength_m[s]) * n * n.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> modes(k33);
+  const double omega = std::sqrt(modes.eigenvalues()[0] / mesh.nodeMass_kg[3]);
+  MechanicalState state = system.restState();
+  state.x.col(3) += 1e-7 * modes.eigenvectors().col(0);
+  IntegratorSettings settings;
+  SymplecticEulerSolver integrator(settings);
+  const double period = 2 * M_PI / omega;
+  const double dt = period / 2000;
+  double previous = modes.eigenvectors().col(0).dot(state.x.col(3) - mesh.restPositions_m.col(3));
+  std::vector<double> crossings;
+  for (int n = 1; n < 2000 * 5; ++n) {
+    integrator.step(system, state, dt);
+    const double now = modes.eigenvectors().col(0).dot(state.x.col(3) - mesh.restPositions_m.col(3));
+    if (previous > 0 && now <= 0) crossings.push_back(n * dt - dt * now / (now - previous));
+    previous = now;
+  }
+  ASSERT_GE(crossings.size(), 3u);
+  const double measured = (crossings.back() - crossings.front()) / (crossings.size() - 1);
+  EXPECT_NEAR(measured, period, 2e-3 * period);
+}
+
+TEST(SymplecticEuler, HundredThousandStepsStayFiniteWithBoundedEnergy) {
+  test::BlockSystem block({0.01, 0.01, 0.01}, {1, 1, 1});
+  block.system.gravity_m_s2 = kGravity;
+  IntegratorSettings settings;
+  SymplecticEulerSolver integrator(settings);
+  MechanicalState state = block.system.restState();
+  state.x.row(0) *= 1.1;  // released from a stretch: it vibrates while it falls
+  // omega_max dt <= 0.4: symplectic Euler then holds a shadow energy within a few per cent of
+  // the true one (its fluctuation is O((omega dt)^2)), with no drift.
+  const double dt = 0.2 * SymplecticEulerSolver::stableTimeStep(block.system, state.x, 1.0);
+  // Energy in the falling frame: kinetic about the centre of mass plus elastic.
+  const auto internalEnergy = [&](const MechanicalState& s) {
+    MechanicalState relative = s;
+    const Eigen::Vector3d vcm = s.v * block.mesh.nodeMass_kg / block.mesh.nodeMass_kg.sum();
+    relative.v = s.v.colwise() - vcm;
+    MechanicalSystem& system = block.system;
+    const Eigen::Vector3d g = system.gravity_m_s2;
+    system.gravity_m_s2.setZero();
+    const double energy = system.totalEnergy(relative);
+    system.gravity_m_s2 = g;
+    return energy;
+  };
+  const double initial = internalEnergy(state);
+  ASSERT_GT(initial, 0.0);
+  // Bounded: never far from the start. No drift: the first and last tenths average the same.
+  double worst = 0.0;
+  double firstTenth = 0.0;
+  double lastTenth = 0.0;
+  constexpr int kSteps = 100000;
+  constexpr int kSampleEvery = 100;
+  for (int n = 0; n < kSteps; ++n) {
+    const StepReport report = integrator.step(block.system, state, dt);
+    ASSERT_TRUE(report.isFinite) << "step " << n;
+    ASSERT_EQ(report.substeps, 1);
+    if (n % kSampleEvery != 0) continue;
+    const double energy = internalEnergy(state);
+    worst = std::max(worst, std::abs(energy - initial));
+    if (n < kSteps / 10) firstTenth += energy / (kSteps / 10 / kSampleEvery);
+    if (n >= kSteps - kSteps / 10) lastTenth += energy / (kSteps / 10 / kSampleEvery);
+  }
+  EXPECT_LT(worst, 0.15 * initial);
+  EXPECT_NEAR(lastTenth, firstTenth, 0.03 * initial);
+  const double t = kSteps * dt;
+  EXPECT_NEAR(-centreOfMass(block.mesh, state.x).z() + 0.005, 9.81 * t * t / 2, 9.81 * dt * t);
+}
+
+TEST(SymplecticEuler, RefusesAStepItCannotTakeStably) {
+  test::BlockSystem block({0.01, 0.01, 0.01}, {1, 1, 1});
+  IntegratorSettings settings;
+  settings.maxSubsteps = 8;
+  SymplecticEulerSolver integrator(settings);
+  MechanicalState state = block.system.restState();
+  state.x.row(0) *= 1.1;
+  const MechanicalState before = state;
+  const double stable = SymplecticEulerSolver::stableTimeStep(block.system, state.x, settings.stabilitySafety);
+  const StepReport big = integrator.step(block.system, state, 100 * stable);
+  EXPECT_TRUE(big.refused);
+  EXPECT_FALSE(big.reason.empty());
+  EXPECT_EQ(state.x, before.x);
+  const StepReport fine = integrator.step(block.system, state, 4 * stable);
+  EXPECT_FALSE(fine.refused);
+  EXPECT_GE(fine.substeps, 2);  // fewer than 4: the bound is re-estimated as the block relaxes
+  EXPECT_LE(fine.substeps, 8);
+  EXPECT_NE(state.x, before.x);
+}
+
+TEST(ImplicitEuler, TenTimesTheExplicitStepNeitherBlowsUpNorGainsEnergy) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
+  MechanicalState state = block.system.restState();
+  state.x.row(0) *= 1.2;
+  const double dt = 10 * SymplecticEulerSolver::stableTimeStep(block.system, state.x, 1.0);
+  IntegratorSettings settings;
+  settings.forceTolerance_N = 1e-10;
+  ImplicitEulerSolver integrator(settings, LinearSolverKind::Cholesky);
+  double energy = block.system.totalEnergy(state);
+  for (int n = 0; n < 300; ++n) {
+    const StepReport report = integrator.step(block.system, state, dt);
+    ASSERT_TRUE(report.isFinite);
+    ASSERT_TRUE(report.converged) << "step " << n << " residual " << report.residual_N;
+    const double now = block.system.totalEnergy(state);
+    EXPECT_LE(now, energy * (1 + 1e-9) + 1e-15) << "step " << n;
+    energy = now;
+  }
+}
+
+TEST(QuasiNewton, ConvergesToImplicitEulerAsIterationsGrow) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
+  block.system.gravity_m_s2 = kGravity;
+  for (int node = 0; node < 9; ++node) block.system.fixNode(node);  // the z = 0 face
+  MechanicalState start = block.system.restState();
+  start.x.row(0) *= 1.15;
+  const double dt = 10 * SymplecticEulerSolver::stableTimeStep(block.system, start.x, 1.0);
+  IntegratorSettings exactSettings;
+  exactSettings.forceTolerance_N = 1e-13;
+  exactSettings.maxIterations = 50;
+  MechanicalState exact = start;
+  ImplicitEulerSolver(exactSettings, LinearSolverKind::Cholesky).step(block.system, exact, dt);
+  double previousError = std::numeric_limits<double>::infinity();
+  for (const int iterations : {1, 3, 10, 40}) {
+    IntegratorSettings settings;
+    settings.maxIterations = iterations;
+    settings.forceTolerance_N = 0.0;
+    MechanicalState state = start;
+    QuasiNewtonSolver(settings).step(block.system, state, dt);
+    const double error = (state.x - exact.x).cwiseAbs().maxCoeff();
+    EXPECT_LT(error, previousError) << iterations << " iterations";
+    previousError = error;
+  }
+  EXPECT_LT(previousError, 1e-9);
+}
+
+TEST(VolumeTerm, CompressedToSeventyPercentTheBlockRecoversWithNoInvertedTet) {
+  const double height = 0.01;
+  test::BlockSystem block({0.01, 0.01, height}, {2, 2, 2}, SpringLaw::Eesm, false, 20e3);
+  MechanicalSystem& system = block.system;
+  std::vector<int> bottom, top;
+  for (Eigen::Index i = 0; i < block.mesh.nodeCount(); ++i) {
+    if (block.mesh.restPositions_m(2, i) < 1e-12) bottom.push_back(static_cast<int>(i));
+    if (block.mesh.restPositions_m(2, i) > height - 1e-12) top.push_back(static_cast<int>(i));
+  }
+  for (const int node : bottom) system.fixNode(node);
+  for (const int node : top) system.fixDof(node, 2);
+  IntegratorSettings settings;
+  settings.massDamping_1_s = 50.0;
+  settings.forceTolerance_N = 1e-9;
+  ImplicitEulerSolver integrator(settings, LinearSolverKind::Cholesky);
+  MechanicalState state = system.restState();
+  const double dt = 1e-3;
+  for (int n = 1; n <= 100; ++n) {  // press the top face down to 0.7 H over 0.1 s
+    for (const int node : top) state.x(2, node) = height * (1.0 - 0.3 * n / 100.0);
+    ASSERT_TRUE(integrator.step(system, state, dt).isFinite);
+  }
+  EXPECT_EQ(VolumeForceField::inspect(block.mesh, state.x).invertedTetCount, 0);
+  system.releaseAll();
+  for (const int node : bottom) system.fixNode(node);
+  for (int n = 0; n < 1500; ++n) ASSERT_TRUE(integrator.step(system, state, dt).isFinite);
+  double meanTop = 0.0;
+  for (const int node : top) meanTop += state.x(2, node) / static_cast<double>(top.size());
+  EXPECT_NEAR(meanTop, height, 0.01 * height);
+  EXPECT_EQ(VolumeForceField::inspect(block.mesh, state.x).invertedTetCount, 0);
+}
+
+TEST(Slivers, AMeshWithASliverTetSimulatesFinitely) {
+  TetMesh mesh = makeBlockMesh({0.01, 0.01, 0.01}, {1, 1, 1});
+  // A ninth node just off the face x = 0 and a flat tet onto it: a sliver.
+  mesh.nodes_m.conservativeResize(3, 9);
+  mesh.nodes_m.col(8) << -1e-6, 0.005, 0.005;
+  mesh.tets.conservativeResize(4, 7);
+  mesh.tets.col(6) << 0, 2, 4, 8;
+  if (signedTetVolume(mesh.nodes_m, mesh.tets, 6) < 0) std::swap(mesh.tets(1, 6), mesh.tets(2, 6));
+  ASSERT_FALSE(inspectTets(mesh).slivers.empty());
+  const auto& liver = test::LiverMaterial::instance();
+  const SpringMesh springsMesh = buildSpringMesh(mesh, 1060.0);
+  const SpringForceLaw law(SpringLaw::Eesm, liver.table, liver.parameters, 0.0, false);
+  SpringForceField springs(springsMesh, law);
+  MechanicalSystem system(springs, nullptr);
+  system.gravity_m_s2 = kGravity;
+  system.fixNode(1);
+  system.fixNode(3);
+  IntegratorSettings settings;
+  settings.massDamping_1_s = 5.0;
+  ImplicitEulerSolver integrator(settings, LinearSolverKind::Cholesky);
+  MechanicalState state = system.restState();
+  for (int n = 0; n < 200; ++n) ASSERT_TRUE(integrator.step(system, state, 1e-3).isFinite);
+}
+
+}  // namespace
+}  // namespace tissuesim

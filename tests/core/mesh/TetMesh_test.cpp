@@ -1,0 +1,63 @@
+#include "mesh/TetMesh.h"
+
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+namespace tissuesim {
+namespace {
+
+TetMesh twoTets() {
+  TetMesh mesh;
+  mesh.nodes_m.resize(3, 5);
+  mesh.nodes_m << 0, 1, 0, 0, 1,  //
+      0, 0, 1, 0, 1,              //
+      0, 0, 0, 1, 1;
+  mesh.tets.resize(4, 2);
+  mesh.tets << 0, 1, 1, 2, 2, 3, 3, 4;
+  return mesh;
+}
+
+TEST(TetMesh, SignedVolume) {
+  const TetMesh mesh = twoTets();
+  EXPECT_NEAR(signedTetVolume(mesh.nodes_m, mesh.tets, 0), 1.0 / 6.0, 1e-15);
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(0, 0, 1);
+  EXPECT_LT(signedTetVolume(a, c, b, d), 0.0);
+}
+
+TEST(TetMesh, InspectionFindsInvertedAndSliverTets) {
+  TetMesh mesh = twoTets();
+  EXPECT_TRUE(inspectTets(mesh).invertedTets.empty());
+  std::swap(mesh.tets(0, 1), mesh.tets(1, 1));
+  const TetQualityReport inverted = inspectTets(mesh);
+  ASSERT_EQ(inverted.invertedTets.size(), 1u);
+  EXPECT_EQ(inverted.invertedTets[0], 1);
+
+  TetMesh sliver = twoTets();
+  sliver.nodes_m.col(3) << 0.5, 0.5, 1e-9;  // tet 0 nearly flat
+  const TetQualityReport flat = inspectTets(sliver);
+  ASSERT_FALSE(flat.slivers.empty());
+  EXPECT_EQ(flat.slivers[0], 0);
+}
+
+TEST(TetMesh, ValidationNamesTheProblem) {
+  TetMesh mesh = twoTets();
+  EXPECT_NO_THROW(validateTetMesh(mesh, "m"));
+  mesh.tets(3, 1) = 9;
+  try {
+    validateTetMesh(mesh, "m");
+    FAIL();
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("tet 1 refers to node 9"), std::string::npos);
+  }
+  mesh = twoTets();
+  mesh.nodes_m(1, 2) = std::nan("");
+  EXPECT_THROW(validateTetMesh(mesh, "m"), std::invalid_argument);
+  mesh = twoTets();
+  mesh.tets(1, 0) = 0;
+  EXPECT_THROW(validateTetMesh(mesh, "m"), std::invalid_argument);
+  EXPECT_THROW(validateTetMesh(TetMesh{}, "m"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tissuesim

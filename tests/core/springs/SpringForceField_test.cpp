@@ -1,0 +1,155 @@
+#include "springs/SpringForceField.h"
+
+#include <random>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "TestSystems.h"
+
+namespace tissuesim {
+namespace {
+
+/// A block with its nodes jiggled: springs stretched and compressed in every direction.
+Eigen::Matrix3Xd deformed(const SpringMesh& mesh, double amplitude, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  const double h = mesh.restLength_m.minCoeff();
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    for (int a = 0; a < 3; ++a) x(a, i) += amplitude * h * u(random);
+  }
+  return x;
+}
+
+double elasticEnergy(const SpringMesh& mesh, const Eigen::Matrix3Xd& x) {
+  double energy = 0.0;
+  for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+    const double lambda =
+        (x.col(mesh.springs(1, s)) - x.col(mesh.springs(0, s))).norm() / mesh.restLength_m[s];
+    energy += mesh.volume_m3[s] * test::LiverMaterial::instance().table.energy(lambda);
+  }
+  return energy;
+}
+
+TEST(SpringForceField, ForceIsMinusTheEnergyGradient) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
+  const Eigen::Matrix3Xd x = deformed(block.mesh, 0.15, 1);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  block.springs.addForces(x, f);
+  const double h = 1e-8;
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Matrix3Xd up = x, down = x;
+      up(a, i) += h;
+      down(a, i) -= h;
+      const double gradient = (elasticEnergy(block.mesh, up) - elasticEnergy(block.mesh, down)) / (2 * h);
+      worst = std::max(worst, std::abs(f(a, i) + gradient));
+    }
+  }
+  EXPECT_LT(worst, 1e-5 * f.cwiseAbs().maxCoeff());
+  // Newton's third law: internal forces sum to zero.
+  EXPECT_LT(f.rowwise().sum().norm(), 1e-12 * f.cwiseAbs().maxCoeff());
+}
+
+TEST(SpringForceField, StiffnessIsTheForceJacobian) {
+  for (const bool isSoftening : {false, true}) {
+    test::BlockSystem block({0.02, 0.02, 0.02}, {1, 1, 1}, SpringLaw::Eesm, isSoftening);
+    block.springs.commitStretchHistory(deformed(block.mesh, 0.2, 5));
+    const Eigen::Matrix3Xd x = deformed(block.mesh, 0.15, 2);
+    const Eigen::Index n = x.cols();
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, n);
+    Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, block.mesh.springCount());
+    block.springs.addForcesAndStiffness(x, f, blocks, /*isProjected=*/false);
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+    for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
+      const Eigen::Map<const Eigen::Matrix3d> ks(blocks.col(s).data());
+      const int a = block.mesh.springs(0, s), b = block.mesh.springs(1, s);
+      k.block<3, 3>(3 * a, 3 * a) += ks;
+      k.block<3, 3>(3 * b, 3 * b) += ks;
+      k.block<3, 3>(3 * a, 3 * b) -= ks;
+      k.block<3, 3>(3 * b, 3 * a) -= ks;
+    }
+    const double h = 1e-9;
+    for (Eigen::Index j = 0; j < 3 * n; ++j) {
+      Eigen::Matrix3Xd up = x, down = x;
+      up.data()[j] += h;
+      down.data()[j] -= h;
+      Eigen::Matrix3Xd fu = Eigen::Matrix3Xd::Zero(3, n), fd = Eigen::Matrix3Xd::Zero(3, n);
+      block.springs.addForces(up, fu);
+      block.springs.addForces(down, fd);
+      const Eigen::VectorXd column =
+          -(Eigen::Map<Eigen::VectorXd>(fu.data(), 3 * n) - Eigen::Map<Eigen::VectorXd>(fd.data(), 3 * n)) / (2 * h);
+      EXPECT_LT((column - k.col(j)).cwiseAbs().maxCoeff(), 1e-4 * k.cwiseAbs().maxCoeff())
+          << "column " << j << " softening " << isSoftening;
+    }
+  }
+}
+
+TEST(SpringForceField, ProjectedStiffnessIsPositiveSemiDefinite) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {1, 1, 1});
+  const Eigen::Matrix3Xd x = deformed(block.mesh, 0.3, 3);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, block.mesh.springCount());
+  block.springs.addForcesAndStiffness(x, f, blocks, /*isProjected=*/true);
+  for (Eigen::Index s = 0; s < blocks.cols(); ++s) {
+    const Eigen::Map<const Eigen::Matrix3d> ks(blocks.col(s).data());
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(ks).eigenvalues().minCoeff(), -1e-9);
+  }
+}
+
+TEST(SpringForceField, FrequencyBoundIsAnUpperBound) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 1});
+  const Eigen::Matrix3Xd x = deformed(block.mesh, 0.1, 4);
+  const Eigen::Index n = x.cols();
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, n);
+  Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, block.mesh.springCount());
+  block.springs.addForcesAndStiffness(x, f, blocks, false);
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
+    const Eigen::Map<const Eigen::Matrix3d> ks(blocks.col(s).data());
+    const int a = block.mesh.springs(0, s), b = block.mesh.springs(1, s);
+    k.block<3, 3>(3 * a, 3 * a) += ks;
+    k.block<3, 3>(3 * b, 3 * b) += ks;
+    k.block<3, 3>(3 * a, 3 * b) -= ks;
+    k.block<3, 3>(3 * b, 3 * a) -= ks;
+  }
+  Eigen::VectorXd inverseRootMass(3 * n);
+  for (Eigen::Index i = 0; i < n; ++i) inverseRootMass.segment<3>(3 * i).setConstant(1.0 / std::sqrt(block.mesh.nodeMass_kg[i]));
+  const Eigen::MatrixXd scaled = inverseRootMass.asDiagonal() * k * inverseRootMass.asDiagonal();
+  const double omega2 = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(scaled).eigenvalues().cwiseAbs().maxCoeff();
+  const double bound = block.springs.frequencySquaredBound(x);
+  EXPECT_GE(bound, omega2);
+  EXPECT_LT(bound, 20.0 * omega2);  // and not uselessly loose
+}
+
+TEST(SpringForceField, StretchHistoryOnlyGrowsAndResets) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {1, 1, 1}, SpringLaw::Eesm, true);
+  block.springs.commitStretchHistory(block.mesh.restPositions_m * 1.1);
+  EXPECT_NEAR(block.springs.lambdaMax().minCoeff(), 1.1, 1e-12);
+  block.springs.commitStretchHistory(block.mesh.restPositions_m * 1.05);
+  EXPECT_NEAR(block.springs.lambdaMax().minCoeff(), 1.1, 1e-12);
+  block.springs.resetStretchHistory();
+  EXPECT_EQ(block.springs.lambdaMax().maxCoeff(), 1.0);
+}
+
+TEST(SpringForceField, CollapsedAndOverstretchedSpringsAreReported) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {1, 1, 1});
+  Eigen::Matrix3Xd x = block.mesh.restPositions_m;
+  x.col(1) = x.col(0);  // spring (0, 1) has zero length
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  SpringFieldReport report = block.springs.addForces(x, f);
+  EXPECT_EQ(report.collapsedCount, 1);
+  EXPECT_TRUE(f.allFinite());
+  x = block.mesh.restPositions_m;
+  x.row(0) *= 1.8;  // past locking along x
+  f.setZero();
+  report = block.springs.addForces(x, f);
+  EXPECT_GT(report.beyondRangeCount, 0);
+  EXPECT_NEAR(report.maxStretch, 1.8, 1e-12);
+  EXPECT_TRUE(f.allFinite());
+}
+
+}  // namespace
+}  // namespace tissuesim
