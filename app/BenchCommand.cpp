@@ -8,6 +8,7 @@
 
 #include "AssetPaths.h"
 #include "CommandError.h"
+#include "bench/DynamicsBenchmarks.h"
 #include "bench/MaterialBenchmarks.h"
 
 namespace tissuesim::app {
@@ -20,6 +21,7 @@ struct BenchOptions {
 
 void runBench(const BenchOptions& options) {
   registerMaterialBenchmarks(options.tissuePath);
+  registerDynamicsBenchmarks(options.tissuePath);
   std::vector<std::string> arguments = {"tissuesim bench"};
   arguments.insert(arguments.end(), options.benchmarkArguments.begin(),
                    options.benchmarkArguments.end());

@@ -62,6 +62,12 @@ void runTensile(const TensileCommandOptions& options) {
                        " is out of range; expected 1 to 40 cells across the thickness");
   }
   if (options.bulkModulus_kPa < 0.0) throw CommandError("--bulk-modulus-kpa must be >= 0");
+  const std::string& integrator = options.integrator;
+  if (integrator != "static" && integrator != "implicit" && integrator != "quasi-newton" &&
+      integrator != "explicit") {
+    throw CommandError("unknown --integrator '" + integrator +
+                       "'; expected static, implicit, quasi-newton or explicit");
+  }
   const TissueParameters parameters = loadTissueFile(options.tissuePath);
   const StrainEnergy energy(parameters);
   const StiffnessTable table(energy);

@@ -64,7 +64,7 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
                  (m_cholesky.vectorD().array() > 0.0).all();
       if (isSolved) m_step = m_cholesky.solve(m_rhs);
     } else {
-      m_cg.setTolerance(1e-10);
+      m_cg.setTolerance(1e-6);  // inexact Newton: the outer iteration tightens the rest
       m_cg.setMaxIterations(static_cast<Eigen::Index>(3 * x.cols()));
       m_cg.compute(m_matrix->matrix());
       m_step = m_cg.solve(m_rhs);

@@ -37,42 +37,47 @@ double StressSoftening::residualStress(double lambda, double lambdaMax) const {
   return m_residualScale_Pa * (axialTerm - lateralTerm);
 }
 
-double StressSoftening::soften(double virginStress, double lambda, double lambdaMax) const {
-  if (lambdaMax <= 1.0 || lambda >= lambdaMax) return virginStress;
-  if (lambda >= 1.0) {
-    return (virginStress + residualStress(lambda, lambdaMax) / lambda) * factor(lambda, lambdaMax);
-  }
-  // Compression after stretching: carry the offset P_s(1) so the curve stays continuous.
-  return virginStress + residualStress(1.0, lambdaMax) * factor(1.0, lambdaMax);
+SofteningPeak StressSoftening::peak(double lambdaMax) const {
+  SofteningPeak p;
+  p.lambdaMax = lambdaMax;
+  p.inverseMeasure = 1.0 / stretchMeasure(lambdaMax);
+  p.axial = m_exponentN == 2 ? lambdaMax * lambdaMax : lambdaMax;
+  p.lateral = m_exponentN == 2 ? 1.0 / lambdaMax : 1.0 / std::sqrt(lambdaMax);
+  p.offsetAtRest = lambdaMax > 1.0 ? residualStress(1.0, lambdaMax) * factor(1.0, lambdaMax) : 0.0;
+  return p;
 }
 
 HermiteNode StressSoftening::softenWithSlope(HermiteNode virgin, double lambda,
-                                             double lambdaMax) const {
-  if (lambdaMax <= 1.0 || lambda >= lambdaMax) return virgin;
-  if (lambda < 1.0) {
-    return {virgin.value + residualStress(1.0, lambdaMax) * factor(1.0, lambdaMax), virgin.slope};
-  }
-  // T = P_v + R / lambda;  P_s = T F;  P_s' = T' F + T F'.
-  const double maxAxial = m_exponentN == 2 ? lambdaMax * lambdaMax : lambdaMax;
-  const double maxLateral = m_exponentN == 2 ? 1.0 / lambdaMax : 1.0 / std::sqrt(lambdaMax);
-  const double l2 = lambda * lambda;
-  const double residual = residualStress(lambda, lambdaMax);
-  // dR/dlambda = s [ -8 lambda A + 16 lambda^3 - 4 B / lambda^2 + 8 / lambda^3 ]
-  const double residualSlope =
-      m_residualScale_Pa *
-      (-8.0 * lambda * maxAxial + 16.0 * l2 * lambda - 4.0 * maxLateral / l2 + 8.0 / (l2 * lambda));
-  const double t = virgin.value + residual / lambda;
-  const double dt = virgin.slope + residualSlope / lambda - residual / l2;
+                                             const SofteningPeak& peak) const {
+  if (peak.lambdaMax <= 1.0 || lambda >= peak.lambdaMax) return virgin;
+  // Compression after stretching: carry the offset P_s(1) so the curve stays continuous.
+  if (lambda < 1.0) return {virgin.value + peak.offsetAtRest, virgin.slope};
 
-  const double m = stretchMeasure(lambda);
-  const double bigM = stretchMeasure(lambdaMax);
-  const double f = factor(lambda, lambdaMax);
-  // q = (M - m) m / M; dq/dlambda = (M - 2 m) m' / M, m' = 2 (lambda^3 - lambda^-3) / m.
+  // T = P_v + R / lambda;  P_s = T F;  P_s' = T' F + T F'.
+  const double inverse = 1.0 / lambda;
+  const double l2 = lambda * lambda;
+  const double inverse2 = inverse * inverse;
+  // R = s [ -4 l^2 (A - l^2) + 4 / l (B - 1 / l) ]                                   (Eq. 17)
+  const double residual =
+      m_residualScale_Pa * (-4.0 * l2 * (peak.axial - l2) + 4.0 * inverse * (peak.lateral - inverse));
+  // dR/dlambda = s [ -8 l A + 16 l^3 - 4 B / l^2 + 8 / l^3 ]
+  const double residualSlope =
+      m_residualScale_Pa * (-8.0 * lambda * peak.axial + 16.0 * l2 * lambda -
+                            4.0 * peak.lateral * inverse2 + 8.0 * inverse2 * inverse);
+  const double t = virgin.value + residual * inverse;
+  const double dt = virgin.slope + residualSlope * inverse - residual * inverse2;
+
+  // F = exp(-b sqrt(q)), q = (M - m) m / M;  dq/dlambda = (M - 2 m) m' / M,
+  // m' = 2 (lambda^3 - lambda^-3) / m.
+  const double m = std::sqrt(l2 * l2 + 2.0 * inverse2);
+  const double q = std::max(0.0, (1.0 - m * peak.inverseMeasure) * m);
+  const double rootQ = std::sqrt(q);
+  const double f = std::exp(-m_b * rootQ);
+  // The tangent is vertical at lambda_max: cap it where sqrt(q) = 1e-6 (see the header).
   constexpr double kMinRootQ = 1e-6;
-  const double rootQ = std::max(kMinRootQ, std::sqrt(std::max(0.0, (bigM - m) * m / bigM)));
-  const double dm = 2.0 * (l2 * lambda - 1.0 / (l2 * lambda)) / m;
-  const double dq = (bigM - 2.0 * m) * dm / bigM;
-  const double df = -m_b * f * dq / (2.0 * rootQ);
+  const double dm = 2.0 * (l2 * lambda - inverse2 * inverse) / m;
+  const double dq = (1.0 - 2.0 * m * peak.inverseMeasure) * dm;
+  const double df = -m_b * f * dq / (2.0 * std::max(kMinRootQ, rootQ));
   return {t * f, dt * f + t * df};
 }
 

@@ -42,6 +42,16 @@ class MullinsState {
   double m_lambdaMax = 1.0;
 };
 
+/// What softening needs of a spring's peak stretch, computed once when the peak changes
+/// rather than in every force evaluation.
+struct SofteningPeak {
+  double lambdaMax = 1.0;
+  double inverseMeasure = 0.0;  ///< 1 / M, M = m(lambda_max) (Eq. 20)
+  double axial = 1.0;           ///< lambda_max^n
+  double lateral = 1.0;         ///< lambda_max,3^n = lambda_max^(-n/2)
+  double offsetAtRest = 0.0;    ///< P_s(1) = R(1) F(1) (Pa), the compression branch's offset
+};
+
 class StressSoftening {
  public:
   /// The bracket of Eq. 19 is read in kPa (model.md); this converts it to Pa.
@@ -55,14 +65,22 @@ class StressSoftening {
   /// R(lambda; lambda_max) in Pa (negative below lambda_max for lambda > 1: the permanent set).
   double residualStress(double lambda, double lambdaMax) const;
 
+  /// The quantities of a peak stretch lambda_max (>= 1).
+  SofteningPeak peak(double lambdaMax) const;
+
   /// The softened engineering stress (Pa) of a law with virgin stress `virginStress` (Pa) at
   /// `lambda`, following the rules above.
-  double soften(double virginStress, double lambda, double lambdaMax) const;
+  double soften(double virginStress, double lambda, double lambdaMax) const {
+    return softenWithSlope({virginStress, 0.0}, lambda, peak(lambdaMax)).value;
+  }
 
   /// The same with its derivative in lambda, given the virgin stress's (Pa). The factor F has a
   /// vertical tangent at lambda_max (model.md); its slope is capped there, at the value
   /// sqrt((M - m) m / M) = 1e-6 would give, so Newton sees a large but finite tangent.
-  HermiteNode softenWithSlope(HermiteNode virgin, double lambda, double lambdaMax) const;
+  HermiteNode softenWithSlope(HermiteNode virgin, double lambda, const SofteningPeak& peak) const;
+  HermiteNode softenWithSlope(HermiteNode virgin, double lambda, double lambdaMax) const {
+    return softenWithSlope(virgin, lambda, peak(lambdaMax));
+  }
 
   bool isEnabled() const { return m_b > 0.0 || m_residualScale_Pa > 0.0; }
 

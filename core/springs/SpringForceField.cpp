@@ -12,7 +12,17 @@ constexpr double kCollapsedLengthFraction = 1e-9;
 SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw& law)
     : m_mesh(mesh),
       m_law(law),
-      m_lambdaMax(Eigen::VectorXd::Ones(mesh.springCount())) {}
+      m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)) {}
+
+void SpringForceField::resetStretchHistory() {
+  std::fill(m_peaks.begin(), m_peaks.end(), m_law.peak(1.0));
+}
+
+Eigen::VectorXd SpringForceField::lambdaMax() const {
+  Eigen::VectorXd values(static_cast<Eigen::Index>(m_peaks.size()));
+  for (std::size_t s = 0; s < m_peaks.size(); ++s) values[static_cast<Eigen::Index>(s)] = m_peaks[s].lambdaMax;
+  return values;
+}
 
 template <bool withBlocks, bool withNodeStiffness>
 SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
@@ -36,7 +46,7 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
     const double lambda = length / restLength;
     report.minStretch = std::min(report.minStretch, lambda);
     report.maxStretch = std::max(report.maxStretch, lambda);
-    const SpringStress p = m_law.evaluate(lambda, m_lambdaMax[s]);
+    const SpringStress p = m_law.evaluate(lambda, m_peaks[static_cast<std::size_t>(s)]);
     report.beyondRangeCount += p.isBeyondRange ? 1 : 0;
     const double areaOverLength = m_mesh.volume_m3[s] / restLength;  // V_e / L0 (m^2)
     const Eigen::Vector3d n = d / length;
@@ -96,7 +106,8 @@ void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
   for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
     const double lambda =
         (x.col(m_mesh.springs(1, s)) - x.col(m_mesh.springs(0, s))).norm() / m_mesh.restLength_m[s];
-    m_lambdaMax[s] = std::max(m_lambdaMax[s], lambda);
+    SofteningPeak& peak = m_peaks[static_cast<std::size_t>(s)];
+    if (lambda > peak.lambdaMax) peak = m_law.peak(lambda);
   }
 }
 

@@ -10,6 +10,8 @@
 // clamped at zero (the PSD projection of a spring's Hessian), so assembled matrices stay
 // positive semi-definite in compression and on softening branches.
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "springs/SpringForceLaw.h"
@@ -52,8 +54,9 @@ class SpringForceField {
   /// Records the current stretches in the Mullins state (lambda_max only grows). Call once per
   /// converged step, not inside solver iterations.
   void commitStretchHistory(const Eigen::Matrix3Xd& x);
-  void resetStretchHistory() { m_lambdaMax.setOnes(); }
-  const Eigen::VectorXd& lambdaMax() const { return m_lambdaMax; }
+  void resetStretchHistory();
+  /// lambda_max per spring (#S), 1 when never stretched.
+  Eigen::VectorXd lambdaMax() const;
 
   const SpringMesh& mesh() const { return m_mesh; }
   const SpringForceLaw& law() const { return m_law; }
@@ -66,7 +69,7 @@ class SpringForceField {
 
   const SpringMesh& m_mesh;
   const SpringForceLaw& m_law;
-  Eigen::VectorXd m_lambdaMax;               ///< #S, 1 when never stretched
+  std::vector<SofteningPeak> m_peaks;  ///< #S: lambda_max and what softening derives from it
 };
 
 }  // namespace tissuesim

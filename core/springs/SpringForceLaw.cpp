@@ -29,13 +29,17 @@ HermiteNode SpringForceLaw::virgin(double lambda) const {
   return {0.0, 0.0};
 }
 
-SpringStress SpringForceLaw::evaluate(double lambda, double lambdaMax) const {
+SofteningPeak SpringForceLaw::peak(double lambdaMax) const {
+  return m_softening.peak(std::min(lambdaMax, m_range.upper));
+}
+
+SpringStress SpringForceLaw::evaluate(double lambda, const SofteningPeak& peak) const {
   if (m_law == SpringLaw::Smm) {
     return {m_linearModulus_Pa * (lambda - 1.0), m_linearModulus_Pa, false};
   }
   const double clamped = std::clamp(lambda, m_range.lower, m_range.upper);
   HermiteNode p = virgin(clamped);
-  if (m_isSoftening) p = m_softening.softenWithSlope(p, clamped, std::min(lambdaMax, m_range.upper));
+  if (m_isSoftening) p = m_softening.softenWithSlope(p, clamped, peak);
   if (clamped != lambda) {
     // Linear continuation past the usable range: the barrier (see the header).
     return {p.value + p.slope * (lambda - clamped), p.slope, true};

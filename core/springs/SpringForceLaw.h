@@ -34,8 +34,14 @@ class SpringForceLaw {
   SpringForceLaw(SpringLaw law, const StiffnessTable& table, const TissueParameters& parameters,
                  double linearModulus_Pa, bool isSoftening);
 
-  /// P and dP/dlambda at stretch lambda for a spring whose largest stretch so far is lambdaMax.
-  SpringStress evaluate(double lambda, double lambdaMax) const;
+  /// P and dP/dlambda at stretch lambda for a spring whose largest stretch so far is `peak`.
+  SpringStress evaluate(double lambda, const SofteningPeak& peak) const;
+  /// The same for a peak stretch given as a number (computes its SofteningPeak).
+  SpringStress evaluate(double lambda, double lambdaMax) const {
+    return evaluate(lambda, peak(lambdaMax));
+  }
+  /// The peak quantities for lambda_max, kept at the usable range's end.
+  SofteningPeak peak(double lambdaMax) const;
 
   SpringLaw law() const { return m_law; }
   bool isSoftening() const { return m_isSoftening; }

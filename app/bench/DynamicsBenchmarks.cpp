@@ -1,0 +1,132 @@
+#include "bench/DynamicsBenchmarks.h"
+
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "integrators/ImplicitEulerSolver.h"
+#include "integrators/QuasiNewtonSolver.h"
+#include "integrators/SymplecticEulerSolver.h"
+#include "material/TissueFile.h"
+#include "mesh/BlockMesher.h"
+#include "springs/SpringMesh.h"
+
+namespace tissuesim::app {
+namespace {
+
+/// A liver-sized slab held at its base, sagging under gravity: each benchmark iteration is one
+/// physics step of the running simulation.
+struct BenchScene {
+  TissueParameters parameters;
+  StrainEnergy energy;
+  StiffnessTable table;
+  SpringMesh mesh;
+  SpringForceLaw law;
+  SpringForceField springs;
+  MechanicalSystem system;
+  MechanicalState state;
+
+  BenchScene(const TissueParameters& p, const Eigen::Vector3i& cells)
+      : parameters(p),
+        energy(parameters),
+        table(energy),
+        mesh(buildSpringMesh(makeBlockMesh({0.2, 0.2, 0.2 * cells.z() / cells.x()}, cells),
+                             parameters.density_kg_m3)),
+        law(SpringLaw::Eesm, table, parameters, 0.0, true),
+        springs(mesh, law),
+        system(springs, nullptr),
+        state(system.restState()) {
+    system.gravity_m_s2 = {0.0, 0.0, -9.81};
+    for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
+      if (mesh.restPositions_m(2, i) < 1e-12) system.fixNode(static_cast<int>(i));
+    }
+  }
+};
+
+// (9, 9, 8) cells: 5,237 springs; (24, 24, 24): 102,024 springs.
+const Eigen::Vector3i kPaperSize(9, 9, 8);
+const Eigen::Vector3i kLargeSize(24, 24, 24);
+
+void runSteps(benchmark::State& state, BenchScene& scene, TimeIntegrator& integrator, double dt) {
+  int substeps = 0;
+  int iterations = 0;
+  for (auto _ : state) {
+    const StepReport report = integrator.step(scene.system, scene.state, dt);
+    substeps += report.substeps;
+    iterations += report.iterations;
+    if (report.refused || !report.isFinite) {
+      state.SkipWithError(report.reason.c_str());
+      break;
+    }
+  }
+  const auto springs = static_cast<double>(scene.mesh.springCount());
+  state.counters["springs"] = springs;
+  state.counters["dt_ms"] = dt * 1e3;
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()),
+                                                     benchmark::Counter::kIsRate);
+  state.counters["substeps"] = static_cast<double>(substeps) / static_cast<double>(state.iterations());
+  state.counters["iterations"] = static_cast<double>(iterations) / static_cast<double>(state.iterations());
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * springs));
+}
+
+}  // namespace
+
+void registerDynamicsBenchmarks(const std::string& tissuePath) {
+  const TissueParameters parameters = loadTissueFile(tissuePath);
+
+  for (const auto& [label, cells] : {std::pair{"5k", kPaperSize}, std::pair{"100k", kLargeSize}}) {
+    const std::string suffix = std::string("/") + label;
+    benchmark::RegisterBenchmark(("SpringMesh/Build" + suffix).c_str(),
+                                 [parameters, cells = cells](benchmark::State& state) {
+                                   for (auto _ : state) {
+                                     const SpringMesh mesh = buildSpringMesh(
+                                         makeBlockMesh({0.2, 0.2, 0.2}, cells), parameters.density_kg_m3);
+                                     benchmark::DoNotOptimize(mesh.springCount());
+                                   }
+                                 })
+        ->Unit(benchmark::kMillisecond);
+
+    benchmark::RegisterBenchmark(("Step/Explicit" + suffix).c_str(),
+                                 [parameters, cells = cells](benchmark::State& state) {
+                                   BenchScene scene(parameters, cells);
+                                   IntegratorSettings settings;
+                                   settings.massDamping_1_s = 1.0;
+                                   SymplecticEulerSolver integrator(settings);
+                                   // The largest step it takes without substepping.
+                                   const double dt = SymplecticEulerSolver::stableTimeStep(
+                                       scene.system, scene.state.x, settings.stabilitySafety);
+                                   runSteps(state, scene, integrator, 0.99 * dt);
+                                 })
+        ->Unit(benchmark::kMicrosecond);
+
+    for (const auto& [name, kind] : {std::pair{"Step/ImplicitCG", LinearSolverKind::ConjugateGradient},
+                                     std::pair{"Step/ImplicitCholesky", LinearSolverKind::Cholesky}}) {
+      benchmark::RegisterBenchmark((name + suffix).c_str(),
+                                   [parameters, cells = cells, kind = kind](benchmark::State& state) {
+                                     BenchScene scene(parameters, cells);
+                                     IntegratorSettings settings;
+                                     settings.massDamping_1_s = 1.0;
+                                     settings.maxIterations = 2;
+                                     settings.forceTolerance_N = 1e-6;
+                                     ImplicitEulerSolver integrator(settings, kind);
+                                     runSteps(state, scene, integrator, 1e-3);
+                                   })
+          ->Unit(benchmark::kMicrosecond);
+    }
+
+    benchmark::RegisterBenchmark(("Step/QuasiNewton" + suffix).c_str(),
+                                 [parameters, cells = cells](benchmark::State& state) {
+                                   BenchScene scene(parameters, cells);
+                                   IntegratorSettings settings;
+                                   settings.massDamping_1_s = 1.0;
+                                   settings.maxIterations = 5;
+                                   settings.forceTolerance_N = 1e-6;
+                                   QuasiNewtonSolver integrator(settings);
+                                   runSteps(state, scene, integrator, 1e-3);
+                                 })
+        ->Unit(benchmark::kMicrosecond);
+  }
+}
+
+}  // namespace tissuesim::app
