@@ -12,6 +12,8 @@ constexpr double kCollapsedLengthFraction = 1e-9;
 SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw& law)
     : m_mesh(mesh),
       m_law(law),
+      m_inverseRestLength(mesh.restLength_m.cwiseInverse()),
+      m_areaOverLength(mesh.volume_m3.cwiseQuotient(mesh.restLength_m)),
       m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)) {}
 
 void SpringForceField::resetStretchHistory() {
@@ -37,25 +39,26 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
     const int b = m_mesh.springs(1, s);
     const Eigen::Vector3d d = x.col(b) - x.col(a);
     const double length = d.norm();
-    const double restLength = m_mesh.restLength_m[s];
-    if (!(length > kCollapsedLengthFraction * restLength)) {
+    const double inverseRestLength = m_inverseRestLength[s];
+    const double lambda = length * inverseRestLength;
+    if (!(lambda > kCollapsedLengthFraction)) {
       ++report.collapsedCount;
       if constexpr (withBlocks) blocks->col(s).setZero();
       continue;
     }
-    const double lambda = length / restLength;
     report.minStretch = std::min(report.minStretch, lambda);
     report.maxStretch = std::max(report.maxStretch, lambda);
     const SpringStress p = m_law.evaluate(lambda, m_peaks[static_cast<std::size_t>(s)]);
     report.beyondRangeCount += p.isBeyondRange ? 1 : 0;
-    const double areaOverLength = m_mesh.volume_m3[s] / restLength;  // V_e / L0 (m^2)
-    const Eigen::Vector3d n = d / length;
+    const double areaOverLength = m_areaOverLength[s];  // V_e / L0 (m^2)
+    const double inverseLength = 1.0 / length;
+    const Eigen::Vector3d n = d * inverseLength;
     const Eigen::Vector3d f = (areaOverLength * p.stress) * n;
     forces.col(a) += f;
     forces.col(b) -= f;
     if constexpr (withBlocks || withNodeStiffness) {
-      double axial = areaOverLength * p.slope / restLength;
-      double lateral = areaOverLength * p.stress / length;
+      double axial = areaOverLength * p.slope * inverseRestLength;
+      double lateral = areaOverLength * p.stress * inverseLength;
       if (isProjected) {
         axial = std::max(0.0, axial);
         lateral = std::max(0.0, lateral);
@@ -67,8 +70,8 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
       }
       if constexpr (withNodeStiffness) {
         // ||K_e||_2 of the unprojected block: the larger of its two eigenvalues' magnitudes.
-        const double norm = std::max(std::abs(areaOverLength * p.slope / restLength),
-                                     std::abs(areaOverLength * p.stress / length));
+        const double norm = std::max(std::abs(areaOverLength * p.slope * inverseRestLength),
+                                     std::abs(areaOverLength * p.stress * inverseLength));
         (*nodeStiffness)[a] += norm;
         (*nodeStiffness)[b] += norm;
       }

@@ -69,6 +69,8 @@ class SpringForceField {
 
   const SpringMesh& m_mesh;
   const SpringForceLaw& m_law;
+  Eigen::VectorXd m_inverseRestLength;  ///< #S, 1 / L0 (1/m)
+  Eigen::VectorXd m_areaOverLength;     ///< #S, V_e / L0 (m^2)
   std::vector<SofteningPeak> m_peaks;  ///< #S: lambda_max and what softening derives from it
 };
 
