@@ -128,9 +128,10 @@ void runTensile(const TensileCommandOptions& options) {
                                                       curve[b + 1].stress_Pa));
     }
     std::fprintf(stderr,
-                 "%-11s %d nodes, %d springs; converged to max |net force| %.2g N (worst %d "
-                 "iterations), %d unconverged points; %.2f s\n",
-                 name, stats.nodes, stats.springs, stats.worstResidual_N, stats.worstIterations,
+                 "%-11s %d nodes, %d springs; max |net force| %.2g N, %.2g per N of grip force "
+                 "(worst %d iterations), %d unconverged points; %.2f s\n",
+                 name, stats.nodes, stats.springs, stats.worstResidual_N,
+                 stats.worstRelativeResidual, stats.worstIterations,
                  stats.unconvergedPoints, seconds);
     if (each == law) writeCurveCsv(options.outputPath, curve);
   }

@@ -118,6 +118,7 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
   Eigen::Matrix3Xd scratch(3, specimen.mesh.nodeCount());
   Eigen::Matrix3Xd internal(3, specimen.mesh.nodeCount());
   double currentStretch = 1.0;
+  double lastReaction_N = 0.0;
   TensilePointStats localStats;
   localStats.springs = static_cast<int>(specimen.mesh.springCount());
   localStats.nodes = static_cast<int>(specimen.mesh.nodeCount());
@@ -132,22 +133,26 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
       state.v.setZero();
       currentStretch = lambda;
 
+      // Relative to the grip force: near locking forces reach tens of N and the absolute floor
+      // of round-off rises with them.
+      const double tolerance = options.forceTolerance_N * std::max(1.0, std::abs(lastReaction_N));
       NewtonReport report;
       if (integrator) {
         // Pseudo-time. Implicit steps of 1 s are long against the specimen's slowest mode
         // (about 0.07 s for the liver strip), so each is nearly a static solve; explicit steps of
         // 1 ms relax through damping.
         const bool isExplicit = options.integrator == "explicit";
-        report = relax(*integrator, system, state, isExplicit ? 1e-3 : 1.0,
-                       options.forceTolerance_N,
+        report = relax(*integrator, system, state, isExplicit ? 1e-3 : 1.0, tolerance,
                        isExplicit ? 100 * options.maxIterationsPerPoint : options.maxIterationsPerPoint,
                        scratch);
       } else {
         report = newton.solve(system, state.x, state.x, 0.0, 0.0, options.maxIterationsPerPoint,
-                              options.forceTolerance_N);
+                              tolerance);
       }
       localStats.worstIterations = std::max(localStats.worstIterations, report.iterations);
       localStats.worstResidual_N = std::max(localStats.worstResidual_N, report.residual_N);
+      localStats.worstRelativeResidual =
+          std::max(localStats.worstRelativeResidual, report.residual_N / tolerance * options.forceTolerance_N);
       localStats.unconvergedPoints += report.converged ? 0 : 1;
       if (!integrator) springs.commitStretchHistory(state.x);
 
@@ -158,6 +163,7 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
       double reaction = 0.0;
       for (const int node : specimen.movingNodes) reaction -= internal(0, node);
       branch.stress_Pa.push_back(reaction / specimen.section_m2);
+      lastReaction_N = reaction;
     }
   }
   if (stats != nullptr) *stats = localStats;

@@ -9,8 +9,8 @@
 // node (0, W, 0) held in z, node (0, 0, T) held in y.
 //
 // Quasi-static means converged: every point is a static equilibrium, max |net force| on free
-// DOFs below `forceTolerance_N` (Newton with line search; or, with a time integrator named,
-// damped pseudo-time steps until the same tolerance). The Mullins state is committed after
+// DOFs below forceTolerance_N x max(1, grip force in N) (Newton with line search; or, with a
+// time integrator named, damped pseudo-time steps until the same tolerance). The Mullins state is committed after
 // each converged point, as in a slow experiment.
 
 #include <optional>
@@ -43,6 +43,8 @@ struct TensileOptions {
 struct TensilePointStats {
   int worstIterations = 0;
   double worstResidual_N = 0.0;
+  /// Worst residual over max(1, grip force in N), in N: what is compared with the tolerance.
+  double worstRelativeResidual = 0.0;
   int unconvergedPoints = 0;
   int springs = 0;
   int nodes = 0;

@@ -40,16 +40,26 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
                                  double regularization, int maxIterations, double tolerance_N) {
   prepare(system);
   NewtonReport report;
+  // Raises the shift tenfold from 1e-10 of K's largest diagonal entry; false once it reaches
+  // 1e6 of it, where the step is a vanishing gradient step and nothing more can be gained.
+  const auto raiseShift = [&](double& value) {
+    const double scale = m_matrix->matrix().coeffs().cwiseAbs().maxCoeff();
+    value = value > 0.0 ? 10.0 * value : 1e-10 * scale;
+    return value < 1e6 * scale;
+  };
   const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
   const std::vector<char>& fixed = system.fixedDofs();
-  double rho = regularization;
+  const double rho = regularization;
+  double shift = 0.0;  // Levenberg-Marquardt shift (N/m), relative to K's largest diagonal entry
   bool isExact = m_kind == LinearSolverKind::Cholesky;
   report.residual_N = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
   while (report.residual_N > tolerance_N && report.iterations < maxIterations &&
          std::isfinite(report.residual_N)) {
     ++report.iterations;
     system.forcesAndStiffness(x, m_force, *m_matrix, /*isProjected=*/!isExact);
-    for (Eigen::Index i = 0; i < x.cols(); ++i) m_matrix->addToDiagonal(static_cast<int>(i), (inertiaWeight + rho) * mass[i]);
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      m_matrix->addToDiagonal(static_cast<int>(i), (inertiaWeight + rho) * mass[i] + shift);
+    }
     m_matrix->applyFixedDofs(fixed);
     m_rhs = -Eigen::Map<const Eigen::VectorXd>(m_r.data(), m_r.size());
 
@@ -76,7 +86,7 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     }
     if (!isSolved || !m_step.allFinite()) {
       // Singular even so: regularise more and try again.
-      rho = rho > 0.0 ? 10.0 * rho : 1e-6 * (inertiaWeight > 0.0 ? inertiaWeight : 1.0);
+      if (!raiseShift(shift)) break;
       continue;
     }
 
@@ -100,14 +110,14 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     }
     if (!isAccepted) {
       // No descent along the PSD-projected direction: lean towards gradient descent.
-      rho = rho > 0.0 ? 10.0 * rho : 1e-3 * (inertiaWeight > 0.0 ? inertiaWeight : 1.0);
+      if (!raiseShift(shift)) break;  // no descent even along the gradient: stagnated
       continue;
     }
     x.swap(m_trialX);
     m_r.swap(m_trialR);
     report.forces = trialForces;
     report.residual_N = m_r.cwiseAbs().maxCoeff();
-    rho = std::max(regularization, 0.1 * rho);  // Levenberg-Marquardt: trust Newton again
+    shift *= 0.1;  // Levenberg-Marquardt: trust Newton again
     isExact = m_kind == LinearSolverKind::Cholesky;
   }
   report.converged = report.residual_N <= tolerance_N;

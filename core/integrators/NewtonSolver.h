@@ -8,8 +8,10 @@
 // quadratic convergence, and the per-spring PSD projection whenever the exact matrix is not
 // positive definite (a non-positive pivot) or gives no descent; with CG, always the projection, w >= 0 the inertia weight (1/s^2:
 // (1 + alpha h) / h^2 for implicit Euler, 0 for statics) and rho >= 0 a Levenberg-Marquardt
-// regularisation that keeps the matrix definite where K alone is singular (statics); it is
-// raised tenfold when a factorisation fails. Linear solves: sparse Cholesky (Eigen
+// regularisation that keeps the matrix definite where K alone is singular (statics). When a
+// factorisation fails or no step length reduces |r|, a Levenberg-Marquardt shift mu I is added
+// (raised tenfold each time, relaxed after a good step); the solve stops, unconverged, when even
+// a vanishing gradient step gives no descent (a kink in the force, say) and reports it. Linear solves: sparse Cholesky (Eigen
 // SimplicialLDLT, symbolic analysis once per pattern) or conjugate gradients (Jacobi
 // preconditioner).
 

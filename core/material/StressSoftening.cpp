@@ -44,6 +44,7 @@ SofteningPeak StressSoftening::peak(double lambdaMax) const {
   p.axial = m_exponentN == 2 ? lambdaMax * lambdaMax : lambdaMax;
   p.lateral = m_exponentN == 2 ? 1.0 / lambdaMax : 1.0 / std::sqrt(lambdaMax);
   p.offsetAtRest = lambdaMax > 1.0 ? residualStress(1.0, lambdaMax) * factor(1.0, lambdaMax) : 0.0;
+  p.jumpAtPeak = lambdaMax > 1.0 ? residualStress(lambdaMax, lambdaMax) / lambdaMax : 0.0;
   return p;
 }
 

@@ -50,6 +50,7 @@ struct SofteningPeak {
   double axial = 1.0;           ///< lambda_max^n
   double lateral = 1.0;         ///< lambda_max,3^n = lambda_max^(-n/2)
   double offsetAtRest = 0.0;    ///< P_s(1) = R(1) F(1) (Pa), the compression branch's offset
+  double jumpAtPeak = 0.0;      ///< P_s(lambda_max-) - P_v(lambda_max) = R(lambda_max)/lambda_max (Pa); 0 for n = 2
 };
 
 class StressSoftening {

@@ -39,7 +39,16 @@ SpringStress SpringForceLaw::evaluate(double lambda, const SofteningPeak& peak) 
   }
   const double clamped = std::clamp(lambda, m_range.lower, m_range.upper);
   HermiteNode p = virgin(clamped);
-  if (m_isSoftening) p = m_softening.softenWithSlope(p, clamped, peak);
+  if (m_isSoftening) {
+    p = m_softening.softenWithSlope(p, clamped, peak);
+    const double below = peak.lambdaMax - clamped;
+    if (below > 0.0 && below < kJumpBlendWidth && clamped >= 1.0) {
+      // Fade the jump out: weight 1 at lambda_max, 0 at lambda_max - width, C1 at both ends.
+      const double s = 1.0 - below / kJumpBlendWidth;
+      p.value -= peak.jumpAtPeak * s * s * (3.0 - 2.0 * s);
+      p.slope -= peak.jumpAtPeak * 6.0 * s * (1.0 - s) / kJumpBlendWidth;
+    }
+  }
   if (clamped != lambda) {
     // Linear continuation past the usable range: the barrier (see the header).
     return {p.value + p.slope * (lambda - clamped), p.slope, true};

@@ -10,6 +10,13 @@
 //   smm         P = E (lambda - 1), a linear spring with one fitted modulus E (Eq. 1)
 // The EESM laws soften on unloading when the scene turns it on (StressSoftening).
 //
+// Softening in the simulator (a deviation from model.md, for the solvers only; the `sedf`
+// reference curve keeps the exact law): with n = 1 the softened stress starts a little above the
+// virgin one at lambda_max (model.md), a jump J = R(lambda_max)/lambda_max, about 1e-4 of the
+// stress. A force that jumps has no equilibrium at the jump, and Newton stalls there. So within
+// kJumpBlendWidth below lambda_max, J is faded out with a C1 smoothstep: the force is continuous
+// and the curve changes only inside that sliver (1e-3 in stretch).
+//
 // Locking: the material has no value past the table's range (StrainEnergy::usableRange()).
 // There the law continues linearly with the end slope: a stiff, C1 barrier that resists
 // further stretch, and the evaluation says so (isBeyondRange) so the caller can report it.
@@ -29,6 +36,9 @@ struct SpringStress {
 
 class SpringForceLaw {
  public:
+  /// Stretch below lambda_max over which the n = 1 softening jump is faded out.
+  static constexpr double kJumpBlendWidth = 1e-3;
+
   /// @param linearModulus_Pa E of the smm law (ignored by the others).
   /// @param isSoftening      whether the EESM laws apply the Mullins effect.
   SpringForceLaw(SpringLaw law, const StiffnessTable& table, const TissueParameters& parameters,
