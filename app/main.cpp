@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "BenchCommand.h"
+#include "MeshCommand.h"
 #include "TensileCommand.h"
 #include "UniaxialCommand.h"
 
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
   });
   tissuesim::app::registerUniaxialCommand(app);
   tissuesim::app::registerTensileCommand(app);
+  tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerBenchCommand(app);
 
   try {

@@ -1,10 +1,66 @@
 #include "mesh/TetMesh.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <utility>
+#include <array>
 #include <limits>
 #include <stdexcept>
 
 namespace tissuesim {
+
+Eigen::Index countUniqueEdges(const TetMesh& mesh) {
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(static_cast<std::size_t>(6 * mesh.tetCount()));
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+    for (int i = 0; i < 4; ++i) {
+      for (int j = i + 1; j < 4; ++j) {
+        edges.emplace_back(std::min(mesh.tets(i, t), mesh.tets(j, t)),
+                           std::max(mesh.tets(i, t), mesh.tets(j, t)));
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  return std::unique(edges.begin(), edges.end()) - edges.begin();
+}
+
+namespace {
+/// Dihedral angles (degrees, min and max) and radius ratio of one tet.
+void tetShape(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+              const Eigen::Vector3d& p3, double& minAngle, double& maxAngle, double& radiusRatio) {
+  const std::array<Eigen::Vector3d, 4> p = {p0, p1, p2, p3};
+  // Face k is opposite vertex k; its outward normal points away from p[k].
+  std::array<Eigen::Vector3d, 4> normals;
+  double area = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d& a = p[static_cast<std::size_t>((k + 1) % 4)];
+    const Eigen::Vector3d& b = p[static_cast<std::size_t>((k + 2) % 4)];
+    const Eigen::Vector3d& c = p[static_cast<std::size_t>((k + 3) % 4)];
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    area += 0.5 * n.norm();
+    if (n.dot(a - p[static_cast<std::size_t>(k)]) < 0.0) n = -n;
+    normals[static_cast<std::size_t>(k)] = n.normalized();
+  }
+  minAngle = 180.0;
+  maxAngle = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = i + 1; j < 4; ++j) {
+      const double cosine = std::clamp(-normals[static_cast<std::size_t>(i)].dot(normals[static_cast<std::size_t>(j)]), -1.0, 1.0);
+      const double angle = std::acos(cosine) * 180.0 / std::numbers::pi;
+      minAngle = std::min(minAngle, angle);
+      maxAngle = std::max(maxAngle, angle);
+    }
+  }
+  const Eigen::Vector3d a = p1 - p0, b = p2 - p0, c = p3 - p0;
+  const double volume = std::abs(a.dot(b.cross(c))) / 6.0;
+  const double inradius = area > 0.0 ? 3.0 * volume / area : 0.0;
+  const double circumradius =
+      volume > 0.0 ? (a.squaredNorm() * b.cross(c) + b.squaredNorm() * c.cross(a) + c.squaredNorm() * a.cross(b)).norm() / (12.0 * volume)
+                   : std::numeric_limits<double>::infinity();
+  radiusRatio = 3.0 * inradius / circumradius;
+}
+}  // namespace
 
 TetQualityReport inspectTets(const TetMesh& mesh, double sliverFraction) {
   TetQualityReport report;
@@ -24,6 +80,13 @@ TetQualityReport inspectTets(const TetMesh& mesh, double sliverFraction) {
     if (std::abs(volume) < sliverFraction * regular) report.slivers.push_back(t);
     report.minVolume_m3 = std::min(report.minVolume_m3, volume);
     report.totalVolume_m3 += volume;
+    double minAngle = 0.0, maxAngle = 0.0, ratio = 0.0;
+    tetShape(mesh.nodes_m.col(mesh.tets(0, t)), mesh.nodes_m.col(mesh.tets(1, t)),
+             mesh.nodes_m.col(mesh.tets(2, t)), mesh.nodes_m.col(mesh.tets(3, t)), minAngle,
+             maxAngle, ratio);
+    report.minDihedral_deg = std::min(report.minDihedral_deg, minAngle);
+    report.maxDihedral_deg = std::max(report.maxDihedral_deg, maxAngle);
+    report.minRadiusRatio = std::min(report.minRadiusRatio, ratio);
   }
   return report;
 }

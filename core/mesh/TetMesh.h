@@ -40,11 +40,17 @@ struct TetQualityReport {
   std::vector<Eigen::Index> slivers;       ///< |volume| below the sliver threshold (incl. 0)
   double minVolume_m3 = 0.0;
   double totalVolume_m3 = 0.0;
+  double minDihedral_deg = 180.0;   ///< smallest dihedral angle of any tet
+  double maxDihedral_deg = 0.0;
+  double minRadiusRatio = 1.0;      ///< 3 r_in / R_circ: 1 for a regular tet, 0 for a flat one
 };
 
 /// A tet is a sliver when its volume is below `sliverFraction` times the volume of the
 /// regular tet on its mean edge length (a volume-based radius-ratio proxy).
 TetQualityReport inspectTets(const TetMesh& mesh, double sliverFraction = 1e-3);
+
+/// The number of distinct tet edges: the springs a mesh will have.
+Eigen::Index countUniqueEdges(const TetMesh& mesh);
 
 /// Validates indices and finiteness. @throws std::invalid_argument naming the tet or node.
 void validateTetMesh(const TetMesh& mesh, const std::string& name);

@@ -1,0 +1,152 @@
+#include "MeshCommand.h"
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "CommandError.h"
+#include "VtkMeshFiles.h"
+#include "mesh/LatticeMesher.h"
+#include "mesh/SurfaceInspection.h"
+#include "mesh/SurfaceReader.h"
+#include "mesh/TetMeshFile.h"
+
+namespace tissuesim::app {
+namespace {
+
+struct MeshOptions {
+  std::string input;
+  std::string output;
+  double edgeLength_mm = 0.0;
+  int targetSprings = 0;
+  std::string units = "m";
+  double scale = 0.0;
+  std::string part;
+  double closeHoles_mm = -1.0;  ///< < 0: default, 2 % of the bounding-box diagonal
+};
+
+double metresPerUnit(const MeshOptions& options) {
+  if (options.scale > 0.0) return options.scale;
+  if (options.units == "m") return 1.0;
+  if (options.units == "cm") return 0.01;
+  if (options.units == "mm") return 0.001;
+  throw CommandError("unknown --units '" + options.units + "'; expected m, cm or mm (or --scale)");
+}
+
+void printQuality(const TetMesh& mesh, const char* what) {
+  const TetQualityReport quality = inspectTets(mesh);
+  std::printf("%s: %ld nodes, %ld tets, %ld springs\n", what, static_cast<long>(mesh.nodeCount()),
+              static_cast<long>(mesh.tetCount()), static_cast<long>(countUniqueEdges(mesh)));
+  std::printf("  dihedral angles %.1f to %.1f deg, minimum radius ratio %.3f, %zu inverted tets, "
+              "%zu slivers\n",
+              quality.minDihedral_deg, quality.maxDihedral_deg, quality.minRadiusRatio,
+              quality.invertedTets.size(), quality.slivers.size());
+  std::printf("  volume %.6g cm^3\n", quality.totalVolume_m3 * 1e6);
+}
+
+bool isTetMeshInput(const std::filesystem::path& path) {
+  if (isTetMeshFile(path) || path.extension() == ".vtu") return true;
+  if (path.extension() != ".vtk") return false;
+  try {  // a legacy .vtk may hold either a grid or a surface
+    readVtkTetMesh(path);
+    return true;
+  } catch (const MeshFileError&) {
+    return false;
+  }
+}
+
+void runMesh(const MeshOptions& options) {
+  if (options.edgeLength_mm > 0.0 && options.targetSprings > 0) {
+    throw CommandError("give --edge-length or --target-springs, not both");
+  }
+  const std::filesystem::path input(options.input);
+  const double scale = metresPerUnit(options);
+  TetMesh mesh;
+  try {
+    if (isTetMeshInput(input)) {
+      TetMeshReadReport report;
+      mesh = isVtkMeshFile(input) ? readVtkTetMesh(input, scale, &report) : readTetMesh(input, scale, &report);
+      std::printf("read %s (%s)%s%s\n", options.input.c_str(), report.format.c_str(),
+                  report.skippedElements > 0 ? (", skipped " + std::to_string(report.skippedElements) + " non-tet elements").c_str() : "",
+                  report.wasReoriented ? ", all tets re-oriented to positive volume" : "");
+      printQuality(mesh, "tet mesh");
+    } else {
+      TriangleSurface surface = isVtkMeshFile(input) ? readVtkSurface(input, scale)
+                                                     : readSurface(input, {scale, options.part});
+      const SurfaceReport before = inspectSurface(surface);
+      const int merged = weldVertices(surface, 1e-6 * before.boundingDiagonal_m);
+      SurfaceReport report = inspectSurface(surface);
+      std::printf("surface %s: %s; %d duplicate vertices welded\n", options.input.c_str(),
+                  report.summary().c_str(), merged);
+      if (report.nonManifoldEdges > 0) {
+        throw CommandError(options.input + ": the surface has " + std::to_string(report.nonManifoldEdges) +
+                           " non-manifold edges (three or more triangles on one edge); repair it first");
+      }
+      if (!report.holes.empty()) {
+        const double limit = options.closeHoles_mm >= 0.0 ? options.closeHoles_mm / 1000.0 : 0.02 * report.boundingDiagonal_m;
+        const int closed = closeSmallHoles(surface, limit);
+        report = inspectSurface(surface);
+        if (!report.holes.empty()) {
+          std::string sizes;
+          for (std::size_t h = 0; h < std::min<std::size_t>(report.holes.size(), 5); ++h) {
+            char text[48];
+            std::snprintf(text, sizeof text, "%s%.1f mm", h == 0 ? "" : ", ", report.holes[h].diameter_m * 1e3);
+            sizes += text;
+          }
+          throw CommandError(options.input + ": the surface is open: " + std::to_string(report.holes.size()) +
+                             " holes larger than " + std::to_string(limit * 1e3) + " mm (across: " + sizes +
+                             (report.holes.size() > 5 ? ", ..." : "") + "); close them or raise --close-holes-mm");
+        }
+        std::printf("closed %d small holes\n", closed);
+      }
+      double h = options.edgeLength_mm / 1000.0;
+      if (h <= 0.0) h = edgeLengthForSpringCount(surface, options.targetSprings > 0 ? options.targetSprings : 5300);
+      mesh = meshInterior(surface, {h});
+      printQuality(mesh, "lattice tet mesh");
+      const double enclosed = std::abs(enclosedVolume(surface));
+      std::printf("  edge length %.3f mm; tet volume / surface volume = %.3f (the lattice covers the "
+                  "surface, which is embedded in it)\n",
+                  h * 1e3, inspectTets(mesh).totalVolume_m3 / enclosed);
+    }
+  } catch (const MeshFileError& error) {
+    throw CommandError(error.what());
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(options.input + ": " + error.what());
+  }
+  if (!options.output.empty()) {
+    const std::filesystem::path output(options.output);
+    if (output.extension() != ".msh") {
+      throw CommandError("--output " + options.output + ": only Gmsh 2.2 (.msh) is written");
+    }
+    try {
+      writeGmsh(output, mesh);
+    } catch (const MeshFileError& error) {
+      throw CommandError(error.what());
+    }
+    std::printf("wrote %s (Gmsh 2.2, metres)\n", options.output.c_str());
+  }
+}
+
+}  // namespace
+
+void registerMeshCommand(CLI::App& app) {
+  auto options = std::make_shared<MeshOptions>();
+  CLI::App* command = app.add_subcommand(
+      "mesh",
+      "Given a surface (OBJ, STL, PLY, glTF/GLB, OFF, VTK...), build a tet mesh inside it; given a "
+      "tet mesh (.msh, .node/.ele, .vtk, .vtu), check it. Quality figures either way; --output "
+      "writes Gmsh 2.2.");
+  command->add_option("--input", options->input, "Surface or tet mesh file")->required();
+  command->add_option("--output", options->output, "Tet mesh to write (.msh)");
+  command->add_option("--edge-length", options->edgeLength_mm, "Lattice edge length in mm");
+  command->add_option("--target-springs", options->targetSprings,
+                      "About this many springs (default 5300 when no edge length)");
+  command->add_option("--units", options->units, "Units of the file: m, cm or mm")->capture_default_str();
+  command->add_option("--scale", options->scale, "Metres per file unit (overrides --units)");
+  command->add_option("--part", options->part, "Use one named part of a multi-part file");
+  command->add_option("--close-holes-mm", options->closeHoles_mm,
+                      "Close holes up to this size (default: 2 % of the bounding-box diagonal)");
+  command->callback([options] { runMesh(*options); });
+}
+
+}  // namespace tissuesim::app

@@ -1,0 +1,119 @@
+#include "mesh/SurfaceReader.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <functional>
+
+namespace tissuesim {
+namespace {
+
+/// Beyond this the units are almost certainly wrong (an organ is centimetres to decimetres).
+constexpr double kMaxCoordinate_m = 100.0;
+
+const aiScene* importScene(Assimp::Importer& importer, const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    throw MeshFileError(name + ": cannot open the surface file (missing or not a file)");
+  }
+  const auto size = std::filesystem::file_size(path, error);
+  if (!error && size == 0) throw MeshFileError(name + ": the file is empty");
+  if (!error && size > kMaxMeshFileBytes) {
+    throw MeshFileError(name + ": " + std::to_string(size >> 20) +
+                        " MiB is beyond the limit of 256 MiB for a mesh file");
+  }
+  // No vertex joining here: welding is ours (SurfaceInspection), with a stated tolerance.
+  const aiScene* scene = importer.ReadFile(name, aiProcess_Triangulate | aiProcess_SortByPType);
+  if (scene == nullptr) {
+    throw MeshFileError(name + ": not a readable surface (" + importer.GetErrorString() + ")");
+  }
+  if (scene->mNumMeshes == 0) throw MeshFileError(name + ": the file holds no mesh");
+  return scene;
+}
+
+std::string partName(const aiScene* scene, unsigned mesh) {
+  const std::string name = scene->mMeshes[mesh]->mName.C_Str();
+  return name.empty() ? "part" + std::to_string(mesh) : name;
+}
+
+}  // namespace
+
+std::vector<std::string> listSurfaceParts(const std::filesystem::path& path) {
+  Assimp::Importer importer;
+  const aiScene* scene = importScene(importer, path);
+  std::vector<std::string> names;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) names.push_back(partName(scene, m));
+  return names;
+}
+
+TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceReadOptions& options) {
+  const std::string name = path.string();
+  if (!(options.metresPerUnit > 0.0) || !std::isfinite(options.metresPerUnit)) {
+    throw MeshFileError(name + ": the scale must be a positive number of metres per unit");
+  }
+  Assimp::Importer importer;
+  const aiScene* scene = importScene(importer, path);
+  if (!options.part.empty()) {
+    bool isFound = false;
+    std::string names;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+      isFound = isFound || partName(scene, m) == options.part;
+      names += (m == 0 ? "" : ", ") + partName(scene, m);
+    }
+    if (!isFound) throw MeshFileError(name + ": no part '" + options.part + "'; parts: " + names);
+  }
+
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  // Walk the node tree so each mesh gets its node's transform.
+  std::function<void(const aiNode*, const aiMatrix4x4&)> visit = [&](const aiNode* node,
+                                                                      const aiMatrix4x4& parent) {
+    const aiMatrix4x4 transform = parent * node->mTransformation;
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      const unsigned m = node->mMeshes[k];
+      if (!options.part.empty() && partName(scene, m) != options.part) continue;
+      const aiMesh* mesh = scene->mMeshes[m];
+      const int offset = static_cast<int>(vertices.size());
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const aiVector3D p = transform * mesh->mVertices[v];
+        vertices.emplace_back(p.x * options.metresPerUnit, p.y * options.metresPerUnit,
+                              p.z * options.metresPerUnit);
+      }
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+        const aiFace& face = mesh->mFaces[f];
+        if (face.mNumIndices != 3) continue;  // points and lines are not surface
+        triangles.emplace_back(offset + static_cast<int>(face.mIndices[0]),
+                               offset + static_cast<int>(face.mIndices[1]),
+                               offset + static_cast<int>(face.mIndices[2]));
+      }
+    }
+    for (unsigned c = 0; c < node->mNumChildren; ++c) visit(node->mChildren[c], transform);
+  };
+  visit(scene->mRootNode, aiMatrix4x4());
+  if (triangles.empty()) throw MeshFileError(name + ": the file holds no triangles");
+
+  TriangleSurface surface;
+  surface.vertices_m.resize(3, static_cast<Eigen::Index>(vertices.size()));
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    const Eigen::Vector3d& p = vertices[v];
+    if (!p.allFinite()) {
+      throw MeshFileError(name + ": vertex " + std::to_string(v) + " has a coordinate that is not finite");
+    }
+    if (p.cwiseAbs().maxCoeff() > kMaxCoordinate_m) {
+      throw MeshFileError(name + ": vertex " + std::to_string(v) + " lies " +
+                          std::to_string(p.cwiseAbs().maxCoeff()) +
+                          " m from the origin after scaling; expected an organ within 100 m "
+                          "(check the units or the scale)");
+    }
+    surface.vertices_m.col(static_cast<Eigen::Index>(v)) = p;
+  }
+  surface.triangles.resize(3, static_cast<Eigen::Index>(triangles.size()));
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    surface.triangles.col(static_cast<Eigen::Index>(f)) = triangles[f];
+  }
+  return surface;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,29 @@
+#pragma once
+// Reading organ surfaces through assimp: OBJ, STL, PLY, glTF/GLB, OFF and the other formats
+// assimp knows. Node transforms are applied; each assimp mesh is a named part.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mesh/TriangleSurface.h"
+
+namespace tissuesim {
+
+struct SurfaceReadOptions {
+  double metresPerUnit = 1.0;  ///< e.g. 0.01 for a file in centimetres; any scale the scene gives
+  std::string part;            ///< one part by name; empty: all parts merged
+};
+
+/// Files larger than this are refused before reading (a liver surface is a few MB).
+constexpr std::uintmax_t kMaxMeshFileBytes = 256ull << 20;
+
+/// The parts (named meshes) in a file, in order.
+std::vector<std::string> listSurfaceParts(const std::filesystem::path& path);
+
+/// Reads, scales and merges (or selects) the parts. Vertices are not welded here.
+/// @throws MeshFileError naming the file: unreadable, unknown format, no triangles, unknown
+/// part, non-finite or absurd coordinates (beyond 100 m after scaling: check the units).
+TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceReadOptions& options);
+
+}  // namespace tissuesim

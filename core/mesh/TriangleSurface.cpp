@@ -1,0 +1,36 @@
+#include "mesh/TriangleSurface.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace tissuesim {
+
+double enclosedVolume(const TriangleSurface& surface) {
+  double volume = 0.0;
+  for (Eigen::Index f = 0; f < surface.triangleCount(); ++f) {
+    const Eigen::Vector3d a = surface.vertices_m.col(surface.triangles(0, f));
+    const Eigen::Vector3d b = surface.vertices_m.col(surface.triangles(1, f));
+    const Eigen::Vector3d c = surface.vertices_m.col(surface.triangles(2, f));
+    volume += a.dot(b.cross(c)) / 6.0;
+  }
+  return volume;
+}
+
+double windingNumber(const TriangleSurface& surface, const Eigen::Vector3d& p) {
+  // Sum of signed solid angles (Van Oosterom and Strackee 1983) over 4 pi.
+  double total = 0.0;
+  for (Eigen::Index f = 0; f < surface.triangleCount(); ++f) {
+    const Eigen::Vector3d a = surface.vertices_m.col(surface.triangles(0, f)) - p;
+    const Eigen::Vector3d b = surface.vertices_m.col(surface.triangles(1, f)) - p;
+    const Eigen::Vector3d c = surface.vertices_m.col(surface.triangles(2, f)) - p;
+    const double la = a.norm();
+    const double lb = b.norm();
+    const double lc = c.norm();
+    const double numerator = a.dot(b.cross(c));
+    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2.0 * std::atan2(numerator, denominator);
+  }
+  return total / (4.0 * std::numbers::pi);
+}
+
+}  // namespace tissuesim

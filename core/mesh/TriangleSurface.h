@@ -1,0 +1,36 @@
+#pragma once
+// A triangle surface: vertices 3 by #V (m) and triangles 3 by #F (vertex indices), the visual
+// surface of an organ or the boundary a tet mesh is built inside.
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace tissuesim {
+
+struct TriangleSurface {
+  Eigen::Matrix3Xd vertices_m;
+  Eigen::Matrix3Xi triangles;
+
+  Eigen::Index vertexCount() const { return vertices_m.cols(); }
+  Eigen::Index triangleCount() const { return triangles.cols(); }
+};
+
+/// A mesh or surface file that cannot be used; the message names the file and the problem.
+class MeshFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The volume a closed, outward-oriented surface encloses (m^3), by the divergence theorem;
+/// negative for inward orientation, meaningless for an open surface.
+double enclosedVolume(const TriangleSurface& surface);
+
+/// The generalised winding number of the surface around point p (Jacobson et al. 2013): 1
+/// inside a closed outward surface, 0 outside, and a graceful fraction near holes.
+double windingNumber(const TriangleSurface& surface, const Eigen::Vector3d& p);
+
+}  // namespace tissuesim

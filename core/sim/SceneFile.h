@@ -1,0 +1,65 @@
+#pragma once
+// The scene file (JSON): what to simulate. The schema is in docs/scene-file.md. Every path is
+// relative to the scene file. What a scene does not name is not built: no surface, no visual
+// embedding; no instrument, no collision; the volume term only when asked for.
+//
+// Errors are SceneFileError, one line naming the file, the field and what was expected.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace tissuesim {
+
+class SceneFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct SceneMeshSource {
+  std::filesystem::path file;   ///< resolved against the scene's folder
+  double metresPerUnit = 1.0;
+  std::string part;             ///< surfaces only: one named part, or all
+};
+
+/// How the fixed nodes are chosen: nodes inside an axis-aligned box (m), or listed indices.
+struct SceneFixedRegion {
+  std::optional<Eigen::AlignedBox3d> box_m;
+  std::vector<int> nodes;
+};
+
+struct SceneInstrument {
+  double shaftRadius_m = 0.0025;
+  double shaftLength_m = 0.3;
+  Eigen::Vector3d tipStart_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();  ///< shaft axis, tip first (unit)
+};
+
+struct SceneDescription {
+  std::filesystem::path source;  ///< the scene file
+  std::string name;
+  std::filesystem::path tissue;
+  std::optional<SceneMeshSource> surface;
+  std::optional<SceneMeshSource> tetMesh;  ///< or generated from the surface:
+  int targetSprings = 0;                   ///< > 0: lattice-mesh the surface to about this many
+  SceneFixedRegion fixed;
+  Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();
+  std::optional<SceneInstrument> instrument;
+  bool isSoftening = true;
+  double bulkModulus_Pa = 0.0;  ///< > 0: volume term on
+  std::string springLaw = "eesm";
+  double timeStep_s = 1e-3;
+  std::string integrator = "implicit";
+  double massDamping_1_s = 0.0;
+};
+
+/// Reads and validates a scene; paths resolved, files checked to exist.
+SceneDescription loadSceneFile(const std::filesystem::path& path);
+
+}  // namespace tissuesim

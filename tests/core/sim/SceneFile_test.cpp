@@ -1,0 +1,81 @@
+#include "sim/SceneFile.h"
+
+#include <gtest/gtest.h>
+
+namespace tissuesim {
+namespace {
+
+std::string scenePath(const std::string& name) { return std::string(TISSUESIM_TEST_DATA_DIR) + "/scenes/" + name; }
+
+TEST(SceneFile, TheBundledSceneLoads) {
+  const SceneDescription scene = loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
+  EXPECT_EQ(scene.name, "liver poke");
+  ASSERT_TRUE(scene.surface.has_value());
+  EXPECT_DOUBLE_EQ(scene.surface->metresPerUnit, 0.03);
+  ASSERT_TRUE(scene.tetMesh.has_value());
+  EXPECT_TRUE(std::filesystem::exists(scene.tetMesh->file));
+  ASSERT_TRUE(scene.fixed.box_m.has_value());
+  EXPECT_DOUBLE_EQ(scene.gravity_m_s2.y(), -9.81);
+  ASSERT_TRUE(scene.instrument.has_value());
+  EXPECT_DOUBLE_EQ(scene.instrument->shaftRadius_m, 0.0025);
+  EXPECT_NEAR(scene.instrument->direction.norm(), 1.0, 1e-15);
+  EXPECT_TRUE(scene.isSoftening);
+  EXPECT_EQ(scene.bulkModulus_Pa, 0.0);
+  EXPECT_DOUBLE_EQ(scene.timeStep_s, 1e-3);
+}
+
+TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
+  const SceneDescription scene = loadSceneFile(scenePath("minimal.json"));
+  EXPECT_FALSE(scene.surface.has_value());
+  EXPECT_FALSE(scene.instrument.has_value());
+  EXPECT_FALSE(scene.fixed.box_m.has_value());
+  EXPECT_TRUE(scene.fixed.nodes.empty());
+  EXPECT_EQ(scene.gravity_m_s2, Eigen::Vector3d::Zero());
+  const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
+  EXPECT_EQ(generated.targetSprings, 1000);
+  EXPECT_FALSE(generated.tetMesh.has_value());
+}
+
+struct BadScene {
+  const char* file;
+  const char* expected;
+};
+
+class BadSceneFile : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(BadSceneFile, IsRefusedWithOneLine) {
+  const std::string path = scenePath(GetParam().file);
+  try {
+    loadSceneFile(path);
+    FAIL() << "accepted";
+  } catch (const SceneFileError& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+    EXPECT_NE(message.find(GetParam().expected), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BadSceneFile,
+    ::testing::Values(BadScene{"empty.json", "the file is empty"},
+                      BadScene{"not-json.json", "not valid JSON"},
+                      BadScene{"missing-tissue.json", "field 'tissue' names"},
+                      BadScene{"short-gravity.json", "field 'gravity_m_s2' must be an array of three numbers"},
+                      BadScene{"empty-box.json", "field 'fixed_region.box_max_m' must exceed box_min_m"},
+                      BadScene{"unknown-integrator.json", "field 'physics.integrator' = \"rk4\""},
+                      BadScene{"unknown-key.json", "field 'gravity' is not a known field"},
+                      BadScene{"negative-scale.json", "field 'surface.metres_per_unit' = -1 is out of range"},
+                      BadScene{"no-tet-mesh.json", "field 'tet_mesh' is missing"},
+                      BadScene{"both-meshes.json", "are both given"},
+                      BadScene{"zero-direction.json", "field 'instrument.direction' must not be the zero vector"},
+                      BadScene{"does-not-exist.json", "cannot open the scene file"}),
+    [](const auto& scene) {
+      std::string name = scene.param.file;
+      name = name.substr(0, name.find('.'));
+      for (char& c : name) c = c == '-' ? '_' : c;
+      return name;
+    });
+
+}  // namespace
+}  // namespace tissuesim

@@ -1,0 +1,38 @@
+#include "VtkMeshFiles.h"
+
+#include <gtest/gtest.h>
+
+namespace tissuesim {
+namespace {
+
+std::string meshPath(const std::string& name) { return std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/" + name; }
+
+TEST(VtkMeshFiles, ReadsAnUnstructuredGridKeepingTets) {
+  TetMeshReadReport report;
+  const TetMesh mesh = readVtkTetMesh(meshPath("two-tets.vtk"), 0.01, &report);
+  EXPECT_EQ(mesh.tetCount(), 2);
+  EXPECT_EQ(report.skippedElements, 1);
+  EXPECT_NEAR(inspectTets(mesh).totalVolume_m3, 0.5e-6, 1e-15);
+}
+
+TEST(VtkMeshFiles, ReadsAPolydataSurface) {
+  const TriangleSurface cube = readVtkSurface(meshPath("cube-polydata.vtk"));
+  EXPECT_EQ(cube.triangleCount(), 12);
+  EXPECT_NEAR(enclosedVolume(cube), 1.0, 1e-12);
+}
+
+TEST(VtkMeshFiles, RefusesWithOneLine) {
+  for (const auto& [file, expected] : {std::pair{"cube.obj", "not a legacy VTK file"},
+                                       std::pair{"missing.vtu", "cannot open"},
+                                       std::pair{"cube-polydata.vtk", "no tetrahedra"}}) {
+    try {
+      readVtkTetMesh(meshPath(file));
+      ADD_FAILURE() << file << " accepted";
+    } catch (const MeshFileError& error) {
+      EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tissuesim
