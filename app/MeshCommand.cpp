@@ -104,8 +104,8 @@ void runMesh(const MeshOptions& options) {
       mesh = meshInterior(surface, {h});
       printQuality(mesh, "lattice tet mesh");
       const double enclosed = std::abs(enclosedVolume(surface));
-      std::printf("  edge length %.3f mm; tet volume / surface volume = %.3f (the lattice covers the "
-                  "surface, which is embedded in it)\n",
+      std::printf("  edge length %.3f mm; tet volume / surface volume = %.3f (the surface is "
+                  "embedded in the mesh, not matched by it)\n",
                   h * 1e3, inspectTets(mesh).totalVolume_m3 / enclosed);
     }
   } catch (const MeshFileError& error) {

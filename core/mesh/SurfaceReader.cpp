@@ -25,7 +25,9 @@ const aiScene* importScene(Assimp::Importer& importer, const std::filesystem::pa
                         " MiB is beyond the limit of 256 MiB for a mesh file");
   }
   // No vertex joining here: welding is ours (SurfaceInspection), with a stated tolerance.
-  const aiScene* scene = importer.ReadFile(name, aiProcess_Triangulate | aiProcess_SortByPType);
+  // assimp fails on paths with '..' when an OBJ names a material file: give it a normal one.
+  const std::string normal = std::filesystem::absolute(path).lexically_normal().string();
+  const aiScene* scene = importer.ReadFile(normal, aiProcess_Triangulate | aiProcess_SortByPType);
   if (scene == nullptr) {
     throw MeshFileError(name + ": not a readable surface (" + importer.GetErrorString() + ")");
   }

@@ -5,7 +5,7 @@
 namespace tissuesim {
 namespace {
 
-std::string scenePath(const std::string& name) { return std::string(TISSUESIM_TEST_DATA_DIR) + "/scenes/" + name; }
+inline std::string scenePath(const std::string& name) { return std::string(TISSUESIM_TEST_DATA_DIR) + "/scenes/" + name; }
 
 TEST(SceneFile, TheBundledSceneLoads) {
   const SceneDescription scene = loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
@@ -76,6 +76,51 @@ INSTANTIATE_TEST_SUITE_P(
       for (char& c : name) c = c == '-' ? '_' : c;
       return name;
     });
+
+}  // namespace
+}  // namespace tissuesim
+
+#include "sim/SceneGeometry.h"
+
+namespace tissuesim {
+namespace {
+
+TEST(SceneGeometry, TheBundledSceneBuildsItsMeshSurfaceAndClamp) {
+  const SceneDescription scene = loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
+  const SceneGeometry geometry = loadSceneGeometry(scene);
+  EXPECT_EQ(countUniqueEdges(geometry.mesh), 5296);
+  ASSERT_TRUE(geometry.surface.has_value());
+  EXPECT_EQ(geometry.surface->vertexCount(), 2194);  // welded from assimp's per-corner vertices
+  ASSERT_TRUE(geometry.embedding.has_value());
+  // Vertices outside the lattice lie within one cube diagonal (12.1 mm x sqrt 3) of it.
+  EXPECT_LT(geometry.embedding->maxOutsideDistance_m(), 0.0121 * std::sqrt(3.0));
+  EXPECT_GE(geometry.fixedNodes.size(), 10u);
+  EXPECT_LT(geometry.fixedNodes.size(), static_cast<std::size_t>(geometry.mesh.nodeCount() / 4));
+  for (const int node : geometry.fixedNodes) {
+    EXPECT_TRUE(scene.fixed.box_m->contains(geometry.mesh.nodes_m.col(node)));
+  }
+}
+
+TEST(SceneGeometry, AMinimalSceneBuildsNoSurface) {
+  const SceneGeometry geometry = loadSceneGeometry(loadSceneFile(scenePath("minimal.json")));
+  EXPECT_FALSE(geometry.surface.has_value());
+  EXPECT_FALSE(geometry.embedding.has_value());
+  EXPECT_TRUE(geometry.fixedNodes.empty());
+}
+
+TEST(SceneGeometry, GeneratesAMeshFromTheSurface) {
+  const SceneGeometry geometry = loadSceneGeometry(loadSceneFile(scenePath("generated.json")));
+  EXPECT_NEAR(static_cast<double>(countUniqueEdges(geometry.mesh)), 1000.0, 100.0);
+}
+
+TEST(SceneGeometry, AFixedBoxThatSelectsNothingIsRefused) {
+  SceneDescription scene = loadSceneFile(scenePath("minimal.json"));
+  scene.fixed.box_m = Eigen::AlignedBox3d(Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(6, 6, 6));
+  EXPECT_THROW(loadSceneGeometry(scene), SceneFileError);
+  scene.fixed.box_m.reset();
+  scene.fixed.nodes = {100000};
+  EXPECT_THROW(loadSceneGeometry(scene), SceneFileError);
+}
 
 }  // namespace
 }  // namespace tissuesim
