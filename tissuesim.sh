@@ -61,12 +61,15 @@ case "${1:-}" in
     install_packages
     build build
     # Until the trainee's window exists: the bundled liver tissue's cyclic uniaxial curve (the
-    # paper's three cycles) as a CSV, with its fit against the continuum on the terminal.
+    # paper's three cycles) as a CSV, with its fit against the continuum on the terminal, then a
+    # headless session of the bundled liver scene (a scripted poke) with its JSON report.
     csv=build/porcine-liver-uniaxial.csv
     build/app/tissuesim uniaxial --tissue assets/tissues/porcine-liver.json --model eesm \
       --lambda-max 1.15,1.23,1.30 --points 100 --output "$csv"
     say "uniaxial curve (every 10th point; all of it in $csv)"
     awk -F, 'NR == 1 || NR % 10 == 2' "$csv" | column -t -s,
+    say "headless poke of the bundled liver scene (report in build/liver-poke-report.json)"
+    build/app/tissuesim run --scene assets/scenes/liver-poke.json --report build/liver-poke-report.json
     ;;
   test)
     install_packages

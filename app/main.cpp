@@ -8,6 +8,7 @@
 
 #include "BenchCommand.h"
 #include "MeshCommand.h"
+#include "RunCommand.h"
 #include "TensileCommand.h"
 #include "UniaxialCommand.h"
 
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   tissuesim::app::registerUniaxialCommand(app);
   tissuesim::app::registerTensileCommand(app);
   tissuesim::app::registerMeshCommand(app);
+  tissuesim::app::registerRunCommand(app);
   tissuesim::app::registerBenchCommand(app);
 
   try {

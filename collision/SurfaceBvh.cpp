@@ -82,6 +82,19 @@ CapsuleSurfaceDistance SurfaceBvh::distanceTo(const Capsule& capsule) const {
   return out;
 }
 
+void SurfaceBvh::touchedTriangles(const Capsule& capsule, std::vector<int>& triangles) const {
+  triangles.clear();
+  auto shape = std::make_shared<fcl::Capsuled>(capsule.radius_m, capsule.length_m);
+  const fcl::CollisionObjectd tool(shape, capsule.pose);
+  const fcl::CollisionObjectd surface(m_impl->model, fcl::Transform3d::Identity());
+  fcl::CollisionRequestd request(/*num_max_contacts=*/static_cast<std::size_t>(m_impl->triangleCount),
+                                 /*enable_contact=*/false);
+  request.gjk_solver_type = fcl::GJKSolverType::GST_LIBCCD;
+  fcl::CollisionResultd result;
+  fcl::collide(&surface, &tool, request, result);
+  for (std::size_t i = 0; i < result.numContacts(); ++i) triangles.push_back(result.getContact(i).b1);
+}
+
 int SurfaceBvh::vertexCount() const { return m_impl->vertexCount; }
 int SurfaceBvh::triangleCount() const { return m_impl->triangleCount; }
 

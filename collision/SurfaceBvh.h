@@ -4,6 +4,7 @@
 // distance from a capsule (the instrument's shaft and blunt tip) to the surface.
 
 #include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -41,6 +42,9 @@ class SurfaceBvh {
   void refit(const Eigen::Ref<const Eigen::MatrixX3d>& vertices);
 
   CapsuleSurfaceDistance distanceTo(const Capsule& capsule) const;
+
+  /// The triangles the capsule intersects (FCL collide, all contacts), into `triangles`.
+  void touchedTriangles(const Capsule& capsule, std::vector<int>& triangles) const;
 
   int vertexCount() const;
   int triangleCount() const;

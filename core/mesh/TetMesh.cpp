@@ -10,6 +10,40 @@
 
 namespace tissuesim {
 
+Eigen::Matrix3Xi boundaryFaces(const TetMesh& mesh) {
+  // Each face keyed by its sorted nodes; the face opposite vertex k of a positively oriented
+  // tet (a, b, c, d) is outward as (b, c, d), (a, d, c), (a, b, d), (a, c, b) for k = 0..3.
+  struct Face {
+    std::array<int, 3> key;
+    std::array<int, 3> oriented;
+  };
+  std::vector<Face> faces;
+  faces.reserve(static_cast<std::size_t>(4 * mesh.tetCount()));
+  constexpr int kOpposite[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+    for (const auto& local : kOpposite) {
+      Face face{};
+      for (int i = 0; i < 3; ++i) face.oriented[static_cast<std::size_t>(i)] = mesh.tets(local[i], t);
+      face.key = face.oriented;
+      std::sort(face.key.begin(), face.key.end());
+      faces.push_back(face);
+    }
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& x, const Face& y) { return x.key < y.key; });
+  std::vector<std::array<int, 3>> boundary;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i == 1) boundary.push_back(faces[i].oriented);
+    i = j;
+  }
+  Eigen::Matrix3Xi out(3, static_cast<Eigen::Index>(boundary.size()));
+  for (std::size_t f = 0; f < boundary.size(); ++f) {
+    out.col(static_cast<Eigen::Index>(f)) << boundary[f][0], boundary[f][1], boundary[f][2];
+  }
+  return out;
+}
+
 Eigen::Index countUniqueEdges(const TetMesh& mesh) {
   std::vector<std::pair<int, int>> edges;
   edges.reserve(static_cast<std::size_t>(6 * mesh.tetCount()));

@@ -49,6 +49,10 @@ struct TetQualityReport {
 /// regular tet on its mean edge length (a volume-based radius-ratio proxy).
 TetQualityReport inspectTets(const TetMesh& mesh, double sliverFraction = 1e-3);
 
+/// The faces that belong to one tet only (3 by #F node indices), oriented outward: the
+/// mesh's boundary surface, which collision and rendering use.
+Eigen::Matrix3Xi boundaryFaces(const TetMesh& mesh);
+
 /// The number of distinct tet edges: the springs a mesh will have.
 Eigen::Index countUniqueEdges(const TetMesh& mesh);
 

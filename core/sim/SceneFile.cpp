@@ -185,10 +185,11 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     scene.instrument = instrument;
   }
   if (fields.has("effects")) {
-    const Fields effects(fields.at("effects"), "effects", source, {"softening", "volume_term_kpa", "spring_law"});
+    const Fields effects(fields.at("effects"), "effects", source, {"softening", "volume_term_kpa", "spring_law", "stiffness_scale"});
     scene.isSoftening = effects.boolean("softening", true);
     scene.bulkModulus_Pa = effects.number("volume_term_kpa", 0.0, 0.0, false) * 1000.0;
     scene.springLaw = effects.string("spring_law", "eesm");
+    scene.stiffnessScale = effects.number("stiffness_scale", 0.0, 0.0, false);
     if (scene.springLaw != "eesm" && scene.springLaw != "eesm-paper" && scene.springLaw != "smm") {
       effects.fail("effects.spring_law", "= \"" + scene.springLaw + "\"; expected eesm, eesm-paper or smm");
     }

@@ -53,6 +53,7 @@ struct SceneDescription {
   std::optional<SceneInstrument> instrument;
   bool isSoftening = true;
   double bulkModulus_Pa = 0.0;  ///< > 0: volume term on
+  double stiffnessScale = 0.0;  ///< > 0: V_e factor; 0: the lattice's small-strain calibration
   std::string springLaw = "eesm";
   double timeStep_s = 1e-3;
   std::string integrator = "implicit";

@@ -1,4 +1,5 @@
 #include "mesh/TetMesh.h"
+#include "mesh/BlockMesher.h"
 
 #include <stdexcept>
 
@@ -57,6 +58,24 @@ TEST(TetMesh, ValidationNamesTheProblem) {
   mesh.tets(1, 0) = 0;
   EXPECT_THROW(validateTetMesh(mesh, "m"), std::invalid_argument);
   EXPECT_THROW(validateTetMesh(TetMesh{}, "m"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tissuesim
+
+namespace tissuesim {
+namespace {
+
+TEST(TetMesh, BoundaryFacesAreTheClosedOutwardSurface) {
+  const TetMesh block = makeBlockMesh({0.02, 0.01, 0.03}, {2, 1, 3});
+  const Eigen::Matrix3Xi faces = boundaryFaces(block);
+  EXPECT_EQ(faces.cols(), 2 * 2 * (2 * 1 + 1 * 3 + 3 * 2));
+  // Outward orientation: the divergence theorem gives the block's volume, positive.
+  double volume = 0.0;
+  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
+    volume += block.nodes_m.col(faces(0, f)).dot(block.nodes_m.col(faces(1, f)).cross(block.nodes_m.col(faces(2, f)))) / 6.0;
+  }
+  EXPECT_NEAR(volume, 0.02 * 0.01 * 0.03, 1e-15);
 }
 
 }  // namespace

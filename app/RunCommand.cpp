@@ -1,0 +1,127 @@
+#include "RunCommand.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "AssetPaths.h"
+#include "CapsuleContact.h"
+#include "CommandError.h"
+#include "material/TissueFile.h"
+#include "mesh/TriangleSurface.h"
+#include "sim/SceneFile.h"
+#include "sim/Simulation.h"
+
+namespace tissuesim::app {
+namespace {
+
+struct RunOptions {
+  std::string scenePath;
+  std::string scriptPath;
+  double duration_s = 0.0;
+  std::string reportPath;
+};
+
+void runSession(const RunOptions& options) {
+  std::optional<Simulation> simulation;
+  try {
+    simulation.emplace(loadSceneFile(options.scenePath));
+  } catch (const SceneFileError& error) {
+    throw CommandError(error.what());
+  } catch (const TissueFileError& error) {
+    throw CommandError(error.what());
+  }
+  const SceneDescription& scene = simulation->scene();
+  std::unique_ptr<InstrumentScript> script;
+  std::unique_ptr<CapsuleContact> contact;
+  if (scene.instrument) {
+    try {
+      script = options.scriptPath.empty()
+                   ? std::make_unique<InstrumentScript>(InstrumentScript::poke(
+                         {scene.instrument->tipStart_m, scene.instrument->direction}, 0.04, 1.0))
+                   : std::make_unique<InstrumentScript>(InstrumentScript::load(options.scriptPath));
+    } catch (const std::invalid_argument& error) {
+      throw CommandError(error.what());
+    }
+    contact = std::make_unique<CapsuleContact>(
+        simulation->geometry().mesh,
+        CapsuleContactSettings{scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    simulation->setContactProvider(contact.get());
+    simulation->setInstrumentSource(script.get());
+  } else if (!options.scriptPath.empty()) {
+    throw CommandError("--script given, but the scene " + options.scenePath + " has no instrument");
+  }
+  const double duration = options.duration_s > 0.0 ? options.duration_s : script ? script->duration_s() : 1.0;
+  if (!std::isfinite(duration) || duration > 3600.0) throw CommandError("--duration must be at most 3600 s");
+  const long steps = std::lround(duration / simulation->timeStep_s());
+
+  double maxForce = 0.0;
+  double maxPenetration = 0.0;
+  double maxStretch = 1.0;
+  long badSteps = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (long n = 0; n < steps; ++n) {
+    const StepOutcome outcome = simulation->step();
+    maxForce = std::max(maxForce, outcome.contact.toolForce_N.norm());
+    maxPenetration = std::max(maxPenetration, outcome.contact.maxPenetration_m);
+    maxStretch = std::max(maxStretch, outcome.maxStretch);
+    badSteps += outcome.isGood ? 0 : 1;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  nlohmann::json report;
+  report["scene"] = options.scenePath;
+  report["steps"] = simulation->steps();
+  report["refused_or_failed_steps"] = badSteps;
+  report["time_step_s"] = simulation->timeStep_s();
+  report["simulated_seconds"] = simulation->time_s();
+  report["physics_hz"] = wall > 0.0 ? static_cast<double>(steps) / wall : 0.0;
+  report["realtime_factor"] = wall > 0.0 ? simulation->time_s() / wall : 0.0;
+  report["max_tool_force_n"] = maxForce;
+  report["max_penetration_mm"] = maxPenetration * 1e3;
+  report["max_stretch"] = maxStretch;
+  report["springs"] = simulation->springMesh().springCount();
+  report["nodes"] = simulation->springMesh().nodeCount();
+  report["integrator"] = scene.integrator;
+  report["instability_events"] = nlohmann::json::array();
+  for (const InstabilityEvent& event : simulation->events()) {
+    report["instability_events"].push_back(
+        {{"step", event.step}, {"time_s", event.time_s}, {"kind", event.kind}, {"detail", event.detail}});
+  }
+  report["wall_seconds"] = wall;
+  std::printf("%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld springs; max tool force "
+              "%.3f N, max penetration %.2f mm, max stretch %.3f; %zu instability events\n",
+              scene.name.c_str(), simulation->steps(), simulation->timeStep_s() * 1e3,
+              report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
+              static_cast<long>(simulation->springMesh().springCount()), maxForce, maxPenetration * 1e3,
+              maxStretch, simulation->events().size());
+  if (!options.reportPath.empty()) {
+    std::ofstream out(options.reportPath);
+    if (!out) throw CommandError("cannot write --report " + options.reportPath);
+    out << report.dump(2) << "\n";
+  }
+}
+
+}  // namespace
+
+void registerRunCommand(CLI::App& app) {
+  auto options = std::make_shared<RunOptions>();
+  CLI::App* command = app.add_subcommand(
+      "run", "A headless session of a scene: fixed-step physics with a scripted instrument (a "
+             "default poke when no script is given), and a JSON report.");
+  options->scenePath = bundledAsset("scenes/liver-poke.json").string();
+  command->add_option("--scene", options->scenePath, "Scene file (JSON)")->capture_default_str();
+  command->add_option("--script", options->scriptPath,
+                      "Instrument script: {\"poses\": [{\"time_s\", \"tip_m\", \"direction\"}...]}");
+  command->add_option("--duration", options->duration_s, "Simulated seconds (default: the script's length)");
+  command->add_option("--report", options->reportPath, "Write the JSON report here");
+  command->callback([options] { runSession(*options); });
+}
+
+}  // namespace tissuesim::app

@@ -1,0 +1,41 @@
+#pragma once
+// Where the instrument is at time t: from a script (tests, demos: timed poses, linearly
+// interpolated), from the mouse, or from a haptic device later. The engine only sees this
+// interface.
+
+#include <filesystem>
+#include <vector>
+
+#include "sim/ContactProvider.h"
+
+namespace tissuesim {
+
+class InstrumentSource {
+ public:
+  virtual ~InstrumentSource() = default;
+  virtual InstrumentPose poseAt(double time_s) const = 0;
+};
+
+/// Timed poses; between them positions are interpolated linearly, directions normalised.
+class InstrumentScript final : public InstrumentSource {
+ public:
+  struct Keyframe {
+    double time_s;
+    InstrumentPose pose;
+  };
+  explicit InstrumentScript(std::vector<Keyframe> keyframes);
+  InstrumentPose poseAt(double time_s) const override;
+  double duration_s() const { return m_keyframes.back().time_s; }
+
+  /// A straight poke: from `start` along its direction by `depth_m` over `pressTime_s`, then back.
+  static InstrumentScript poke(const InstrumentPose& start, double depth_m, double pressTime_s);
+
+  /// JSON: {"poses": [{"time_s": 0, "tip_m": [x, y, z], "direction": [x, y, z]}, ...]}, times
+  /// increasing. @throws std::invalid_argument naming the file and the pose.
+  static InstrumentScript load(const std::filesystem::path& path);
+
+ private:
+  std::vector<Keyframe> m_keyframes;
+};
+
+}  // namespace tissuesim

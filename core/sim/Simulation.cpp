@@ -1,0 +1,123 @@
+#include "sim/Simulation.h"
+
+#include <algorithm>
+
+#include "analysis/TensileTest.h"
+#include "analysis/UniaxialTest.h"
+#include "integrators/ImplicitEulerSolver.h"
+#include "integrators/QuasiNewtonSolver.h"
+#include "integrators/SymplecticEulerSolver.h"
+#include "material/TissueFile.h"
+
+namespace tissuesim {
+namespace {
+/// Events kept per run; past this only the count grows (the report says so).
+constexpr std::size_t kMaxEvents = 100;
+/// Net force left on a node after a step's iterations that counts as an instability (N): a
+/// thousandth of the newton a trainee feels.
+constexpr double kUnconvergedResidual_N = 1e-3;
+}  // namespace
+
+Simulation::Simulation(const SceneDescription& scene)
+    : m_scene(scene), m_geometry(loadSceneGeometry(scene)), m_timeStep_s(scene.timeStep_s) {
+  m_parameters = std::make_unique<TissueParameters>(loadTissueFile(scene.tissue));
+  m_energy = std::make_unique<StrainEnergy>(*m_parameters);
+  m_table = std::make_unique<StiffnessTable>(*m_energy);
+  m_springMesh = std::make_unique<SpringMesh>(buildSpringMesh(m_geometry.mesh, m_parameters->density_kg_m3));
+  // The network's missing Poisson effect: scale V_e so a lattice's small-strain modulus is the
+  // continuum's 3 mu0, measured once on the paper's specimen meshed with the same Kuhn lattice
+  // the bundled meshes use (TensileTest::smallStrainCalibration; about 5.8). A scene can set
+  // its own factor (effects.stiffness_scale) for meshes of another structure.
+  m_stiffnessScale = scene.stiffnessScale > 0.0
+                         ? scene.stiffnessScale
+                         : TensileTest(*m_energy, *m_table, TensileSpecimen{})
+                               .smallStrainCalibration(m_energy->initialShearModulus());
+  m_springMesh->volume_m3 *= m_stiffnessScale;
+  const SpringLaw law = scene.springLaw == "eesm-paper" ? SpringLaw::EesmPaper
+                        : scene.springLaw == "smm"      ? SpringLaw::Smm
+                                                        : SpringLaw::Eesm;
+  // smm's one stiffness: the least-squares fit to the continuum over the paper's cycles.
+  const UniaxialTest continuum(*m_energy, *m_table);
+  const double linearModulus =
+      UniaxialTest::fitLinearModulus(continuum.run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
+  m_law = std::make_unique<SpringForceLaw>(law, *m_table, *m_parameters, linearModulus, scene.isSoftening);
+  m_springs = std::make_unique<SpringForceField>(*m_springMesh, *m_law);
+  if (scene.bulkModulus_Pa > 0.0) m_volume = std::make_unique<VolumeForceField>(*m_springMesh, scene.bulkModulus_Pa);
+  m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
+  m_system->gravity_m_s2 = scene.gravity_m_s2;
+  for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);
+
+  IntegratorSettings settings;
+  settings.massDamping_1_s = scene.massDamping_1_s;
+  settings.maxIterations = 2;
+  settings.forceTolerance_N = 1e-6;
+  if (scene.integrator == "explicit") {
+    m_integrator = std::make_unique<SymplecticEulerSolver>(settings);
+  } else if (scene.integrator == "quasi-newton") {
+    m_integrator = std::make_unique<QuasiNewtonSolver>(settings);
+  } else {
+    m_integrator = std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
+  }
+  if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction};
+  m_state = m_system->restState();
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::reset() {
+  m_state = m_system->restState();
+  m_springs->resetStretchHistory();
+  m_time_s = 0.0;
+  m_steps = 0;
+  m_events.clear();
+  m_activeConditions.clear();
+}
+
+void Simulation::record(const std::string& kind, const std::string& detail) {
+  if (std::find(m_activeConditions.begin(), m_activeConditions.end(), kind) != m_activeConditions.end()) return;
+  m_activeConditions.push_back(kind);
+  if (m_events.size() < kMaxEvents) m_events.push_back({m_steps, m_time_s, kind, detail});
+}
+
+StepOutcome Simulation::step() {
+  StepOutcome outcome;
+  const double next = m_time_s + m_timeStep_s;
+  if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
+  m_system->externalForces_N.setZero();
+  if (m_contact != nullptr && m_scene.instrument) {
+    outcome.contact = m_contact->addContactForces(m_state.x, m_state.v, m_pose, m_system->externalForces_N);
+  }
+  outcome.integrator = m_integrator->step(*m_system, m_state, m_timeStep_s);
+  outcome.isGood = !outcome.integrator.refused && outcome.integrator.isFinite;
+  outcome.maxStretch = outcome.integrator.forces.springs.maxStretch;
+
+  std::vector<std::string> now;
+  const auto check = [&](bool isOn, const std::string& kind, const std::string& detail) {
+    if (!isOn) return;
+    now.push_back(kind);
+    record(kind, detail);
+  };
+  const StepReport& r = outcome.integrator;
+  check(r.refused, "refused", r.reason);
+  check(!r.isFinite, "non-finite", r.reason);
+  // A real-time step stops at its iteration budget; only a residual that matters is an event.
+  check(!r.converged && r.isFinite && r.residual_N > kUnconvergedResidual_N, "unconverged",
+        "residual " + std::to_string(r.residual_N) + " N");
+  check(r.forces.springs.beyondRangeCount > 0, "locking",
+        std::to_string(r.forces.springs.beyondRangeCount) + " springs past the usable stretch range");
+  check(r.forces.springs.collapsedCount > 0, "collapsed",
+        std::to_string(r.forces.springs.collapsedCount) + " springs of zero length");
+  // Without the volume term nothing else counts inverted tets: look (O(#T), a few microseconds).
+  const int inverted = m_volume ? r.forces.volume.invertedTetCount
+                                : VolumeForceField::inspect(*m_springMesh, m_state.x).invertedTetCount;
+  check(inverted > 0, "inverted", std::to_string(inverted) + " inverted tets");
+  m_activeConditions = now;  // a condition that ended may fire again when it recurs
+
+  if (outcome.isGood) {
+    m_time_s = next;
+    ++m_steps;
+  }
+  return outcome;
+}
+
+}  // namespace tissuesim

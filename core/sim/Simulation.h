@@ -1,0 +1,93 @@
+#pragma once
+// One simulated scene advanced at a fixed time step: tissue file -> material -> tables ->
+// spring mesh -> (contacts in) integration -> state out. What the scene does not name is not
+// built: no volume term unless asked, no contact without an instrument and a ContactProvider.
+//
+// Each step: the instrument pose at t + dt from the InstrumentSource, contact forces from the
+// ContactProvider (penalty, explicit in time), one integrator step. Instabilities (refused or
+// non-finite steps, Newton not converged, springs past locking, collapsed springs, inverted
+// tets) are detected every step and recorded as events when they start; a refused or
+// non-finite step leaves the last good state in place, so the simulation stays usable.
+// Deterministic: no clocks, no threads, no randomness inside.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "integrators/TimeIntegrator.h"
+#include "material/StiffnessTable.h"
+#include "sim/ContactProvider.h"
+#include "sim/InstrumentScript.h"
+#include "sim/SceneGeometry.h"
+#include "springs/SpringForceField.h"
+
+namespace tissuesim {
+
+struct InstabilityEvent {
+  long step;
+  double time_s;
+  std::string kind;    ///< refused, non-finite, unconverged, locking, collapsed, inverted
+  std::string detail;
+};
+
+struct StepOutcome {
+  StepReport integrator;
+  ContactResult contact;
+  double maxStretch = 1.0;
+  bool isGood = true;  ///< the state advanced and is finite
+};
+
+class Simulation {
+ public:
+  /// Builds everything the scene names. @throws SceneFileError, TissueFileError.
+  explicit Simulation(const SceneDescription& scene);
+  ~Simulation();
+
+  /// The collision implementation (nullable: no contact). Must outlive this object.
+  void setContactProvider(ContactProvider* provider) { m_contact = provider; }
+  /// Where the instrument is (nullable: no instrument). Must outlive this object.
+  void setInstrumentSource(const InstrumentSource* source) { m_instrument = source; }
+
+  StepOutcome step();
+  void reset();
+
+  double time_s() const { return m_time_s; }
+  long steps() const { return m_steps; }
+  double timeStep_s() const { return m_timeStep_s; }
+  /// The factor applied to every spring's volume share (see the constructor).
+  double stiffnessScale() const { return m_stiffnessScale; }
+  const MechanicalState& state() const { return m_state; }
+  const SpringMesh& springMesh() const { return *m_springMesh; }
+  const SceneGeometry& geometry() const { return m_geometry; }
+  const SceneDescription& scene() const { return m_scene; }
+  const std::vector<InstabilityEvent>& events() const { return m_events; }
+  /// The instrument pose used by the last step (the scene's start pose before any).
+  InstrumentPose instrumentPose() const { return m_pose; }
+
+ private:
+  void record(const std::string& kind, const std::string& detail);
+
+  SceneDescription m_scene;
+  SceneGeometry m_geometry;
+  std::unique_ptr<TissueParameters> m_parameters;
+  std::unique_ptr<StrainEnergy> m_energy;
+  std::unique_ptr<StiffnessTable> m_table;
+  std::unique_ptr<SpringMesh> m_springMesh;
+  std::unique_ptr<SpringForceLaw> m_law;
+  std::unique_ptr<SpringForceField> m_springs;
+  std::unique_ptr<VolumeForceField> m_volume;
+  std::unique_ptr<MechanicalSystem> m_system;
+  std::unique_ptr<TimeIntegrator> m_integrator;
+  ContactProvider* m_contact = nullptr;
+  const InstrumentSource* m_instrument = nullptr;
+  MechanicalState m_state;
+  InstrumentPose m_pose;
+  double m_timeStep_s;
+  double m_stiffnessScale = 1.0;
+  double m_time_s = 0.0;
+  long m_steps = 0;
+  std::vector<InstabilityEvent> m_events;
+  std::vector<std::string> m_activeConditions;  ///< kinds currently on (events fire on onset)
+};
+
+}  // namespace tissuesim

@@ -1,0 +1,65 @@
+#include "CapsuleContact.h"
+
+#include <gtest/gtest.h>
+
+#include "mesh/BlockMesher.h"
+
+namespace tissuesim {
+namespace {
+
+// A 4 x 4 x 2 cm block, top face at z = 0.02; the probe comes down on its middle.
+class CapsuleContactTest : public ::testing::Test {
+ protected:
+  TetMesh m_block = makeBlockMesh({0.04, 0.04, 0.02}, {8, 8, 4});
+  CapsuleContact m_contact{m_block, {0.0025, 0.1, 300.0, 0.0}};
+  Eigen::Matrix3Xd m_velocities = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
+
+  ContactResult pressTo(double tipHeight, Eigen::Matrix3Xd* forces = nullptr) {
+    Eigen::Matrix3Xd local = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
+    Eigen::Matrix3Xd& f = forces != nullptr ? *forces : local;
+    return m_contact.addContactForces(m_block.nodes_m, m_velocities, {{0.02, 0.02, tipHeight}, {0, 0, -1}}, f);
+  }
+};
+
+TEST_F(CapsuleContactTest, NoForceBeforeContact) {
+  EXPECT_EQ(m_contact.boundaryTriangleCount(), 2 * 2 * (8 * 8 + 8 * 4 + 4 * 8));
+  const ContactResult above = pressTo(0.021);
+  EXPECT_EQ(above.contactNodes, 0);
+  EXPECT_EQ(above.toolForce_N.norm(), 0.0);
+}
+
+TEST_F(CapsuleContactTest, ForceRisesMonotonicallyWithDepthAndPushesTheToolBack) {
+  double previous = 0.0;
+  for (double depth = 0.0005; depth <= 0.0025; depth += 0.0005) {
+    Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
+    const ContactResult result = pressTo(0.02 - depth, &forces);
+    ASSERT_GT(result.contactNodes, 0) << depth;
+    EXPECT_GT(result.toolForce_N.z(), previous) << depth;  // pushes the tool up, more and more
+    EXPECT_NEAR(result.toolForce_N.x(), 0.0, 1e-9);
+    previous = result.toolForce_N.z();
+    // Action and reaction.
+    EXPECT_LT((forces.rowwise().sum() + result.toolForce_N).norm(), 1e-12);
+    EXPECT_LE(result.maxPenetration_m, 0.0025);
+  }
+}
+
+TEST_F(CapsuleContactTest, AProbeBetweenNodesIsCaughtByTheFace) {
+  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
+  // Nodes every 5 mm; a 2.5 mm probe centred between four of them.
+  const ContactResult result =
+      m_contact.addContactForces(m_block.nodes_m, m_velocities, {{0.0225, 0.0225, 0.019}, {0, 0, -1}}, forces);
+  EXPECT_GT(result.contactNodes, 0);
+  EXPECT_GT(result.toolForce_N.z(), 0.0);
+  EXPECT_NEAR(result.maxPenetration_m, 0.001, 1e-9);
+}
+
+TEST_F(CapsuleContactTest, RefitFollowsTheDeformedSurface) {
+  Eigen::Matrix3Xd lowered = m_block.nodes_m;
+  lowered.row(2).array() -= 0.005;  // the whole block 5 mm lower
+  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
+  EXPECT_EQ(m_contact.addContactForces(lowered, m_velocities, {{0.02, 0.02, 0.018}, {0, 0, -1}}, forces).contactNodes, 0);
+  EXPECT_GT(m_contact.addContactForces(lowered, m_velocities, {{0.02, 0.02, 0.014}, {0, 0, -1}}, forces).contactNodes, 0);
+}
+
+}  // namespace
+}  // namespace tissuesim
