@@ -9,6 +9,7 @@
 
 #include "CommandError.h"
 #include "CurveCsv.h"
+#include "LoadedTissue.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/TensileTest.h"
 #include "material/TissueFile.h"
@@ -68,17 +69,12 @@ void runTensile(const TensileCommandOptions& options) {
     throw CommandError("unknown --integrator '" + integrator +
                        "'; expected static, implicit, quasi-newton or explicit");
   }
-  const TissueParameters parameters = loadTissueFile(options.tissuePath);
-  const StrainEnergy energy(parameters);
-  const StiffnessTable table(energy);
-  const UniaxialTest continuum(energy, table);
+  const LoadedTissue tissue(options.tissuePath);
+  const StrainEnergy& energy = tissue.energy;
+  const StiffnessTable& table = tissue.table;
   const UniaxialProtocol protocol{options.lambdaMax, options.points};
-  try {
-    continuum.validate(protocol);
-  } catch (const std::invalid_argument& error) {
-    throw CommandError(std::string(error.what()) + " (tissue " + options.tissuePath + ")");
-  }
-  const std::vector<CurveBranch> reference = continuum.run(UniaxialModel::Sedf, protocol);
+  tissue.validate(protocol);
+  const std::vector<CurveBranch> reference = tissue.continuum.run(UniaxialModel::Sedf, protocol);
 
   const TensileSpecimen specimen{parseSize(options.size), options.resolution};
   const TensileTest test(energy, table, specimen);

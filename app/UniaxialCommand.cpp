@@ -7,6 +7,7 @@
 
 #include "CommandError.h"
 #include "CurveCsv.h"
+#include "LoadedTissue.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialTest.h"
 #include "material/StiffnessTable.h"
@@ -30,16 +31,13 @@ void runUniaxial(const UniaxialOptions& options) {
     throw CommandError("unknown --model '" + options.modelName + "'; expected one of " +
                        modelNames());
   }
-  const TissueParameters parameters = loadTissueFile(options.tissuePath);
-  const StrainEnergy energy(parameters);
-  const StiffnessTable table(energy);
-  const UniaxialTest test(energy, table);
+  const LoadedTissue tissue(options.tissuePath);
+  const TissueParameters& parameters = tissue.parameters;
+  const StrainEnergy& energy = tissue.energy;
+  const StiffnessTable& table = tissue.table;
+  const UniaxialTest& test = tissue.continuum;
   const UniaxialProtocol protocol{options.lambdaMax, options.points};
-  try {
-    test.validate(protocol);
-  } catch (const std::invalid_argument& error) {
-    throw CommandError(std::string(error.what()) + " (tissue " + options.tissuePath + ")");
-  }
+  tissue.validate(protocol);
 
   const std::vector<CurveBranch> curve = test.run(*model, protocol);
   const std::vector<CurveBranch> reference = test.run(UniaxialModel::Sedf, protocol);

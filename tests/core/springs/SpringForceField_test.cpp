@@ -32,6 +32,21 @@ double elasticEnergy(const SpringMesh& mesh, const Eigen::Matrix3Xd& x) {
   return energy;
 }
 
+/// The dense 3#V by 3#V matrix of per-spring blocks K_e: [K, -K; -K, K] on each spring (a, b).
+Eigen::MatrixXd denseStiffness(const SpringMesh& mesh, const Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks) {
+  const Eigen::Index n = mesh.nodeCount();
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+    const Eigen::Map<const Eigen::Matrix3d> ks(blocks.col(s).data());
+    const int a = mesh.springs(0, s), b = mesh.springs(1, s);
+    k.block<3, 3>(3 * a, 3 * a) += ks;
+    k.block<3, 3>(3 * b, 3 * b) += ks;
+    k.block<3, 3>(3 * a, 3 * b) -= ks;
+    k.block<3, 3>(3 * b, 3 * a) -= ks;
+  }
+  return k;
+}
+
 TEST(SpringForceField, ForceIsMinusTheEnergyGradient) {
   test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
   const Eigen::Matrix3Xd x = deformed(block.mesh, 0.15, 1);
@@ -62,15 +77,7 @@ TEST(SpringForceField, StiffnessIsTheForceJacobian) {
     Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, n);
     Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, block.mesh.springCount());
     block.springs.addForcesAndStiffness(x, f, blocks, /*isProjected=*/false);
-    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-    for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
-      const Eigen::Map<const Eigen::Matrix3d> ks(blocks.col(s).data());
-      const int a = block.mesh.springs(0, s), b = block.mesh.springs(1, s);
-      k.block<3, 3>(3 * a, 3 * a) += ks;
-      k.block<3, 3>(3 * b, 3 * b) += ks;
-      k.block<3, 3>(3 * a, 3 * b) -= ks;
-      k.block<3, 3>(3 * b, 3 * a) -= ks;
-    }
+    const Eigen::MatrixXd k = denseStiffness(block.mesh, blocks);
     const double h = 1e-9;
     for (Eigen::Index j = 0; j < 3 * n; ++j) {
       Eigen::Matrix3Xd up = x, down = x;
@@ -106,15 +113,7 @@ TEST(SpringForceField, FrequencyBoundIsAnUpperBound) {
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, n);
   Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, block.mesh.springCount());
   block.springs.addForcesAndStiffness(x, f, blocks, false);
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
-    const Eigen::Map<const Eigen::Matrix3d> ks(blocks.col(s).data());
-    const int a = block.mesh.springs(0, s), b = block.mesh.springs(1, s);
-    k.block<3, 3>(3 * a, 3 * a) += ks;
-    k.block<3, 3>(3 * b, 3 * b) += ks;
-    k.block<3, 3>(3 * a, 3 * b) -= ks;
-    k.block<3, 3>(3 * b, 3 * a) -= ks;
-  }
+  const Eigen::MatrixXd k = denseStiffness(block.mesh, blocks);
   Eigen::VectorXd inverseRootMass(3 * n);
   for (Eigen::Index i = 0; i < n; ++i) inverseRootMass.segment<3>(3 * i).setConstant(1.0 / std::sqrt(block.mesh.nodeMass_kg[i]));
   const Eigen::MatrixXd scaled = inverseRootMass.asDiagonal() * k * inverseRootMass.asDiagonal();
