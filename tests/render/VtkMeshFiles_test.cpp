@@ -21,10 +21,22 @@ TEST(VtkMeshFiles, ReadsAPolydataSurface) {
   EXPECT_NEAR(enclosedVolume(cube), 1.0, 1e-12);
 }
 
+TEST(VtkMeshFiles, ReadsTheXmlFormats) {
+  TetMeshReadReport report;
+  const TetMesh mesh = readVtkTetMesh(meshPath("two-tets.vtu"), 1.0, &report);
+  EXPECT_EQ(mesh.tetCount(), 2);
+  EXPECT_EQ(report.skippedElements, 1);
+  EXPECT_NEAR(inspectTets(mesh).totalVolume_m3, 0.5, 1e-12);
+  const TriangleSurface cube = readVtkSurface(meshPath("cube.vtp"));
+  EXPECT_EQ(cube.triangleCount(), 12);
+  EXPECT_NEAR(enclosedVolume(cube), 1.0, 1e-12);
+}
+
 TEST(VtkMeshFiles, RefusesWithOneLine) {
   for (const auto& [file, expected] : {std::pair{"cube.obj", "not a legacy VTK file"},
                                        std::pair{"missing.vtu", "cannot open"},
-                                       std::pair{"cube-polydata.vtk", "no tetrahedra"}}) {
+                                       std::pair{"cube-polydata.vtk", "no tetrahedra"},
+                                       std::pair{"cube.vtp", "no tetrahedra (6 other cells)"}}) {
     try {
       readVtkTetMesh(meshPath(file));
       ADD_FAILURE() << file << " accepted";
