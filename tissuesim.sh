@@ -4,6 +4,7 @@
 #   ./tissuesim.sh run        install missing packages, build (Release), run the simulator
 #   ./tissuesim.sh test       install missing packages, build (Release), run every test (ctest)
 #   ./tissuesim.sh sanitize   the same tests in a separate ASan+UBSan build (build-asan/)
+#   ./tissuesim.sh tsan       the physics loop's threaded tests under ThreadSanitizer (build-tsan/)
 #   ./tissuesim.sh bench      the Google Benchmark suite (tissuesim bench)
 #
 # Re-running is fast: packages are only installed when missing, and the build is incremental.
@@ -81,6 +82,16 @@ case "${1:-}" in
     build build-asan -DTISSUESIM_SANITIZE=ON
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 run_tests build-asan
     ;;
+  tsan)
+    install_packages
+    if [ ! -f build-tsan/CMakeCache.txt ]; then
+      cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTISSUESIM_THREAD_SANITIZE=ON
+    fi
+    say "building build-tsan (core tests only)"
+    cmake --build build-tsan -j "$JOBS" --target core_tests
+    say "threaded tests under ThreadSanitizer"
+    TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/core_tests --gtest_filter='TripleBuffer.*:RealTimeLoop.*'
+    ;;
   bench)
     install_packages
     build build
@@ -88,7 +99,7 @@ case "${1:-}" in
     build/app/tissuesim bench "$@"
     ;;
   *)
-    echo "usage: ./tissuesim.sh run|test|sanitize|bench" >&2
+    echo "usage: ./tissuesim.sh run|test|sanitize|tsan|bench" >&2
     exit 2
     ;;
 esac

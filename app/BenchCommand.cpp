@@ -8,6 +8,7 @@
 
 #include "AssetPaths.h"
 #include "CommandError.h"
+#include "bench/ContactBenchmarks.h"
 #include "bench/DynamicsBenchmarks.h"
 #include "bench/MaterialBenchmarks.h"
 
@@ -16,12 +17,14 @@ namespace {
 
 struct BenchOptions {
   std::string tissuePath;
+  std::string scenePath;
   std::vector<std::string> benchmarkArguments;
 };
 
 void runBench(const BenchOptions& options) {
   registerMaterialBenchmarks(options.tissuePath);
   registerDynamicsBenchmarks(options.tissuePath);
+  registerContactBenchmarks(options.scenePath);
   std::vector<std::string> arguments = {"tissuesim bench"};
   arguments.insert(arguments.end(), options.benchmarkArguments.begin(),
                    options.benchmarkArguments.end());
@@ -46,6 +49,9 @@ void registerBenchCommand(CLI::App& app) {
       "--benchmark_filter=Table --benchmark_min_time=0.05. Benchmarks report; they never fail.");
   options->tissuePath = bundledAsset("tissues/porcine-liver.json").string();
   command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")
+      ->capture_default_str();
+  options->scenePath = bundledAsset("scenes/liver-poke.json").string();
+  command->add_option("--scene", options->scenePath, "Scene for the contact benchmarks (JSON)")
       ->capture_default_str();
   command->allow_extras();
   command->callback([options, command] {

@@ -1,7 +1,9 @@
 #pragma once
-// A bounding-volume hierarchy (FCL, OBBRSS) over a triangle surface that deforms: built once,
-// then refitted to new vertex positions each physics step rather than rebuilt. Queries the
-// distance from a capsule (the instrument's shaft and blunt tip) to the surface.
+// A bounding-volume hierarchy (FCL, AABB) over a triangle surface that deforms: built once,
+// then refitted to new vertex positions each physics step rather than rebuilt. Finds the
+// triangles a capsule (the instrument's shaft and blunt tip) touches, every step; and the
+// distance from it to the surface, on demand (an OBBRSS tree built for the query: FCL's mesh
+// distance needs one).
 
 #include <memory>
 #include <vector>

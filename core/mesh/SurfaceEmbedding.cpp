@@ -64,8 +64,20 @@ SurfaceEmbedding::SurfaceEmbedding(const TetMesh& mesh, const Eigen::Matrix3Xd& 
       for (const int t : found->second) consider(t);
     }
     if (bestMin < -1e-12) {
-      // Outside every tet of its bin: the tet least outside, over all of them.
-      for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) consider(t);
+      // Outside every tet of its bin: the tet least outside among the neighbouring bins, and
+      // only if there are none, among all tets.
+      const Eigen::Vector3i c = ((p - lower).array() / cell).floor().cast<int>();
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const Eigen::Vector3i n = (c + Eigen::Vector3i(dx, dy, dz)).cwiseMax(0).cwiseMin((cells.array() - 1).matrix());
+            const auto found = bins.find(static_cast<long long>(n.x()) + cells.x() * (static_cast<long long>(n.y()) + cells.y() * static_cast<long long>(n.z())));
+            if (found == bins.end()) continue;
+            for (const int t : found->second) consider(t);
+          }
+      if (best < 0) {
+        for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) consider(t);
+      }
     }
     for (int k = 0; k < 4; ++k) m_nodes(k, v) = mesh.tets(k, best);
     m_weights.col(v) = bestWeights;

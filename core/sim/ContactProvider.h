@@ -4,6 +4,7 @@
 // FCL; the engine runs and tests without it (no provider: no contact).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
 
 namespace tissuesim {
 
@@ -12,6 +13,7 @@ namespace tissuesim {
 struct InstrumentPose {
   Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();  ///< unit, pointing from shaft to tip
+  bool isGrasping = false;  ///< the grasper's jaws closed: hold the surface nodes at the tip
 };
 
 struct ContactResult {

@@ -30,6 +30,7 @@ InstrumentPose InstrumentScript::poseAt(double time_s) const {
   InstrumentPose pose;
   pose.tip_m = (1.0 - s) * a.pose.tip_m + s * b.pose.tip_m;
   pose.direction = ((1.0 - s) * a.pose.direction + s * b.pose.direction).normalized();
+  pose.isGrasping = a.pose.isGrasping;  // the jaws switch at keyframes, not gradually
   return pose;
 }
 
@@ -76,6 +77,10 @@ InstrumentScript InstrumentScript::load(const std::filesystem::path& path) {
     p.direction = pose.contains("direction") ? vector(pose, "direction", i) : Eigen::Vector3d(0, 0, -1);
     if (p.direction.norm() < 1e-9) throw std::invalid_argument(name + ": pose " + std::to_string(i) + ": zero direction");
     p.direction.normalize();
+    if (pose.contains("grasp")) {
+      if (!pose["grasp"].is_boolean()) throw std::invalid_argument(name + ": pose " + std::to_string(i) + ": 'grasp' must be true or false");
+      p.isGrasping = pose["grasp"].get<bool>();
+    }
     keyframes.push_back({pose["time_s"].get<double>(), p});
   }
   try {

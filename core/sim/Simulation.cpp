@@ -58,7 +58,15 @@ Simulation::Simulation(const SceneDescription& scene)
   } else {
     m_integrator = std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
   }
-  if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction};
+  if (scene.instrument) {
+    m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
+    // The grasper reaches surface nodes within two shaft radii of the tip.
+    const Eigen::Matrix3Xi faces = boundaryFaces(m_geometry.mesh);
+    std::vector<int> surfaceNodes(faces.data(), faces.data() + faces.size());
+    std::sort(surfaceNodes.begin(), surfaceNodes.end());
+    surfaceNodes.erase(std::unique(surfaceNodes.begin(), surfaceNodes.end()), surfaceNodes.end());
+    m_grasp = std::make_unique<Grasp>(std::move(surfaceNodes), 2.0 * scene.instrument->shaftRadius_m);
+  }
   m_state = m_system->restState();
 }
 
@@ -71,6 +79,7 @@ void Simulation::reset() {
   m_steps = 0;
   m_events.clear();
   m_activeConditions.clear();
+  if (m_grasp) m_grasp->release();
 }
 
 void Simulation::record(const std::string& kind, const std::string& detail) {
@@ -87,6 +96,7 @@ StepOutcome Simulation::step() {
   if (m_contact != nullptr && m_scene.instrument) {
     outcome.contact = m_contact->addContactForces(m_state.x, m_state.v, m_pose, m_system->externalForces_N);
   }
+  if (m_grasp) m_grasp->apply(m_state.x, m_state.v, m_pose, m_system->externalForces_N, outcome.contact);
   outcome.integrator = m_integrator->step(*m_system, m_state, m_timeStep_s);
   outcome.isGood = !outcome.integrator.refused && outcome.integrator.isFinite;
   outcome.maxStretch = outcome.integrator.forces.springs.maxStretch;

@@ -17,6 +17,7 @@
 #include "integrators/TimeIntegrator.h"
 #include "material/StiffnessTable.h"
 #include "sim/ContactProvider.h"
+#include "sim/Grasp.h"
 #include "sim/InstrumentScript.h"
 #include "sim/SceneGeometry.h"
 #include "springs/SpringForceField.h"
@@ -63,6 +64,8 @@ class Simulation {
   const std::vector<InstabilityEvent>& events() const { return m_events; }
   /// The instrument pose used by the last step (the scene's start pose before any).
   InstrumentPose instrumentPose() const { return m_pose; }
+  /// Nodes the grasper holds now (empty without an instrument or with open jaws).
+  std::vector<int> heldNodes() const { return m_grasp ? m_grasp->heldNodes() : std::vector<int>{}; }
 
  private:
   void record(const std::string& kind, const std::string& detail);
@@ -78,6 +81,7 @@ class Simulation {
   std::unique_ptr<VolumeForceField> m_volume;
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
+  std::unique_ptr<Grasp> m_grasp;  ///< only with an instrument
   ContactProvider* m_contact = nullptr;
   const InstrumentSource* m_instrument = nullptr;
   MechanicalState m_state;

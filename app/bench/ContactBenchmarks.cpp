@@ -1,0 +1,52 @@
+#include "bench/ContactBenchmarks.h"
+
+#include <memory>
+
+#include <benchmark/benchmark.h>
+
+#include "CapsuleContact.h"
+#include "sim/SceneFile.h"
+#include "sim/Simulation.h"
+
+namespace tissuesim::app {
+namespace {
+
+/// The scene's probe pressed 5 mm into the liver's highest point.
+InstrumentPose pressedPose(const Simulation& simulation) {
+  Eigen::Index top = 0;
+  simulation.state().x.row(1).maxCoeff(&top);
+  return {simulation.state().x.col(top) - Eigen::Vector3d(0, 0.005, 0), {0, -1, 0}, false};
+}
+
+}  // namespace
+
+void registerContactBenchmarks(const std::string& scenePath) {
+  const SceneDescription scene = loadSceneFile(scenePath);
+  benchmark::RegisterBenchmark("Contact/QueryAndResponse/liver5k", [scene](benchmark::State& state) {
+    Simulation simulation(scene);
+    CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    const InstrumentPose pose = pressedPose(simulation);
+    Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, simulation.state().x.cols());
+    int contacts = 0;
+    for (auto _ : state) {
+      const ContactResult result = contact.addContactForces(simulation.state().x, simulation.state().v, pose, forces);
+      contacts = result.contactNodes;
+      benchmark::DoNotOptimize(result.toolForce_N);
+    }
+    state.counters["contacts"] = contacts;
+    state.counters["boundary_triangles"] = static_cast<double>(contact.boundaryTriangleCount());
+  })->Unit(benchmark::kMicrosecond);
+
+  benchmark::RegisterBenchmark("Contact/WholeStep/liver5k", [scene](benchmark::State& state) {
+    Simulation simulation(scene);
+    CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    InstrumentScript hold({{0.0, pressedPose(simulation)}});
+    simulation.setContactProvider(&contact);
+    simulation.setInstrumentSource(&hold);
+    for (auto _ : state) benchmark::DoNotOptimize(simulation.step().contact.toolForce_N);
+    state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
+    state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  })->Unit(benchmark::kMicrosecond);
+}
+
+}  // namespace tissuesim::app

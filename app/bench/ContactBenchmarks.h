@@ -1,0 +1,12 @@
+#pragma once
+// Benchmarks of collision on the bundled liver scene: the contact query and response alone
+// (refit, FCL collide, penalty), and a whole physics step with the probe pressed in, against the
+// 1 ms budget of a 1 kHz haptic loop.
+
+#include <string>
+
+namespace tissuesim::app {
+
+void registerContactBenchmarks(const std::string& scenePath);
+
+}  // namespace tissuesim::app

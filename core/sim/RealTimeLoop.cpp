@@ -1,0 +1,79 @@
+#include "sim/RealTimeLoop.h"
+
+#include <chrono>
+
+namespace tissuesim {
+
+namespace {
+SimulationSnapshot initialSnapshot(const Simulation& simulation) {
+  SimulationSnapshot snapshot;
+  snapshot.step = simulation.steps();
+  snapshot.time_s = simulation.time_s();
+  snapshot.positions_m = simulation.state().x;
+  snapshot.instrument = simulation.instrumentPose();
+  return snapshot;
+}
+}  // namespace
+
+RealTimeLoop::RealTimeLoop(Simulation& simulation)
+    : m_simulation(simulation), m_snapshots(initialSnapshot(simulation)) {}
+
+RealTimeLoop::~RealTimeLoop() { stop(); }
+
+void RealTimeLoop::start() {
+  if (m_isRunning.exchange(true)) return;
+  m_shouldStop = false;
+  m_thread = std::thread([this] { run(); });
+}
+
+void RealTimeLoop::stop() {
+  m_shouldStop = true;
+  if (m_thread.joinable()) m_thread.join();
+  m_isRunning = false;
+}
+
+LoopStatistics RealTimeLoop::statistics() const {
+  LoopStatistics statistics;
+  statistics.steps = m_steps.load();
+  statistics.overruns = m_overruns.load();
+  statistics.wall_s = m_wall_s.load();
+  statistics.simulated_s = m_simulated_s.load();
+  return statistics;
+}
+
+void RealTimeLoop::run() {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const auto period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(m_simulation.timeStep_s()));
+  auto due = start;
+  long steps = 0;
+  long overruns = 0;
+  while (!m_shouldStop.load(std::memory_order_relaxed)) {
+    const StepOutcome outcome = m_simulation.step();
+    ++steps;
+    SimulationSnapshot& snapshot = m_snapshots.back();
+    snapshot.step = m_simulation.steps();
+    snapshot.time_s = m_simulation.time_s();
+    snapshot.positions_m = m_simulation.state().x;  // same size every step: no reallocation
+    snapshot.instrument = m_simulation.instrumentPose();
+    snapshot.toolForce_N = outcome.contact.toolForce_N;
+    snapshot.maxStretch = outcome.maxStretch;
+    m_snapshots.publish();
+
+    due += period;
+    const auto now = Clock::now();
+    if (now > due) {
+      ++overruns;
+      due = now;  // fall behind rather than race to catch up
+    } else {
+      std::this_thread::sleep_until(due);
+    }
+    m_steps.store(steps);
+    m_overruns.store(overruns);
+    m_wall_s.store(std::chrono::duration<double>(Clock::now() - start).count());
+    m_simulated_s.store(m_simulation.time_s());
+  }
+}
+
+}  // namespace tissuesim

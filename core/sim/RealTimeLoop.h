@@ -1,0 +1,92 @@
+#pragma once
+// The fixed-rate loop: the Simulation stepped on its own thread at its time step (1 ms: the
+// haptic rate), publishing a snapshot after every step for rendering, which reads it without
+// ever blocking the physics (TripleBuffer). The instrument pose comes in the same way (a
+// LiveInstrument the GUI or a device adapter writes).
+//
+// Pacing: step n is due at start + n dt (steady clock). A step that finishes late is not made
+// up by running faster (no spiral of death): the loop simply continues, so simulated time falls
+// behind wall-clock time; each late step is counted (overruns) and the measured real-time
+// factor (simulated / wall seconds) says by how much. Nothing is dropped silently.
+
+#include <atomic>
+#include <thread>
+
+#include "sim/Simulation.h"
+#include "sim/TripleBuffer.h"
+
+namespace tissuesim {
+
+/// What rendering needs of one physics step.
+struct SimulationSnapshot {
+  long step = 0;
+  double time_s = 0.0;
+  Eigen::Matrix3Xd positions_m;  ///< 3 by #V
+  InstrumentPose instrument;
+  Eigen::Vector3d toolForce_N = Eigen::Vector3d::Zero();
+  double maxStretch = 1.0;
+};
+
+/// An instrument pose written by one thread (the GUI, a device) and read by the physics.
+class LiveInstrument final : public InstrumentSource {
+ public:
+  explicit LiveInstrument(const InstrumentPose& start) : m_poses(start) {}
+  void setPose(const InstrumentPose& pose) {
+    m_poses.back() = pose;
+    m_poses.publish();
+  }
+  /// Physics side: the newest pose (time is ignored: a live source has only "now").
+  InstrumentPose poseAt(double) const override {
+    m_poses.update();
+    return m_poses.front();
+  }
+
+ private:
+  mutable TripleBuffer<InstrumentPose> m_poses;
+};
+
+struct LoopStatistics {
+  long steps = 0;
+  long overruns = 0;        ///< steps that finished after their due time
+  double wall_s = 0.0;
+  double simulated_s = 0.0;
+  double realtimeFactor() const { return wall_s > 0.0 ? simulated_s / wall_s : 0.0; }
+  double physicsHz() const { return wall_s > 0.0 ? static_cast<double>(steps) / wall_s : 0.0; }
+};
+
+class RealTimeLoop {
+ public:
+  /// `simulation` must outlive the loop and is not touched by others while it runs.
+  explicit RealTimeLoop(Simulation& simulation);
+  ~RealTimeLoop();
+  RealTimeLoop(const RealTimeLoop&) = delete;
+  RealTimeLoop& operator=(const RealTimeLoop&) = delete;
+
+  void start();
+  void stop();
+  bool isRunning() const { return m_isRunning.load(); }
+
+  /// Reader side: refreshes to the newest snapshot if any; returns it.
+  const SimulationSnapshot& snapshot() {
+    m_snapshots.update();
+    return m_snapshots.front();
+  }
+  LoopStatistics statistics() const;
+
+ private:
+  void run();
+
+  Simulation& m_simulation;
+  TripleBuffer<SimulationSnapshot> m_snapshots;
+  std::thread m_thread;
+  std::atomic<bool> m_isRunning{false};
+  std::atomic<bool> m_shouldStop{false};
+  // Written by the physics thread once per step, read by anyone: atomics, so reading never
+  // blocks the physics.
+  std::atomic<long> m_steps{0};
+  std::atomic<long> m_overruns{0};
+  std::atomic<double> m_wall_s{0.0};
+  std::atomic<double> m_simulated_s{0.0};
+};
+
+}  // namespace tissuesim

@@ -1,0 +1,114 @@
+#include "sim/RealTimeLoop.h"
+
+#include <atomic>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "sim/SceneFile.h"
+
+namespace tissuesim {
+namespace {
+
+std::string bundledScene() { return std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"; }
+
+TEST(TripleBuffer, TheReaderNeverSeesAHalfWrittenValue) {
+  struct Value {
+    std::array<long, 64> words{};
+  };
+  TripleBuffer<Value> buffer;
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    for (long n = 1; n <= 200000; ++n) {
+      buffer.back().words.fill(n);
+      buffer.publish();
+    }
+    done = true;
+  });
+  long last = 0;
+  long updates = 0;
+  while (!done.load()) {
+    if (!buffer.update()) continue;
+    ++updates;
+    const Value& value = buffer.front();
+    for (const long word : value.words) ASSERT_EQ(word, value.words[0]);
+    ASSERT_GE(value.words[0], last);  // never older than what was already seen
+    last = value.words[0];
+  }
+  writer.join();
+  buffer.update();
+  EXPECT_EQ(buffer.front().words[0], 200000);
+  EXPECT_GT(updates, 0);
+}
+
+TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
+  Simulation simulation(loadSceneFile(bundledScene()));
+  LiveInstrument instrument(simulation.instrumentPose());
+  simulation.setInstrumentSource(&instrument);
+  RealTimeLoop loop(simulation);
+  loop.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  InstrumentPose moved = simulation.scene().instrument ? InstrumentPose{simulation.scene().instrument->tipStart_m + Eigen::Vector3d(0, 0.01, 0), {0, -1, 0}, false} : InstrumentPose{};
+  instrument.setPose(moved);  // from this (the GUI's) thread while the physics runs
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const SimulationSnapshot& snapshot = loop.snapshot();
+  loop.stop();
+  const LoopStatistics statistics = loop.statistics();
+  EXPECT_GT(statistics.steps, 10);
+  EXPECT_GT(statistics.realtimeFactor(), 0.0);
+  EXPECT_LE(statistics.realtimeFactor(), 1.05);  // paced: never faster than real time
+  EXPECT_GT(snapshot.step, 0);
+  EXPECT_EQ(snapshot.positions_m.cols(), simulation.state().x.cols());
+  EXPECT_TRUE(snapshot.positions_m.allFinite());
+  EXPECT_NEAR(snapshot.instrument.tip_m.y(), moved.tip_m.y(), 1e-12);
+}
+
+TEST(RealTimeLoop, LateStepsAreCountedAndTimeFallsBehind) {
+  SceneDescription scene = loadSceneFile(bundledScene());
+  scene.timeStep_s = 1e-6;  // a microsecond budget: every step is late
+  Simulation simulation(scene);
+  RealTimeLoop loop(simulation);
+  loop.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  loop.stop();
+  const LoopStatistics statistics = loop.statistics();
+  EXPECT_GT(statistics.steps, 0);
+  EXPECT_EQ(statistics.overruns, statistics.steps);
+  EXPECT_LT(statistics.realtimeFactor(), 0.1);
+}
+
+TEST(Grasp, LiftsSurfaceNodesAndReleasesThem) {
+  Simulation simulation(loadSceneFile(bundledScene()));
+  const Eigen::Matrix3Xd& rest = simulation.state().x;
+  Eigen::Index top = 0;
+  rest.row(1).maxCoeff(&top);
+  const Eigen::Vector3d tip = rest.col(top) + Eigen::Vector3d(0, 0.002, 0);
+  const Eigen::Vector3d lifted = tip + Eigen::Vector3d(0, 0.01, 0);
+  const InstrumentScript script({{0.0, {tip, {0, -1, 0}, true}},
+                                 {0.4, {lifted, {0, -1, 0}, true}},
+                                 {0.5, {lifted, {0, -1, 0}, false}},
+                                 {1.5, {lifted, {0, -1, 0}, false}}});
+  simulation.setInstrumentSource(&script);
+  const double restHeight = rest(1, top);
+  while (simulation.time_s() < 0.45) ASSERT_TRUE(simulation.step().isGood);
+  const std::vector<int> held = simulation.heldNodes();
+  ASSERT_FALSE(held.empty());
+  EXPECT_NE(std::find(held.begin(), held.end(), static_cast<int>(top)), held.end());
+  EXPECT_GT(simulation.state().x(1, top) - restHeight, 0.006);  // lifted most of the 10 mm
+  while (simulation.time_s() < 1.5) ASSERT_TRUE(simulation.step().isGood);
+  EXPECT_TRUE(simulation.heldNodes().empty());
+  EXPECT_LT(simulation.state().x(1, top) - restHeight, 0.003);  // released: it springs back
+}
+
+TEST(InstrumentScript, InterpolatesAndLoads) {
+  const InstrumentScript poke = InstrumentScript::poke({{0, 0, 0.1}, {0, 0, -1}, false}, 0.02, 1.0);
+  EXPECT_NEAR(poke.poseAt(0.5).tip_m.z(), 0.09, 1e-12);
+  EXPECT_NEAR(poke.poseAt(1.0).tip_m.z(), 0.08, 1e-12);
+  EXPECT_NEAR(poke.poseAt(5.0).tip_m.z(), 0.1, 1e-12);
+  EXPECT_DOUBLE_EQ(poke.duration_s(), 2.0);
+  EXPECT_THROW(InstrumentScript({{1.0, {}}, {1.0, {}}}), std::invalid_argument);
+  EXPECT_THROW(InstrumentScript::load("no-such-script.json"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tissuesim
