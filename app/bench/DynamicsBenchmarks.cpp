@@ -70,10 +70,51 @@ void runSteps(benchmark::State& state, BenchScene& scene, TimeIntegrator& integr
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * springs));
 }
 
+/// Speed against accuracy: implicit Euler (CG) with a budget of Newton iterations and a CG
+/// tolerance, timed, and its positions after 50 steps compared with a fully converged run from
+/// the same start (error_um: the largest node difference, micrometres).
+void registerAccuracyTrade(const TissueParameters& parameters) {
+  struct Setting {
+    const char* name;
+    int iterations;
+    double linearTolerance;
+  };
+  for (const Setting setting : {Setting{"Trade/ImplicitCG/newton1_cg1e-2", 1, 1e-2},
+                                Setting{"Trade/ImplicitCG/newton1_cg1e-4", 1, 1e-4},
+                                Setting{"Trade/ImplicitCG/newton2_cg1e-6", 2, 1e-6},
+                                Setting{"Trade/ImplicitCG/newton8_cg1e-8", 8, 1e-8}}) {
+    benchmark::RegisterBenchmark(setting.name, [parameters, setting](benchmark::State& state) {
+      const auto run = [&](int iterations, double tolerance, int steps, BenchScene& scene) {
+        IntegratorSettings settings;
+        settings.massDamping_1_s = 1.0;
+        settings.maxIterations = iterations;
+        settings.linearTolerance = tolerance;
+        settings.forceTolerance_N = 1e-9;
+        ImplicitEulerSolver integrator(settings, LinearSolverKind::ConjugateGradient);
+        for (int n = 0; n < steps; ++n) integrator.step(scene.system, scene.state, 1e-3);
+      };
+      BenchScene reference(parameters, kPaperSize);
+      run(30, 1e-10, 50, reference);
+      BenchScene scene(parameters, kPaperSize);
+      run(setting.iterations, setting.linearTolerance, 50, scene);
+      const double error = (scene.state.x - reference.state.x).cwiseAbs().maxCoeff();
+      IntegratorSettings settings;
+      settings.massDamping_1_s = 1.0;
+      settings.maxIterations = setting.iterations;
+      settings.linearTolerance = setting.linearTolerance;
+      settings.forceTolerance_N = 1e-9;
+      ImplicitEulerSolver integrator(settings, LinearSolverKind::ConjugateGradient);
+      runSteps(state, scene, integrator, 1e-3);
+      state.counters["error_um"] = error * 1e6;
+    })->Unit(benchmark::kMicrosecond);
+  }
+}
+
 }  // namespace
 
 void registerDynamicsBenchmarks(const std::string& tissuePath) {
   const TissueParameters parameters = loadTissueFile(tissuePath);
+  registerAccuracyTrade(parameters);
 
   for (const auto& [label, cells] : {std::pair{"5k", kPaperSize}, std::pair{"100k", kLargeSize}}) {
     const std::string suffix = std::string("/") + label;

@@ -15,7 +15,7 @@ namespace tissuesim {
 class ImplicitEulerSolver final : public TimeIntegrator {
  public:
   ImplicitEulerSolver(IntegratorSettings settings, LinearSolverKind linear)
-      : m_settings(settings), m_newton(linear) {}
+      : m_settings(settings), m_newton(linear, settings.linearTolerance) {}
   StepReport step(MechanicalSystem& system, MechanicalState& state, double dt) override;
   const char* name() const override { return "implicit"; }
 

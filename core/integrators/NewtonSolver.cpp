@@ -74,11 +74,11 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
                  (m_cholesky.vectorD().array() > 0.0).all();
       if (isSolved) m_step = m_cholesky.solve(m_rhs);
     } else {
-      m_cg.setTolerance(1e-6);  // inexact Newton: the outer iteration tightens the rest
+      m_cg.setTolerance(m_linearTolerance);  // inexact Newton: the outer iteration tightens the rest
       m_cg.setMaxIterations(static_cast<Eigen::Index>(3 * x.cols()));
       m_cg.compute(m_matrix->matrix());
       m_step = m_cg.solve(m_rhs);
-      isSolved = m_cg.info() == Eigen::Success || m_cg.error() < 1e-6;
+      isSolved = m_cg.info() == Eigen::Success || m_cg.error() < std::max(1e-6, m_linearTolerance);
     }
     if ((!isSolved || !m_step.allFinite()) && isExact) {
       isExact = false;  // indefinite: fall back to the PSD projection

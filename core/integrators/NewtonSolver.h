@@ -35,7 +35,8 @@ struct NewtonReport {
 
 class NewtonSolver {
  public:
-  explicit NewtonSolver(LinearSolverKind kind) : m_kind(kind) {}
+  explicit NewtonSolver(LinearSolverKind kind, double linearTolerance = 1e-6)
+      : m_kind(kind), m_linearTolerance(linearTolerance) {}
 
   /// Solves from the initial guess in x (3 by #V), overwriting it; fixed DOFs are not moved.
   NewtonReport solve(const MechanicalSystem& system, Eigen::Matrix3Xd& x,
@@ -49,6 +50,7 @@ class NewtonSolver {
   void prepare(const MechanicalSystem& system);
 
   LinearSolverKind m_kind;
+  double m_linearTolerance;  ///< CG's relative residual (inexact Newton)
   const MechanicalSystem* m_preparedFor = nullptr;
   std::unique_ptr<NodeBlockMatrix> m_matrix;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;

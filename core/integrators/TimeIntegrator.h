@@ -30,6 +30,7 @@ struct IntegratorSettings {
   int maxIterations = 20;           ///< Newton (or quasi-Newton) iterations per step
   double forceTolerance_N = 1e-6;   ///< converged when max |r| is below this
   int historySize = 5;              ///< quasi-Newton: L-BFGS pairs kept
+  double linearTolerance = 1e-6;    ///< CG: relative residual of each Newton linear solve
 };
 
 class TimeIntegrator {

@@ -195,13 +195,17 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     }
   }
   if (fields.has("physics")) {
-    const Fields physics(fields.at("physics"), "physics", source, {"time_step_ms", "integrator", "mass_damping_per_s"});
+    const Fields physics(fields.at("physics"), "physics", source, {"time_step_ms", "integrator", "mass_damping_per_s",
+                                                                   "newton_iterations", "cg_tolerance"});
     scene.timeStep_s = physics.number("time_step_ms", 1.0, 0.0, true) / 1000.0;
     scene.integrator = physics.string("integrator", "implicit");
     if (scene.integrator != "explicit" && scene.integrator != "implicit" && scene.integrator != "quasi-newton") {
       physics.fail("physics.integrator", "= \"" + scene.integrator + "\"; expected explicit, implicit or quasi-newton");
     }
     scene.massDamping_1_s = physics.number("mass_damping_per_s", 0.0, 0.0, false);
+    scene.newtonIterations = static_cast<int>(physics.number("newton_iterations", 2, 1, false));
+    scene.linearTolerance = physics.number("cg_tolerance", 1e-6, 0.0, true);
+    if (scene.linearTolerance >= 1.0) physics.fail("physics.cg_tolerance", "must be below 1");
   }
   return scene;
 }

@@ -49,7 +49,8 @@ Simulation::Simulation(const SceneDescription& scene)
 
   IntegratorSettings settings;
   settings.massDamping_1_s = scene.massDamping_1_s;
-  settings.maxIterations = 2;
+  settings.maxIterations = scene.newtonIterations;
+  settings.linearTolerance = scene.linearTolerance;
   settings.forceTolerance_N = 1e-6;
   if (scene.integrator == "explicit") {
     m_integrator = std::make_unique<SymplecticEulerSolver>(settings);
