@@ -5,6 +5,9 @@
 #include <vector>
 
 #include <fcl/fcl.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
+#include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 namespace tissuesim {
 
@@ -14,6 +17,10 @@ struct SurfaceBvh::Impl {
   // needs OBBRSS, so distanceTo() builds one from the current points when asked.
   std::shared_ptr<fcl::BVHModel<fcl::AABBd>> model;
   std::vector<fcl::Triangle> faces;
+  // Kept between steps so a query allocates nothing: the capsule, the solver, the result.
+  std::unique_ptr<fcl::Capsuled> capsule;
+  fcl::detail::GJKSolver_libccd<double> solver;
+  fcl::CollisionResultd result;
   std::vector<fcl::Vector3d> points;
   int vertexCount = 0;
   int triangleCount = 0;
@@ -43,6 +50,10 @@ SurfaceBvh::SurfaceBvh(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
   m_impl->triangleCount = static_cast<int>(triangles.rows());
   copyVertices(vertices, m_impl->points);
   std::vector<fcl::Triangle> faces;
+  // Kept between steps so a query allocates nothing: the capsule, the solver, the result.
+  std::unique_ptr<fcl::Capsuled> capsule;
+  fcl::detail::GJKSolver_libccd<double> solver;
+  fcl::CollisionResultd result;
   faces.reserve(static_cast<std::size_t>(triangles.rows()));
   for (Eigen::Index i = 0; i < triangles.rows(); ++i) {
     faces.emplace_back(static_cast<std::size_t>(triangles(i, 0)),
@@ -93,15 +104,24 @@ CapsuleSurfaceDistance SurfaceBvh::distanceTo(const Capsule& capsule) const {
 
 void SurfaceBvh::touchedTriangles(const Capsule& capsule, std::vector<int>& triangles) const {
   triangles.clear();
-  auto shape = std::make_shared<fcl::Capsuled>(capsule.radius_m, capsule.length_m);
-  const fcl::CollisionObjectd tool(shape, capsule.pose);
-  const fcl::CollisionObjectd surface(m_impl->model, fcl::Transform3d::Identity());
-  fcl::CollisionRequestd request(/*num_max_contacts=*/static_cast<std::size_t>(m_impl->triangleCount),
-                                 /*enable_contact=*/false);
-  request.gjk_solver_type = fcl::GJKSolverType::GST_LIBCCD;
-  fcl::CollisionResultd result;
-  fcl::collide(&surface, &tool, request, result);
-  for (std::size_t i = 0; i < result.numContacts(); ++i) triangles.push_back(result.getContact(i).b1);
+  if (!m_impl->capsule || m_impl->capsule->radius != capsule.radius_m ||
+      m_impl->capsule->lz != capsule.length_m) {
+    m_impl->capsule = std::make_unique<fcl::Capsuled>(capsule.radius_m, capsule.length_m);
+  }
+  // fcl::collide copies an AABB model on every call (it does so for every BV type but the
+  // oriented ones); driving the traversal ourselves, with the mesh at identity, avoids that.
+  using Node = fcl::detail::MeshShapeCollisionTraversalNode<fcl::AABBd, fcl::Capsuled,
+                                                            fcl::detail::GJKSolver_libccd<double>>;
+  Node node;
+  fcl::Transform3d identity = fcl::Transform3d::Identity();
+  const fcl::CollisionRequestd request(static_cast<std::size_t>(m_impl->triangleCount), false);
+  m_impl->result.clear();
+  fcl::detail::initialize(node, *m_impl->model, identity, *m_impl->capsule, capsule.pose,
+                          &m_impl->solver, request, m_impl->result);
+  fcl::detail::collide(&node);
+  for (std::size_t i = 0; i < m_impl->result.numContacts(); ++i) {
+    triangles.push_back(m_impl->result.getContact(i).b1);
+  }
 }
 
 int SurfaceBvh::vertexCount() const { return m_impl->vertexCount; }
