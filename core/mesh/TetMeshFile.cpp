@@ -86,6 +86,17 @@ void readNodeLine(const std::string& line, LineReader& reader, RawMesh& raw) {
   raw.nodes.push_back(p);
 }
 
+/// The rest of an element line: a tet's four node ids, or just a count for any other element.
+void takeElement(std::istringstream& in, LineReader& reader, bool isTet, RawMesh& raw) {
+  if (!isTet) {
+    ++raw.skipped;
+    return;
+  }
+  std::array<long long, 4> ids{};
+  for (auto& id : ids) id = parse<long long>(in, reader, "four tet node ids");
+  raw.tets.push_back(ids);
+}
+
 void readGmsh1(LineReader& reader, RawMesh& raw) {
   const long long nodes = countLine(reader, "the node count");
   for (long long i = 0; i < nodes; ++i) readNodeLine(reader.require("a node"), reader, raw);
@@ -123,13 +134,7 @@ void readGmsh2(LineReader& reader, RawMesh& raw) {
         const int type = parse<int>(in, reader, "an element type");
         const int tags = parse<int>(in, reader, "a tag count");
         for (int t = 0; t < tags; ++t) parse<long long>(in, reader, "element tags");
-        if (type == 4) {
-          std::array<long long, 4> ids{};
-          for (auto& id : ids) id = parse<long long>(in, reader, "four tet node ids");
-          raw.tets.push_back(ids);
-        } else {
-          ++raw.skipped;
-        }
+        takeElement(in, reader, type == 4, raw);
       }
     }
   }
@@ -173,13 +178,7 @@ void readGmsh4(LineReader& reader, RawMesh& raw) {
         for (long long e = 0; e < count; ++e) {
           std::istringstream in(reader.require("an element"));
           parse<long long>(in, reader, "an element tag");
-          if (type == 4) {
-            std::array<long long, 4> ids{};
-            for (auto& id : ids) id = parse<long long>(in, reader, "four tet node ids");
-            raw.tets.push_back(ids);
-          } else {
-            ++raw.skipped;
-          }
+          takeElement(in, reader, type == 4, raw);
         }
       }
     }
@@ -205,9 +204,7 @@ void readTetgen(const std::filesystem::path& path, RawMesh& raw) {
   for (long long t = 0; t < tets; ++t) {
     std::istringstream in(elements.require("a tet"));
     parse<long long>(in, elements, "a tet index");
-    std::array<long long, 4> ids{};
-    for (auto& id : ids) id = parse<long long>(in, elements, "four node indices");
-    raw.tets.push_back(ids);  // corner nodes only for 10-node tets
+    takeElement(in, elements, true, raw);  // corner nodes only for 10-node tets
   }
 }
 

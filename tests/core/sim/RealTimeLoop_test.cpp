@@ -1,6 +1,5 @@
 #include "sim/RealTimeLoop.h"
 
-#include <atomic>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -17,17 +16,18 @@ TEST(TripleBuffer, TheReaderNeverSeesAHalfWrittenValue) {
     std::array<long, 64> words{};
   };
   TripleBuffer<Value> buffer;
-  std::atomic<bool> done{false};
+  constexpr long kLast = 200000;
   std::thread writer([&] {
-    for (long n = 1; n <= 200000; ++n) {
+    for (long n = 1; n <= kLast; ++n) {
       buffer.back().words.fill(n);
       buffer.publish();
     }
-    done = true;
   });
+  // Read until the last value arrives: it always does, since the final publish stays fresh
+  // until taken, however the two threads interleave.
   long last = 0;
   long updates = 0;
-  while (!done.load()) {
+  while (last != kLast) {
     if (!buffer.update()) continue;
     ++updates;
     const Value& value = buffer.front();
@@ -36,9 +36,7 @@ TEST(TripleBuffer, TheReaderNeverSeesAHalfWrittenValue) {
     last = value.words[0];
   }
   writer.join();
-  buffer.update();
-  EXPECT_EQ(buffer.front().words[0], 200000);
-  EXPECT_GT(updates, 0);
+  EXPECT_GE(updates, 1);
 }
 
 TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
