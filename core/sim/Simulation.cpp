@@ -1,6 +1,7 @@
 #include "sim/Simulation.h"
 
 #include <algorithm>
+#include <string_view>
 
 #include "analysis/TensileTest.h"
 #include "analysis/UniaxialTest.h"
@@ -83,9 +84,11 @@ void Simulation::reset() {
   if (m_grasp) m_grasp->release();
 }
 
-void Simulation::record(const std::string& kind, const std::string& detail) {
-  if (std::find(m_activeConditions.begin(), m_activeConditions.end(), kind) != m_activeConditions.end()) return;
-  m_activeConditions.push_back(kind);
+void Simulation::record(const char* kind, const std::string& detail) {
+  if (std::find(m_activeConditions.begin(), m_activeConditions.end(), std::string_view(kind)) !=
+      m_activeConditions.end()) {
+    return;
+  }
   if (m_events.size() < kMaxEvents) m_events.push_back({m_steps, m_time_s, kind, detail});
 }
 
@@ -102,27 +105,30 @@ StepOutcome Simulation::step() {
   outcome.isGood = !outcome.integrator.refused && outcome.integrator.isFinite;
   outcome.maxStretch = outcome.integrator.forces.springs.maxStretch;
 
-  std::vector<std::string> now;
-  const auto check = [&](bool isOn, const std::string& kind, const std::string& detail) {
+  // Conditions are checked every step; their text is built only when one is on, so a quiet
+  // step allocates nothing here.
+  m_conditionsNow.clear();
+  const auto check = [&](bool isOn, const char* kind, const auto& describe) {
     if (!isOn) return;
-    now.push_back(kind);
-    record(kind, detail);
+    m_conditionsNow.push_back(kind);
+    record(kind, describe());
   };
   const StepReport& r = outcome.integrator;
-  check(r.refused, "refused", r.reason);
-  check(!r.isFinite, "non-finite", r.reason);
+  check(r.refused, "refused", [&] { return r.reason; });
+  check(!r.isFinite, "non-finite", [&] { return r.reason; });
   // A real-time step stops at its iteration budget; only a residual that matters is an event.
   check(!r.converged && r.isFinite && r.residual_N > kUnconvergedResidual_N, "unconverged",
-        "residual " + std::to_string(r.residual_N) + " N");
-  check(r.forces.springs.beyondRangeCount > 0, "locking",
-        std::to_string(r.forces.springs.beyondRangeCount) + " springs past the usable stretch range");
+        [&] { return "residual " + std::to_string(r.residual_N) + " N"; });
+  check(r.forces.springs.beyondRangeCount > 0, "locking", [&] {
+    return std::to_string(r.forces.springs.beyondRangeCount) + " springs past the usable stretch range";
+  });
   check(r.forces.springs.collapsedCount > 0, "collapsed",
-        std::to_string(r.forces.springs.collapsedCount) + " springs of zero length");
+        [&] { return std::to_string(r.forces.springs.collapsedCount) + " springs of zero length"; });
   // Without the volume term nothing else counts inverted tets: look (O(#T), a few microseconds).
   const int inverted = m_volume ? r.forces.volume.invertedTetCount
                                 : VolumeForceField::inspect(*m_springMesh, m_state.x).invertedTetCount;
-  check(inverted > 0, "inverted", std::to_string(inverted) + " inverted tets");
-  m_activeConditions = now;  // a condition that ended may fire again when it recurs
+  check(inverted > 0, "inverted", [&] { return std::to_string(inverted) + " inverted tets"; });
+  m_activeConditions.swap(m_conditionsNow);  // a condition that ended may fire again when it recurs
 
   if (outcome.isGood) {
     m_time_s = next;

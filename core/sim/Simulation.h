@@ -12,6 +12,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "integrators/TimeIntegrator.h"
@@ -68,7 +69,7 @@ class Simulation {
   std::vector<int> heldNodes() const { return m_grasp ? m_grasp->heldNodes() : std::vector<int>{}; }
 
  private:
-  void record(const std::string& kind, const std::string& detail);
+  void record(const char* kind, const std::string& detail);
 
   SceneDescription m_scene;
   SceneGeometry m_geometry;
@@ -91,7 +92,8 @@ class Simulation {
   double m_time_s = 0.0;
   long m_steps = 0;
   std::vector<InstabilityEvent> m_events;
-  std::vector<std::string> m_activeConditions;  ///< kinds currently on (events fire on onset)
+  std::vector<std::string_view> m_activeConditions;  ///< kinds on at the last step (events fire on onset)
+  std::vector<std::string_view> m_conditionsNow;     ///< scratch, capacity kept between steps
 };
 
 }  // namespace tissuesim
