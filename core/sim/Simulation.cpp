@@ -37,10 +37,14 @@ Simulation::Simulation(const SceneDescription& scene)
   const SpringLaw law = scene.springLaw == "eesm-paper" ? SpringLaw::EesmPaper
                         : scene.springLaw == "smm"      ? SpringLaw::Smm
                                                         : SpringLaw::Eesm;
-  // smm's one stiffness: the least-squares fit to the continuum over the paper's cycles.
-  const UniaxialTest continuum(*m_energy, *m_table);
-  const double linearModulus =
-      UniaxialTest::fitLinearModulus(continuum.run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
+  // smm's one stiffness: the least-squares fit to the continuum over the paper's cycles, fitted
+  // only when the scene asks for that law (start-up does no work a scene does not need).
+  double linearModulus = 0.0;
+  if (law == SpringLaw::Smm) {
+    const UniaxialTest continuum(*m_energy, *m_table);
+    linearModulus =
+        UniaxialTest::fitLinearModulus(continuum.run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
+  }
   m_law = std::make_unique<SpringForceLaw>(law, *m_table, *m_parameters, linearModulus, scene.isSoftening);
   m_springs = std::make_unique<SpringForceField>(*m_springMesh, *m_law);
   if (scene.bulkModulus_Pa > 0.0) m_volume = std::make_unique<VolumeForceField>(*m_springMesh, scene.bulkModulus_Pa);
