@@ -1,6 +1,7 @@
 #include "integrators/MechanicalSystem.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace tissuesim {
 
@@ -73,10 +74,12 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
   stiffness.setZero();
   ForceReport report;
   report.springs = m_springs.addForcesAndStiffness(x, f, m_springBlocks, isProjected);
-  const Eigen::Matrix2Xi& springs = mesh().springs;
-  for (Eigen::Index s = 0; s < springs.cols(); ++s) {
-    stiffness.addEdgeStiffness(springs(0, s), springs(1, s),
-                               Eigen::Map<const Eigen::Matrix3d>(m_springBlocks.col(s).data()));
+  // The matrix's edges are the springs, in order (makeMatrix).
+  if (stiffness.edgeCount() != m_springBlocks.cols()) {
+    throw std::logic_error("MechanicalSystem::forcesAndStiffness: the matrix is not makeMatrix()'s");
+  }
+  for (Eigen::Index s = 0; s < m_springBlocks.cols(); ++s) {
+    stiffness.addEdgeStiffness(s, m_springBlocks.col(s).data());
   }
   if (m_volume != nullptr) {
     report.volume = m_volume->addForces(x, f, &m_tetBlocks);

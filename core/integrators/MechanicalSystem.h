@@ -61,7 +61,7 @@ class MechanicalSystem {
   /// The same, with nodeStiffness (#V) = sum of ||K_e|| per node (explicit stability bound).
   ForceReport forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                      Eigen::VectorXd& nodeStiffness) const;
-  /// The same, and K overwritten with the internal stiffness (fixed DOFs not yet applied):
+  /// The same, and K (made by makeMatrix()) overwritten with the internal stiffness (fixed DOFs not yet applied):
   /// PSD-projected per spring when `isProjected`, else the springs' exact Hessian.
   ForceReport forcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                  NodeBlockMatrix& stiffness, bool isProjected = true) const;

@@ -33,6 +33,14 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
     }
   }
   m_matrix.finalize();
+  m_edgeSlots.reserve(static_cast<std::size_t>(edges.cols()));
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    const int a = edges(0, e);
+    const int b = edges(1, e);
+    m_edgeSlots.push_back({blockStart(a, a), blockStart(b, b), blockStart(a, b), blockStart(b, a),
+                           3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(a)].size()),
+                           3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(b)].size())});
+  }
 }
 
 Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
@@ -69,17 +77,25 @@ void NodeBlockMatrix::addToDiagonal(int i, double value) {
 }
 
 void NodeBlockMatrix::applyFixedDofs(const std::vector<char>& isFixed) {
-  double* values = m_matrix.valuePtr();
-  const int* rows = m_matrix.innerIndexPtr();
-  const int* outer = m_matrix.outerIndexPtr();
-  for (Eigen::Index column = 0; column < m_matrix.outerSize(); ++column) {
-    const bool isColumnFixed = isFixed[static_cast<std::size_t>(column)] != 0;
-    for (int k = outer[column]; k < outer[column + 1]; ++k) {
-      if (isColumnFixed || isFixed[static_cast<std::size_t>(rows[k])] != 0) {
-        values[k] = rows[k] == column ? 1.0 : 0.0;
+  if (isFixed != m_fixedFlags) {
+    // List the entries once for these flags (allocates only when the constraints change).
+    m_fixedFlags = isFixed;
+    m_fixedEntries.clear();
+    m_fixedDiagonal.clear();
+    const int* rows = m_matrix.innerIndexPtr();
+    const int* outer = m_matrix.outerIndexPtr();
+    for (Eigen::Index column = 0; column < m_matrix.outerSize(); ++column) {
+      const bool isColumnFixed = isFixed[static_cast<std::size_t>(column)] != 0;
+      for (int k = outer[column]; k < outer[column + 1]; ++k) {
+        if (isColumnFixed || isFixed[static_cast<std::size_t>(rows[k])] != 0) {
+          (rows[k] == column ? m_fixedDiagonal : m_fixedEntries).push_back(k);
+        }
       }
     }
   }
+  double* values = m_matrix.valuePtr();
+  for (const Eigen::Index k : m_fixedEntries) values[k] = 0.0;
+  for (const Eigen::Index k : m_fixedDiagonal) values[k] = 1.0;
 }
 
 }  // namespace tissuesim

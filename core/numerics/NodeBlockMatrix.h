@@ -27,23 +27,53 @@ class NodeBlockMatrix {
   /// Adds K to (a, a) and (b, b) and -K to (a, b) and (b, a): a spring's Hessian.
   void addEdgeStiffness(int a, int b, const Eigen::Matrix3d& k);
 
+  /// The same for edge e of the constructor's list (its nodes a = edges(0, e), b = edges(1, e)),
+  /// from offsets found once at construction: no search in the assembly loop.
+  void addEdgeStiffness(Eigen::Index e, const double* k) {
+    const EdgeSlots& slots = m_edgeSlots[static_cast<std::size_t>(e)];
+    double* values = m_matrix.valuePtr();
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        const double v = k[3 * c + r];
+        values[slots.aa + c * slots.strideA + r] += v;
+        values[slots.ba + c * slots.strideA + r] -= v;
+        values[slots.bb + c * slots.strideB + r] += v;
+        values[slots.ab + c * slots.strideB + r] -= v;
+      }
+    }
+  }
+
   /// Adds `value` to the three diagonal entries of node i (a lumped mass, say).
   void addToDiagonal(int i, double value);
 
   /// For every DOF d with isFixed[d]: zeroes row and column d and puts 1 on the diagonal.
-  /// @param isFixed 3#V flags.
+  /// @param isFixed 3#V flags. The entries it touches are listed once per set of flags (the
+  /// first call, and whenever the flags change), so repeated calls visit only those entries.
   void applyFixedDofs(const std::vector<char>& isFixed);
 
   /// y = A x (both 3#V).
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const { y.noalias() = m_matrix * x; }
 
   const Eigen::SparseMatrix<double>& matrix() const { return m_matrix; }
+  /// #E, the constructor's edge count.
+  Eigen::Index edgeCount() const { return static_cast<Eigen::Index>(m_edgeSlots.size()); }
 
  private:
   Eigen::Index blockStart(int i, int j) const;
 
+  /// Where edge (a, b)'s four blocks start in the value array; column c of a block in node j's
+  /// columns is `stride` values after column c - 1.
+  struct EdgeSlots {
+    Eigen::Index aa, bb, ab, ba;  ///< starts of blocks (a, a), (b, b), (a, b) and (b, a)
+    Eigen::Index strideA, strideB;  ///< 3 x neighbour count of a and of b
+  };
+
   Eigen::SparseMatrix<double> m_matrix;
   std::vector<std::vector<int>> m_neighbours;  ///< per node, sorted, itself included
+  std::vector<EdgeSlots> m_edgeSlots;          ///< per edge of the constructor's list
+  std::vector<char> m_fixedFlags;              ///< the flags m_fixedEntries were listed for
+  std::vector<Eigen::Index> m_fixedEntries;    ///< values zeroed by applyFixedDofs
+  std::vector<Eigen::Index> m_fixedDiagonal;   ///< values set to 1 by applyFixedDofs
 };
 
 }  // namespace tissuesim

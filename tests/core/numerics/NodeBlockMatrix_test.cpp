@@ -42,5 +42,50 @@ TEST(NodeBlockMatrix, AssemblesLikeADenseMatrix) {
   EXPECT_EQ(applied(0, 0), dense(0, 0));
 }
 
+TEST(NodeBlockMatrix, EdgeIndexedAssemblyMatchesTheSearchedOne) {
+  Eigen::Matrix2Xi edges(2, 4);
+  edges << 0, 2, 3, 1, 1, 1, 0, 3;  // (0,1), (2,1), (3,0), (1,3): both orders of node pairs
+  NodeBlockMatrix byNodes(4, edges);
+  NodeBlockMatrix byEdge(4, edges);
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    Eigen::Matrix3d k;
+    k << 1, 2, 3, 4, 5, 6, 7, 8, 9;  // not symmetric: a transposed block would show
+    k *= e + 1.0;
+    byNodes.addEdgeStiffness(edges(0, e), edges(1, e), k);
+    byEdge.addEdgeStiffness(e, k.data());
+  }
+  EXPECT_EQ((Eigen::MatrixXd(byNodes.matrix()) - Eigen::MatrixXd(byEdge.matrix())).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NE(Eigen::MatrixXd(byEdge.matrix()).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(NodeBlockMatrix, FixedDofsFollowChangedFlags) {
+  Eigen::Matrix2Xi edges(2, 2);
+  edges << 0, 1, 1, 2;
+  NodeBlockMatrix matrix(3, edges);
+  const auto fill = [&] {
+    matrix.setZero();
+    for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+      matrix.addEdgeStiffness(e, Eigen::Matrix3d::Constant(2.0).eval().data());
+    }
+  };
+  std::vector<char> fixed(9, 0);
+  fixed[0] = 1;
+  fill();
+  matrix.applyFixedDofs(fixed);
+  EXPECT_EQ(Eigen::MatrixXd(matrix.matrix())(0, 3), 0.0);
+  EXPECT_EQ(Eigen::MatrixXd(matrix.matrix())(8, 5), -2.0);
+  // Other flags on the next call: the listed entries must follow them, not the first set.
+  fixed[0] = 0;
+  fixed[8] = 1;
+  fill();
+  matrix.applyFixedDofs(fixed);
+  const Eigen::MatrixXd applied(matrix.matrix());
+  EXPECT_EQ(applied(0, 3), -2.0);
+  EXPECT_EQ(applied(0, 0), 2.0);
+  EXPECT_EQ(applied(8, 5), 0.0);
+  EXPECT_EQ(applied(5, 8), 0.0);
+  EXPECT_EQ(applied(8, 8), 1.0);
+}
+
 }  // namespace
 }  // namespace tissuesim
