@@ -51,10 +51,12 @@ const Eigen::Vector3i kLargeSize(24, 24, 24);
 void runSteps(benchmark::State& state, BenchScene& scene, TimeIntegrator& integrator, double dt) {
   int substeps = 0;
   int iterations = 0;
+  long linearIterations = 0;
   for (auto _ : state) {
     const StepReport report = integrator.step(scene.system, scene.state, dt);
     substeps += report.substeps;
     iterations += report.iterations;
+    linearIterations += report.linearIterations;
     if (report.refused || !report.isFinite) {
       state.SkipWithError(report.reason.c_str());
       break;
@@ -67,6 +69,7 @@ void runSteps(benchmark::State& state, BenchScene& scene, TimeIntegrator& integr
                                                      benchmark::Counter::kIsRate);
   state.counters["substeps"] = static_cast<double>(substeps) / static_cast<double>(state.iterations());
   state.counters["iterations"] = static_cast<double>(iterations) / static_cast<double>(state.iterations());
+  state.counters["cg_iterations"] = static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * springs));
 }
 

@@ -18,6 +18,7 @@ StepReport ImplicitEulerSolver::step(MechanicalSystem& system, MechanicalState& 
       m_newton.solve(system, m_x, m_xHat, damping / (dt * dt), 0.0, m_settings.maxIterations,
                      m_settings.forceTolerance_N);
   report.iterations = newton.iterations;
+  report.linearIterations = newton.linearIterations;
   report.residual_N = newton.residual_N;
   report.converged = newton.converged;
   report.forces = newton.forces;

@@ -78,6 +78,7 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       m_cg.setMaxIterations(static_cast<Eigen::Index>(3 * x.cols()));
       m_cg.compute(m_matrix->matrix());
       m_step = m_cg.solve(m_rhs);
+      report.linearIterations += static_cast<int>(m_cg.iterations());
       isSolved = m_cg.info() == Eigen::Success || m_cg.error() < std::max(1e-6, m_linearTolerance);
     }
     if ((!isSolved || !m_step.allFinite()) && isExact) {

@@ -28,6 +28,7 @@ enum class LinearSolverKind { Cholesky, ConjugateGradient };
 
 struct NewtonReport {
   int iterations = 0;
+  int linearIterations = 0;  ///< CG iterations summed over the Newton iterations (0: Cholesky)
   double residual_N = 0.0;  ///< max |r_i| at the end
   bool converged = false;
   ForceReport forces;
@@ -54,6 +55,8 @@ class NewtonSolver {
   const MechanicalSystem* m_preparedFor = nullptr;
   std::unique_ptr<NodeBlockMatrix> m_matrix;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
+  // Jacobi (diagonal) preconditioning: a 3x3 block-Jacobi one was tried and saved 2-6 % of the
+  // CG iterations at dt = 1 ms (the mass term dominates), less than its cost.
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> m_cg;
   bool m_isPatternAnalysed = false;
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;

@@ -11,6 +11,7 @@ namespace tissuesim {
 struct StepReport {
   int substeps = 1;            ///< explicit: substeps taken for stability
   int iterations = 0;          ///< implicit: Newton or quasi-Newton iterations
+  int linearIterations = 0;    ///< implicit with CG: CG iterations over the whole step
   double residual_N = 0.0;     ///< implicit: max |r| at the end (N)
   bool converged = true;       ///< implicit: residual under tolerance
   bool refused = false;        ///< the step was not taken (state unchanged): see `reason`
