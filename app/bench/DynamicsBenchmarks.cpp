@@ -10,6 +10,7 @@
 #include "integrators/SymplecticEulerSolver.h"
 #include "material/TissueFile.h"
 #include "mesh/BlockMesher.h"
+#include "parallel/ForkJoinPool.h"
 #include "springs/SpringMesh.h"
 
 namespace tissuesim::app {
@@ -131,9 +132,13 @@ void registerDynamicsBenchmarks(const std::string& tissuePath) {
                                  })
         ->Unit(benchmark::kMillisecond);
 
-    benchmark::RegisterBenchmark(("Step/Explicit" + suffix).c_str(),
-                                 [parameters, cells = cells](benchmark::State& state) {
+    for (const int threads : {1, 2}) {
+    const std::string threadSuffix = suffix + "/threads:" + std::to_string(threads);
+    benchmark::RegisterBenchmark(("Step/Explicit" + threadSuffix).c_str(),
+                                 [parameters, cells = cells, threads](benchmark::State& state) {
                                    BenchScene scene(parameters, cells);
+                                   ForkJoinPool pool(threads);
+                                   scene.springs.setThreadPool(&pool);
                                    IntegratorSettings settings;
                                    settings.massDamping_1_s = 1.0;
                                    SymplecticEulerSolver integrator(settings);
@@ -141,6 +146,7 @@ void registerDynamicsBenchmarks(const std::string& tissuePath) {
                                    const double dt = SymplecticEulerSolver::stableTimeStep(
                                        scene.system, scene.state.x, settings.stabilitySafety);
                                    runSteps(state, scene, integrator, 0.99 * dt);
+                                   state.counters["threads"] = threads;
                                  })
         ->Unit(benchmark::kMicrosecond);
 
@@ -149,17 +155,22 @@ void registerDynamicsBenchmarks(const std::string& tissuePath) {
       // Eigen's simplicial (non-supernodal) Cholesky takes 0.2 s a factorisation at 5k springs;
       // at 100k it would take minutes a step, so it is not run there.
       if (kind == LinearSolverKind::Cholesky && cells == kLargeSize) continue;
-      benchmark::RegisterBenchmark((name + suffix).c_str(),
-                                   [parameters, cells = cells, kind = kind](benchmark::State& state) {
+      if (kind == LinearSolverKind::Cholesky && threads > 1) continue;  // the factorisation is serial
+      benchmark::RegisterBenchmark((name + threadSuffix).c_str(),
+                                   [parameters, cells = cells, kind = kind, threads](benchmark::State& state) {
                                      BenchScene scene(parameters, cells);
+                                     ForkJoinPool pool(threads);
+                                     scene.springs.setThreadPool(&pool);
                                      IntegratorSettings settings;
                                      settings.massDamping_1_s = 1.0;
                                      settings.maxIterations = 2;
                                      settings.forceTolerance_N = 1e-6;
                                      ImplicitEulerSolver integrator(settings, kind);
                                      runSteps(state, scene, integrator, 1e-3);
+                                     state.counters["threads"] = threads;
                                    })
           ->Unit(benchmark::kMicrosecond);
+    }
     }
 
     if (cells == kLargeSize) continue;  // its prefactored H0 is a Cholesky too: see above

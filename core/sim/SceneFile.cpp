@@ -196,7 +196,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   }
   if (fields.has("physics")) {
     const Fields physics(fields.at("physics"), "physics", source, {"time_step_ms", "integrator", "mass_damping_per_s",
-                                                                   "newton_iterations", "cg_tolerance"});
+                                                                   "newton_iterations", "cg_tolerance", "threads"});
     scene.timeStep_s = physics.number("time_step_ms", 1.0, 0.0, true) / 1000.0;
     scene.integrator = physics.string("integrator", "implicit");
     if (scene.integrator != "explicit" && scene.integrator != "implicit" && scene.integrator != "quasi-newton") {
@@ -206,6 +206,13 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     scene.newtonIterations = static_cast<int>(physics.number("newton_iterations", 2, 1, false));
     scene.linearTolerance = physics.number("cg_tolerance", 1e-6, 0.0, true);
     if (scene.linearTolerance >= 1.0) physics.fail("physics.cg_tolerance", "must be below 1");
+    const double threads = physics.number("threads", 1, 1, false);
+    if (threads != std::floor(threads) || threads > 64) {
+      std::ostringstream given;
+      given << threads;
+      physics.fail("physics.threads", "= " + given.str() + "; expected a whole number from 1 to 64");
+    }
+    scene.threads = static_cast<int>(threads);
   }
   return scene;
 }

@@ -62,6 +62,7 @@ struct SceneDescription {
   // 1e-6 give the converged peak tool force within 0.2 %; 1 iteration is 1.8x faster but 48 % off.
   int newtonIterations = 2;         ///< Newton iterations per step
   double linearTolerance = 1e-6;    ///< CG relative tolerance per Newton iteration
+  int threads = 1;                  ///< threads for the spring passes (results do not depend on it)
 };
 
 /// Reads and validates a scene; paths resolved, files checked to exist.

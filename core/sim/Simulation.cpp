@@ -47,6 +47,10 @@ Simulation::Simulation(const SceneDescription& scene)
   }
   m_law = std::make_unique<SpringForceLaw>(law, *m_table, *m_parameters, linearModulus, scene.isSoftening);
   m_springs = std::make_unique<SpringForceField>(*m_springMesh, *m_law);
+  if (scene.threads > 1) {
+    m_pool = std::make_unique<ForkJoinPool>(scene.threads);
+    m_springs->setThreadPool(m_pool.get());
+  }
   if (scene.bulkModulus_Pa > 0.0) m_volume = std::make_unique<VolumeForceField>(*m_springMesh, scene.bulkModulus_Pa);
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
   m_system->gravity_m_s2 = scene.gravity_m_s2;

@@ -78,6 +78,7 @@ class Simulation {
   std::unique_ptr<StiffnessTable> m_table;
   std::unique_ptr<SpringMesh> m_springMesh;
   std::unique_ptr<SpringForceLaw> m_law;
+  std::unique_ptr<ForkJoinPool> m_pool;  ///< the spring passes' threads (scene physics.threads)
   std::unique_ptr<SpringForceField> m_springs;
   std::unique_ptr<VolumeForceField> m_volume;
   std::unique_ptr<MechanicalSystem> m_system;

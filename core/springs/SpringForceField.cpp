@@ -14,7 +14,10 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
       m_law(law),
       m_inverseRestLength(mesh.restLength_m.cwiseInverse()),
       m_areaOverLength(mesh.volume_m3.cwiseQuotient(mesh.restLength_m)),
-      m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)) {}
+      m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)) {
+  for (auto& f : m_partForces) f.resize(3, mesh.nodeCount());
+  for (auto& k : m_partNodeStiffness) k.resize(mesh.nodeCount());
+}
 
 void SpringForceField::resetStretchHistory() {
   std::fill(m_peaks.begin(), m_peaks.end(), m_law.peak(1.0));
@@ -31,10 +34,56 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
                                                Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
                                                Eigen::VectorXd* nodeStiffness,
                                                bool isProjected) const {
-  SpringFieldReport report;
   if constexpr (withNodeStiffness) nodeStiffness->setZero();
   const Eigen::Index count = m_mesh.springCount();
-  for (Eigen::Index s = 0; s < count; ++s) {
+  std::array<SpringFieldReport, kSpringParts> reports;
+  auto part = [&](int p) {
+    const Eigen::Index begin = count * p / kSpringParts;
+    const Eigen::Index end = count * (p + 1) / kSpringParts;
+    if (p == 0) {
+      reports[0] = accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, forces, blocks,
+                                                                  nodeStiffness, isProjected);
+      return;
+    }
+    Eigen::Matrix3Xd& partForces = m_partForces[static_cast<std::size_t>(p - 1)];
+    Eigen::VectorXd& partStiffness = m_partNodeStiffness[static_cast<std::size_t>(p - 1)];
+    partForces.setZero();
+    if constexpr (withNodeStiffness) partStiffness.setZero();
+    reports[static_cast<std::size_t>(p)] = accumulateRange<withBlocks, withNodeStiffness>(
+        begin, end, x, partForces, blocks, &partStiffness, isProjected);
+  };
+  const int threads = m_pool != nullptr ? m_pool->threadCount() : 1;
+  if (threads <= 1) {
+    for (int p = 0; p < kSpringParts; ++p) part(p);
+  } else {
+    auto task = [&](int thread) {
+      for (int p = thread; p < kSpringParts; p += threads) part(p);
+    };
+    m_pool->run(task);
+  }
+  // Fixed order, whatever the thread count: the sums are bit-identical.
+  SpringFieldReport report = reports[0];
+  for (int p = 1; p < kSpringParts; ++p) {
+    const SpringFieldReport& r = reports[static_cast<std::size_t>(p)];
+    forces += m_partForces[static_cast<std::size_t>(p - 1)];
+    if constexpr (withNodeStiffness) *nodeStiffness += m_partNodeStiffness[static_cast<std::size_t>(p - 1)];
+    report.beyondRangeCount += r.beyondRangeCount;
+    report.collapsedCount += r.collapsedCount;
+    report.minStretch = std::min(report.minStretch, r.minStretch);
+    report.maxStretch = std::max(report.maxStretch, r.maxStretch);
+  }
+  return report;
+}
+
+template <bool withBlocks, bool withNodeStiffness>
+SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::Index end,
+                                                    const Eigen::Matrix3Xd& x,
+                                                    Eigen::Matrix3Xd& forces,
+                                                    Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                                    Eigen::VectorXd* nodeStiffness,
+                                                    bool isProjected) const {
+  SpringFieldReport report;
+  for (Eigen::Index s = begin; s < end; ++s) {
     const int a = m_mesh.springs(0, s);
     const int b = m_mesh.springs(1, s);
     const Eigen::Vector3d d = x.col(b) - x.col(a);

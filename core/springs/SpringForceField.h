@@ -10,9 +10,12 @@
 // clamped at zero (the PSD projection of a spring's Hessian), so assembled matrices stay
 // positive semi-definite in compression and on softening branches.
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "parallel/ForkJoinPool.h"
 
 #include "springs/SpringForceLaw.h"
 #include "springs/SpringMesh.h"
@@ -27,10 +30,19 @@ struct SpringFieldReport {
   double maxStretch = 1.0;
 };
 
+/// Parallel passes: the springs are cut into kSpringParts contiguous ranges, each summed into
+/// its own force buffer, and the buffers are added in part order. The partition does not depend
+/// on the thread count, so results are bit-identical with 1, 2 or 4 threads.
 class SpringForceField {
  public:
+  static constexpr int kSpringParts = 4;
+
   /// Both must outlive this object.
   SpringForceField(const SpringMesh& mesh, const SpringForceLaw& law);
+
+  /// Runs the spring passes on `pool` (which must outlive this object), or on the calling
+  /// thread when null (the default). Not thread-safe itself: one caller at a time.
+  void setThreadPool(ForkJoinPool* pool) { m_pool = pool; }
 
   /// forces (3 by #V, N) += spring forces at positions x (3 by #V, m).
   SpringFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces) const;
@@ -66,12 +78,23 @@ class SpringForceField {
   SpringFieldReport accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
                                Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
                                Eigen::VectorXd* nodeStiffness, bool isProjected) const;
+  /// Springs [begin, end) into forces and nodeStiffness (both added to).
+  template <bool withBlocks, bool withNodeStiffness>
+  SpringFieldReport accumulateRange(Eigen::Index begin, Eigen::Index end, const Eigen::Matrix3Xd& x,
+                                    Eigen::Matrix3Xd& forces,
+                                    Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                    Eigen::VectorXd* nodeStiffness, bool isProjected) const;
 
   const SpringMesh& m_mesh;
   const SpringForceLaw& m_law;
   Eigen::VectorXd m_inverseRestLength;  ///< #S, 1 / L0 (1/m)
   Eigen::VectorXd m_areaOverLength;     ///< #S, V_e / L0 (m^2)
   std::vector<SofteningPeak> m_peaks;  ///< #S: lambda_max and what softening derives from it
+  ForkJoinPool* m_pool = nullptr;
+  // Per-part scratch of the parallel passes (part 0 adds into the caller's arrays). Mutable:
+  // scratch only, sized at construction, so the const passes never allocate.
+  mutable std::array<Eigen::Matrix3Xd, kSpringParts - 1> m_partForces;
+  mutable std::array<Eigen::VectorXd, kSpringParts - 1> m_partNodeStiffness;
 };
 
 }  // namespace tissuesim

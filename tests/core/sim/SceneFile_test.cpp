@@ -64,6 +64,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadScene{"short-gravity.json", "field 'gravity_m_s2' must be an array of three numbers"},
                       BadScene{"empty-box.json", "field 'fixed_region.box_max_m' must exceed box_min_m"},
                       BadScene{"unknown-integrator.json", "field 'physics.integrator' = \"rk4\""},
+                      BadScene{"fractional-threads.json", "field 'physics.threads' = 2.5"},
                       BadScene{"unknown-key.json", "field 'gravity' is not a known field"},
                       BadScene{"negative-scale.json", "field 'surface.metres_per_unit' = -1 is out of range"},
                       BadScene{"no-tet-mesh.json", "field 'tet_mesh' is missing"},

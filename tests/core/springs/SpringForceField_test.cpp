@@ -1,6 +1,7 @@
 #include "springs/SpringForceField.h"
 
 #include <random>
+#include <tuple>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -148,6 +149,49 @@ TEST(SpringForceField, CollapsedAndOverstretchedSpringsAreReported) {
   EXPECT_GT(report.beyondRangeCount, 0);
   EXPECT_NEAR(report.maxStretch, 1.8, 1e-12);
   EXPECT_TRUE(f.allFinite());
+}
+
+TEST(SpringForceField, ResultsDoNotDependOnTheThreadCount) {
+  // Softening on and a stretch history: every branch of the law runs in every part.
+  test::BlockSystem block({0.03, 0.03, 0.03}, {4, 4, 4}, SpringLaw::Eesm, true);
+  block.springs.commitStretchHistory(deformed(block.mesh, 0.2, 7));
+  const Eigen::Matrix3Xd x = deformed(block.mesh, 0.15, 11);
+  const auto evaluate = [&](ForkJoinPool* pool) {
+    block.springs.setThreadPool(pool);
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Constant(3, x.cols(), 0.25);  // added to, not overwritten
+    Eigen::VectorXd stiffness(x.cols());
+    const SpringFieldReport report = block.springs.addForcesAndNodeStiffness(x, f, stiffness);
+    Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
+    Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, block.mesh.springCount());
+    block.springs.addForcesAndStiffness(x, g, blocks);
+    block.springs.setThreadPool(nullptr);
+    return std::tuple{f, stiffness, g, blocks, report};
+  };
+  const auto serial = evaluate(nullptr);
+  EXPECT_GT(std::get<0>(serial).cwiseAbs().maxCoeff(), 0.25);  // forces were added
+  for (const int threads : {2, 3, 4}) {
+    ForkJoinPool pool(threads);
+    const auto parallel = evaluate(&pool);
+    // Bit-identical, not merely close: the partition and summation order are fixed.
+    EXPECT_TRUE(std::get<0>(parallel) == std::get<0>(serial)) << threads;
+    EXPECT_TRUE(std::get<1>(parallel) == std::get<1>(serial)) << threads;
+    EXPECT_TRUE(std::get<2>(parallel) == std::get<2>(serial)) << threads;
+    EXPECT_TRUE(std::get<3>(parallel) == std::get<3>(serial)) << threads;
+    EXPECT_EQ(std::get<4>(parallel).minStretch, std::get<4>(serial).minStretch);
+    EXPECT_EQ(std::get<4>(parallel).maxStretch, std::get<4>(serial).maxStretch);
+  }
+  // And the parts together are the whole: the same forces as a plain per-spring sum.
+  Eigen::Matrix3Xd expected = Eigen::Matrix3Xd::Constant(3, x.cols(), 0.25);
+  for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
+    const int a = block.mesh.springs(0, s), b = block.mesh.springs(1, s);
+    const Eigen::Vector3d d = x.col(b) - x.col(a);
+    const double lambda = d.norm() / block.mesh.restLength_m[s];
+    const double stress = block.law.evaluate(lambda, block.springs.lambdaMax()[s]).stress;
+    const Eigen::Vector3d f = block.mesh.volume_m3[s] / block.mesh.restLength_m[s] * stress * d.normalized();
+    expected.col(a) += f;
+    expected.col(b) -= f;
+  }
+  EXPECT_LT((expected - std::get<0>(serial)).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
 }
 
 }  // namespace
