@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "AssetPaths.h"
-#include "CapsuleContact.h"
+#include "SceneSession.h"
 #include "CommandError.h"
 #include "material/TissueFile.h"
 #include "mesh/TriangleSurface.h"
@@ -29,34 +29,10 @@ struct RunOptions {
 };
 
 void runSession(const RunOptions& options) {
-  std::optional<Simulation> simulation;
-  try {
-    simulation.emplace(loadSceneFile(options.scenePath));
-  } catch (const SceneFileError& error) {
-    throw CommandError(error.what());
-  } catch (const TissueFileError& error) {
-    throw CommandError(error.what());
-  }
+  SceneSession session(options.scenePath, options.scriptPath, InstrumentDriver::Script);
+  Simulation* simulation = &session.simulation();
   const SceneDescription& scene = simulation->scene();
-  std::unique_ptr<InstrumentScript> script;
-  std::unique_ptr<CapsuleContact> contact;
-  if (scene.instrument) {
-    try {
-      script = options.scriptPath.empty()
-                   ? std::make_unique<InstrumentScript>(InstrumentScript::poke(
-                         {scene.instrument->tipStart_m, scene.instrument->direction}, 0.04, 1.0))
-                   : std::make_unique<InstrumentScript>(InstrumentScript::load(options.scriptPath));
-    } catch (const std::invalid_argument& error) {
-      throw CommandError(error.what());
-    }
-    contact = std::make_unique<CapsuleContact>(
-        simulation->geometry().mesh,
-        CapsuleContactSettings{scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
-    simulation->setContactProvider(contact.get());
-    simulation->setInstrumentSource(script.get());
-  } else if (!options.scriptPath.empty()) {
-    throw CommandError("--script given, but the scene " + options.scenePath + " has no instrument");
-  }
+  const InstrumentScript* script = session.script();
   const double duration = options.duration_s > 0.0 ? options.duration_s : script ? script->duration_s() : 1.0;
   if (!std::isfinite(duration) || duration > 3600.0) throw CommandError("--duration must be at most 3600 s");
   const long steps = std::lround(duration / simulation->timeStep_s());

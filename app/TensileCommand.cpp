@@ -9,6 +9,7 @@
 
 #include "CommandError.h"
 #include "CurveCsv.h"
+#include "CurvePlot.h"
 #include "LoadedTissue.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/TensileTest.h"
@@ -26,6 +27,7 @@ struct TensileCommandOptions {
   std::string integrator = "static";
   int points = 25;
   std::string outputPath;
+  std::string plotPath;
   std::string calibration = "small-strain";
   double bulkModulus_kPa = 0.0;
   bool isSofteningOff = false;
@@ -69,6 +71,7 @@ void runTensile(const TensileCommandOptions& options) {
     throw CommandError("unknown --integrator '" + integrator +
                        "'; expected static, implicit, quasi-newton or explicit");
   }
+  if (!options.plotPath.empty()) checkPlotPath(options.plotPath);
   const LoadedTissue tissue(options.tissuePath);
   const StrainEnergy& energy = tissue.energy;
   const StiffnessTable& table = tissue.table;
@@ -95,6 +98,7 @@ void runTensile(const TensileCommandOptions& options) {
                specimen.cellsAcrossThickness, options.integrator.c_str(),
                options.calibration.c_str(), calibration);
   std::fprintf(stderr, "%-11s %-28s %10s %10s\n", "model", "branch", "R^2 load", "R^2 unload");
+  std::vector<std::pair<std::string, std::vector<CurveBranch>>> plotted;
   for (const SpringLaw each : laws) {
     TensileOptions run;
     run.law = each;
@@ -130,6 +134,10 @@ void runTensile(const TensileCommandOptions& options) {
                  stats.worstRelativeResidual, stats.worstIterations,
                  stats.unconvergedPoints, seconds);
     if (each == law) writeCurveCsv(options.outputPath, curve);
+    plotted.emplace_back(std::string(name) + " (network)", std::move(curve));
+  }
+  if (!options.plotPath.empty()) {
+    writeCurvePlot(options.plotPath, tissue.parameters.name + ": tensile test", plotted, reference);
   }
 }
 
@@ -159,6 +167,7 @@ void registerTensileCommand(CLI::App& app) {
   command->add_option("--points", options->points, "Points per branch (>= 2)")
       ->capture_default_str();
   command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
+  command->add_option("--plot", options->plotPath, "Also draw the curves and the sedf reference to this PNG");
   command->add_option("--calibration", options->calibration,
                       "small-strain (scale V_e so the network's initial modulus is 3 mu0) or none")
       ->capture_default_str();

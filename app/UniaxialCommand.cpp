@@ -7,6 +7,7 @@
 
 #include "CommandError.h"
 #include "CurveCsv.h"
+#include "CurvePlot.h"
 #include "LoadedTissue.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialTest.h"
@@ -23,6 +24,7 @@ struct UniaxialOptions {
   std::vector<double> lambdaMax;
   int points = 100;
   std::string outputPath;
+  std::string plotPath;
 };
 
 void runUniaxial(const UniaxialOptions& options) {
@@ -31,6 +33,7 @@ void runUniaxial(const UniaxialOptions& options) {
     throw CommandError("unknown --model '" + options.modelName + "'; expected one of " +
                        modelNames());
   }
+  if (!options.plotPath.empty()) checkPlotPath(options.plotPath);
   const LoadedTissue tissue(options.tissuePath);
   const TissueParameters& parameters = tissue.parameters;
   const StrainEnergy& energy = tissue.energy;
@@ -43,6 +46,10 @@ void runUniaxial(const UniaxialOptions& options) {
   const std::vector<CurveBranch> reference = test.run(UniaxialModel::Sedf, protocol);
 
   writeCurveCsv(options.outputPath, curve);
+  if (!options.plotPath.empty()) {
+    writeCurvePlot(options.plotPath, parameters.name + ": uniaxial, " + options.modelName,
+                   {{options.modelName, curve}}, reference);
+  }
 
   std::fprintf(stderr, "tissue: %s; model: %s; locking at lambda = %.4f, usable up to %.4f\n",
                parameters.name.c_str(), options.modelName.c_str(), energy.lockingRange().upper,
@@ -78,6 +85,7 @@ void registerUniaxialCommand(CLI::App& app) {
   command->add_option("--points", options->points, "Points per branch (>= 2)")
       ->capture_default_str();
   command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
+  command->add_option("--plot", options->plotPath, "Also draw the curves and the sedf reference to this PNG");
   command->callback([options] { runUniaxial(*options); });
 }
 

@@ -9,6 +9,7 @@
 #include "BenchCommand.h"
 #include "MeshCommand.h"
 #include "RunCommand.h"
+#include "SnapshotCommand.h"
 #include "TensileCommand.h"
 #include "UniaxialCommand.h"
 
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
   tissuesim::app::registerTensileCommand(app);
   tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerRunCommand(app);
+  tissuesim::app::registerSnapshotCommand(app);
   tissuesim::app::registerBenchCommand(app);
 
   try {

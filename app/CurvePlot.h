@@ -1,0 +1,22 @@
+#pragma once
+// `--plot FILE.png` of `uniaxial` and `tensile`: the stress-stretch curves of the models run,
+// one line each through all their cycles, with the `sedf` reference dashed, rendered with VTK's
+// charts offscreen (a private Xvfb when there is no display).
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "analysis/UniaxialTest.h"
+
+namespace tissuesim::app {
+
+/// @throws CommandError unless the path ends in .png (call before the work, to fail fast).
+void checkPlotPath(const std::string& path);
+
+/// Renders and writes the chart (900 x 600). @throws CommandError when it cannot be written.
+void writeCurvePlot(const std::string& path, const std::string& title,
+                    const std::vector<std::pair<std::string, std::vector<CurveBranch>>>& models,
+                    const std::vector<CurveBranch>& reference);
+
+}  // namespace tissuesim::app

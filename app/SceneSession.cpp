@@ -1,0 +1,46 @@
+#include "SceneSession.h"
+
+#include <stdexcept>
+
+#include "CommandError.h"
+#include "material/TissueFile.h"
+#include "sim/SceneFile.h"
+
+namespace tissuesim::app {
+
+SceneSession::SceneSession(const std::string& scenePath, const std::string& scriptPath,
+                           InstrumentDriver driver) {
+  try {
+    m_simulation.emplace(loadSceneFile(scenePath));
+  } catch (const SceneFileError& error) {
+    throw CommandError(error.what());
+  } catch (const TissueFileError& error) {
+    throw CommandError(error.what());
+  }
+  const SceneDescription& description = m_simulation->scene();
+  if (!description.instrument) {
+    if (!scriptPath.empty()) throw CommandError("--script given, but the scene " + scenePath + " has no instrument");
+    return;
+  }
+  const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction, false};
+  if (driver == InstrumentDriver::Live) {
+    m_live = std::make_unique<LiveInstrument>(start);
+    m_simulation->setInstrumentSource(m_live.get());
+  } else {
+    try {
+      m_script = scriptPath.empty()
+                     ? std::make_unique<InstrumentScript>(InstrumentScript::poke(
+                           {description.instrument->tipStart_m, description.instrument->direction}, 0.04, 1.0))
+                     : std::make_unique<InstrumentScript>(InstrumentScript::load(scriptPath));
+    } catch (const std::invalid_argument& error) {
+      throw CommandError(error.what());
+    }
+    m_simulation->setInstrumentSource(m_script.get());
+  }
+  m_contact = std::make_unique<CapsuleContact>(
+      m_simulation->geometry().mesh,
+      CapsuleContactSettings{description.instrument->shaftRadius_m, description.instrument->shaftLength_m});
+  m_simulation->setContactProvider(m_contact.get());
+}
+
+}  // namespace tissuesim::app

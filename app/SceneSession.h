@@ -1,0 +1,40 @@
+#pragma once
+// A scene ready to step: the Simulation, FCL contact for its instrument, and where the
+// instrument's pose comes from (a script, or live from the GUI). Shared by `run`, `snapshot`
+// and the window, so all three build a scene the same way.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "CapsuleContact.h"
+#include "sim/InstrumentScript.h"
+#include "sim/RealTimeLoop.h"
+#include "sim/Simulation.h"
+
+namespace tissuesim::app {
+
+enum class InstrumentDriver { Script, Live };
+
+class SceneSession {
+ public:
+  /// Loads the scene. With a Script driver an empty scriptPath means the default poke
+  /// (4 cm along the tool over 1 s). @throws CommandError with the file's one-line reason.
+  SceneSession(const std::string& scenePath, const std::string& scriptPath, InstrumentDriver driver);
+
+  Simulation& simulation() { return *m_simulation; }
+  const Simulation& simulation() const { return *m_simulation; }
+  const SceneDescription& scene() const { return m_simulation->scene(); }
+  /// The script (null: no instrument, or driven live).
+  const InstrumentScript* script() const { return m_script.get(); }
+  /// The live pose the GUI writes (null: no instrument, or scripted).
+  LiveInstrument* liveInstrument() { return m_live.get(); }
+
+ private:
+  std::optional<Simulation> m_simulation;
+  std::unique_ptr<InstrumentScript> m_script;
+  std::unique_ptr<LiveInstrument> m_live;
+  std::unique_ptr<CapsuleContact> m_contact;
+};
+
+}  // namespace tissuesim::app

@@ -1,0 +1,91 @@
+#include "SnapshotCommand.h"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <vtkImageData.h>
+
+#include "AssetPaths.h"
+#include "CommandError.h"
+#include "HeadlessDisplay.h"
+#include "ImageSize.h"
+#include "OffscreenImage.h"
+#include "SceneSession.h"
+#include "TissueSceneView.h"
+
+namespace tissuesim::app {
+namespace {
+
+/// Frames are at 60 Hz of simulated time: frame N shows the state after N / 60 s.
+constexpr double kFrameRate_Hz = 60.0;
+
+struct SnapshotOptions {
+  std::string scenePath;
+  std::string scriptPath;
+  int frames = 0;
+  std::string outputPath;
+  std::string size = "1280x800";
+  bool isColourMap = false;
+  bool isWireframe = false;
+};
+
+void takeSnapshot(const SnapshotOptions& options) {
+  if (options.outputPath.size() < 5 || options.outputPath.substr(options.outputPath.size() - 4) != ".png") {
+    throw CommandError("--output " + options.outputPath + ": expected a file name ending in .png");
+  }
+  if (options.frames < 0 || options.frames > 100000) {
+    throw CommandError("--frames " + std::to_string(options.frames) + ": expected 0 to 100000");
+  }
+  const ImageSize size = parseImageSize(options.size, "--size");
+  // Everything that can be refused is checked before a display is started.
+  SceneSession session(options.scenePath, options.scriptPath, InstrumentDriver::Script);
+  Simulation& simulation = session.simulation();
+  const long steps = std::lround(options.frames / kFrameRate_Hz / simulation.timeStep_s());
+  double maxForce = 0.0;
+  for (long n = 0; n < steps; ++n) {
+    const StepOutcome outcome = simulation.step();
+    maxForce = std::max(maxForce, outcome.contact.toolForce_N.norm());
+  }
+
+  const HeadlessDisplay display;
+  const auto& instrument = session.scene().instrument;
+  TissueSceneView view(simulation.geometry(), simulation.springMesh(), instrument ? &*instrument : nullptr);
+  view.setColourMap(options.isColourMap);
+  view.setWireframe(options.isWireframe);
+  view.update(simulation.state().x, simulation.instrumentPose());
+  const vtkSmartPointer<vtkImageData> image = renderOffscreen(view.renderer(), size.width, size.height);
+  try {
+    writePng(image, options.outputPath);
+  } catch (const std::runtime_error& error) {
+    throw CommandError(error.what());
+  }
+  std::printf("%s: %d frames (%ld steps, t = %.3f s), max tool force %.3f N, %zu instability events; wrote %s (%dx%d)\n",
+              session.scene().name.c_str(), options.frames, simulation.steps(), simulation.time_s(),
+              maxForce, simulation.events().size(), options.outputPath.c_str(), size.width, size.height);
+}
+
+}  // namespace
+
+void registerSnapshotCommand(CLI::App& app) {
+  auto options = std::make_shared<SnapshotOptions>();
+  CLI::App* command = app.add_subcommand(
+      "snapshot",
+      "Step a scene headless and render its state offscreen to a PNG (a private Xvfb is started "
+      "when there is no DISPLAY). Frame N is the state after N/60 s of simulated time; the same "
+      "inputs give the same image.");
+  options->scenePath = bundledAsset("scenes/liver-poke.json").string();
+  command->add_option("--scene", options->scenePath, "Scene file (JSON)")->capture_default_str();
+  command->add_option("--script", options->scriptPath, "Instrument script (default: the scene's poke)");
+  command->add_option("--frames", options->frames, "Frames of 1/60 s to simulate before the image")
+      ->capture_default_str();
+  command->add_option("--output", options->outputPath, "PNG to write")->required();
+  command->add_option("--size", options->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
+  command->add_flag("--colour-map,--color-map", options->isColourMap, "Colour the surface by spring stretch");
+  command->add_flag("--wireframe", options->isWireframe, "Show the springs");
+  command->callback([options] { takeSnapshot(*options); });
+}
+
+}  // namespace tissuesim::app

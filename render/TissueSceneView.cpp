@@ -1,0 +1,312 @@
+#include "TissueSceneView.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkCylinderSource.h>
+#include <vtkDiskSource.h>
+#include <vtkDoubleArray.h>
+#include <vtkLight.h>
+#include <vtkLookupTable.h>
+#include <vtkPlaneSource.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkSphereSource.h>
+#include <vtkTextProperty.h>
+#include <vtkTransform.h>
+
+#include "mesh/TetMesh.h"
+
+namespace tissuesim {
+namespace {
+
+
+void setPoints(vtkPoints* points, const Eigen::Matrix3Xd& x) {
+  for (Eigen::Index i = 0; i < x.cols(); ++i) points->SetPoint(i, x(0, i), x(1, i), x(2, i));
+  points->Modified();
+}
+
+vtkSmartPointer<vtkCellArray> triangleCells(const Eigen::Matrix3Xi& triangles) {
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  cells->AllocateExact(triangles.cols(), 3 * triangles.cols());
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    const vtkIdType ids[3] = {triangles(0, t), triangles(1, t), triangles(2, t)};
+    cells->InsertNextCell(3, ids);
+  }
+  return cells;
+}
+
+}  // namespace
+
+TissueSceneView::TissueSceneView(const SceneGeometry& geometry, const SpringMesh& springs,
+                                 const SceneInstrument* instrument)
+    : m_geometry(geometry),
+      m_springs(springs),
+      m_instrument(instrument),
+      m_renderer(vtkSmartPointer<vtkRenderer>::New()) {
+  m_renderer->SetBackground(0.93, 0.94, 0.96);
+  m_renderer->SetBackground2(0.55, 0.60, 0.68);
+  m_renderer->GradientBackgroundOn();
+  buildSurface();
+  buildSprings();
+  buildTray();
+  buildInstrument();
+  update(springs.restPositions_m, instrument != nullptr
+                                      ? InstrumentPose{instrument->tipStart_m, instrument->direction, false}
+                                      : InstrumentPose{});
+  resetCamera();
+}
+
+TissueSceneView::~TissueSceneView() = default;
+
+void TissueSceneView::buildSurface() {
+  m_surface = vtkSmartPointer<vtkPolyData>::New();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  if (m_geometry.surface && m_geometry.embedding) {
+    points->SetNumberOfPoints(m_geometry.surface->vertices_m.cols());
+    m_surface->SetPolys(triangleCells(m_geometry.surface->triangles));
+    m_surfaceX.resize(3, m_geometry.surface->vertices_m.cols());
+  } else {
+    // No visual surface in the scene: the tet mesh's own boundary (points = all nodes).
+    points->SetNumberOfPoints(m_springs.nodeCount());
+    m_surface->SetPolys(triangleCells(boundaryFaces(m_geometry.mesh)));
+    m_surfaceX.resize(3, m_springs.nodeCount());
+  }
+  m_surface->SetPoints(points);
+  m_surfaceStretch = vtkSmartPointer<vtkDoubleArray>::New();
+  m_surfaceStretch->SetName("stretch");
+  m_surfaceStretch->SetNumberOfTuples(points->GetNumberOfPoints());
+  m_surfaceStretch->Fill(1.0);
+  m_surface->GetPointData()->SetScalars(m_surfaceStretch);
+  m_nodeStretch.resize(m_springs.nodeCount());
+
+  m_normals = vtkSmartPointer<vtkPolyDataNormals>::New();
+  m_normals->SetInputData(m_surface);
+  m_normals->SplittingOff();  // smooth shading across the whole organ
+  m_normals->ConsistencyOff();
+  m_normals->AutoOrientNormalsOff();
+
+  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  lut->SetNumberOfTableValues(256);
+  lut->SetTableRange(kStretchRange[0], kStretchRange[1]);
+  for (int i = 0; i < 256; ++i) {
+    // Diverging blue - white - red (compression - rest - tension).
+    const double s = i / 255.0;
+    const double r = s < 0.5 ? 0.23 + 1.54 * s : 1.0;
+    const double g = s < 0.5 ? 0.30 + 1.40 * s : 1.0 - 1.6 * (s - 0.5);
+    const double b = s < 0.5 ? 0.75 + 0.50 * s : 1.0 - 1.7 * (s - 0.5);
+    lut->SetTableValue(i, std::clamp(r, 0.0, 1.0), std::clamp(g, 0.0, 1.0), std::clamp(b, 0.0, 1.0));
+  }
+  lut->Build();
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputConnection(m_normals->GetOutputPort());
+  mapper->SetLookupTable(lut);
+  mapper->SetScalarRange(kStretchRange[0], kStretchRange[1]);
+  mapper->ScalarVisibilityOff();
+  m_surfaceActor = vtkSmartPointer<vtkActor>::New();
+  m_surfaceActor->SetMapper(mapper);
+  vtkProperty* property = m_surfaceActor->GetProperty();
+  property->SetColor(0.55, 0.16, 0.14);  // liver red-brown
+  property->SetSpecular(0.35);
+  property->SetSpecularPower(30.0);
+  property->SetDiffuse(0.8);
+  property->SetAmbient(0.12);
+  property->SetInterpolationToPhong();
+  m_renderer->AddActor(m_surfaceActor);
+
+  m_scalarBar = vtkSmartPointer<vtkScalarBarActor>::New();
+  m_scalarBar->SetLookupTable(lut);
+  m_scalarBar->SetTitle("stretch");
+  m_scalarBar->SetNumberOfLabels(5);
+  m_scalarBar->SetLabelFormat("%.2f");
+  m_scalarBar->SetPosition(0.88, 0.1);
+  m_scalarBar->SetWidth(0.08);
+  m_scalarBar->SetHeight(0.8);
+  m_scalarBar->GetTitleTextProperty()->SetColor(0.1, 0.1, 0.1);
+  m_scalarBar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
+  m_scalarBar->VisibilityOff();
+  m_renderer->AddViewProp(m_scalarBar);
+}
+
+void TissueSceneView::buildSprings() {
+  m_springLines = vtkSmartPointer<vtkPolyData>::New();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(m_springs.nodeCount());
+  auto lines = vtkSmartPointer<vtkCellArray>::New();
+  lines->AllocateExact(m_springs.springCount(), 2 * m_springs.springCount());
+  for (Eigen::Index s = 0; s < m_springs.springCount(); ++s) {
+    const vtkIdType ids[2] = {m_springs.springs(0, s), m_springs.springs(1, s)};
+    lines->InsertNextCell(2, ids);
+  }
+  m_springLines->SetPoints(points);
+  m_springLines->SetLines(lines);
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputData(m_springLines);
+  m_springActor = vtkSmartPointer<vtkActor>::New();
+  m_springActor->SetMapper(mapper);
+  m_springActor->GetProperty()->SetColor(0.15, 0.15, 0.2);
+  m_springActor->GetProperty()->SetOpacity(0.35);
+  m_springActor->GetProperty()->LightingOff();
+  m_springActor->VisibilityOff();
+  m_renderer->AddActor(m_springActor);
+}
+
+void TissueSceneView::buildTray() {
+  // A tray just under the organ's rest position, wider than it: the eye judges depth against it.
+  const Eigen::Matrix3Xd& rest = m_springs.restPositions_m;
+  const Eigen::Vector3d lo = rest.rowwise().minCoeff();
+  const Eigen::Vector3d hi = rest.rowwise().maxCoeff();
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const double margin = 0.6 * (hi - lo).maxCoeff();
+  m_trayHeight_m = lo.y() - 0.002;
+  auto plane = vtkSmartPointer<vtkPlaneSource>::New();
+  plane->SetOrigin(lo.x() - margin, m_trayHeight_m, lo.z() - margin);
+  plane->SetPoint1(hi.x() + margin, m_trayHeight_m, lo.z() - margin);
+  plane->SetPoint2(lo.x() - margin, m_trayHeight_m, hi.z() + margin);
+  plane->SetCenter(centre.x(), m_trayHeight_m, centre.z());
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputConnection(plane->GetOutputPort());
+  m_trayActor = vtkSmartPointer<vtkActor>::New();
+  m_trayActor->SetMapper(mapper);
+  m_trayActor->GetProperty()->SetColor(0.78, 0.80, 0.82);  // steel
+  m_trayActor->GetProperty()->SetSpecular(0.2);
+  m_renderer->AddActor(m_trayActor);
+}
+
+void TissueSceneView::buildInstrument() {
+  if (m_instrument == nullptr) return;
+  m_toolTransform = vtkSmartPointer<vtkTransform>::New();
+  const double radius = m_instrument->shaftRadius_m;
+  const double length = m_instrument->shaftLength_m;
+  // In tool coordinates the tip is at the origin and the shaft runs up +y (the cylinder's axis).
+  auto cylinder = vtkSmartPointer<vtkCylinderSource>::New();
+  cylinder->SetRadius(radius);
+  cylinder->SetHeight(length);
+  cylinder->SetCenter(0.0, 0.5 * length, 0.0);
+  cylinder->SetResolution(32);
+  auto sphere = vtkSmartPointer<vtkSphereSource>::New();
+  sphere->SetRadius(radius);
+  sphere->SetThetaResolution(32);
+  sphere->SetPhiResolution(16);
+  for (auto [actor, port] : {std::pair{&m_shaftActor, cylinder->GetOutputPort()},
+                             std::pair{&m_tipActor, sphere->GetOutputPort()}}) {
+    auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+    mapper->SetInputConnection(port);
+    *actor = vtkSmartPointer<vtkActor>::New();
+    (*actor)->SetMapper(mapper);
+    (*actor)->SetUserTransform(m_toolTransform);
+    (*actor)->GetProperty()->SetColor(0.72, 0.74, 0.78);
+    (*actor)->GetProperty()->SetSpecular(0.8);
+    (*actor)->GetProperty()->SetSpecularPower(60.0);
+    m_renderer->AddActor(*actor);
+  }
+  // The tip's shadow on the tray (straight down): where the tool is over the organ.
+  auto disk = vtkSmartPointer<vtkDiskSource>::New();
+  disk->SetInnerRadius(0.0);
+  disk->SetOuterRadius(2.5 * radius);
+  disk->SetCircumferentialResolution(32);
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputConnection(disk->GetOutputPort());
+  m_shadowActor = vtkSmartPointer<vtkActor>::New();
+  m_shadowActor->SetMapper(mapper);
+  m_shadowActor->GetProperty()->SetColor(0.25, 0.25, 0.28);
+  m_shadowActor->GetProperty()->SetOpacity(0.6);
+  m_shadowActor->GetProperty()->LightingOff();
+  m_shadowActor->SetOrientation(90.0, 0.0, 0.0);  // the disk's normal (z) onto y
+  m_renderer->AddActor(m_shadowActor);
+}
+
+void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& pose) {
+  const bool isEmbedded = m_geometry.surface && m_geometry.embedding;
+  if (isEmbedded) {
+    m_geometry.embedding->apply(x, m_surfaceX);
+  } else {
+    m_surfaceX = x;
+  }
+  setPoints(m_surface->GetPoints(), m_surfaceX);
+  if (m_isColourMap) {
+    // Per node: the incident spring's stretch farthest from 1.
+    m_nodeStretch.setOnes();
+    for (Eigen::Index s = 0; s < m_springs.springCount(); ++s) {
+      const int a = m_springs.springs(0, s), b = m_springs.springs(1, s);
+      const double lambda = (x.col(b) - x.col(a)).norm() / m_springs.restLength_m[s];
+      for (const int node : {a, b}) {
+        if (std::abs(lambda - 1.0) > std::abs(m_nodeStretch[node] - 1.0)) m_nodeStretch[node] = lambda;
+      }
+    }
+    for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) {
+      double value = 0.0;
+      if (isEmbedded) {
+        for (int k = 0; k < 4; ++k) {
+          value += m_geometry.embedding->weights()(k, v) * m_nodeStretch[m_geometry.embedding->nodes()(k, v)];
+        }
+      } else {
+        value = m_nodeStretch[v];
+      }
+      m_surfaceStretch->SetValue(v, value);
+    }
+    m_surfaceStretch->Modified();
+  }
+  m_surface->Modified();
+  if (m_isWireframe) setPoints(m_springLines->GetPoints(), x);
+  m_springLines->Modified();
+
+  if (m_toolTransform) {
+    // Tool y axis along -direction (the shaft goes back from the tip).
+    const Eigen::Vector3d axis = -pose.direction.normalized();
+    const Eigen::Vector3d y = Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d cross = y.cross(axis);
+    const double angle = std::atan2(cross.norm(), y.dot(axis)) * 180.0 / M_PI;
+    m_toolTransform->Identity();
+    m_toolTransform->Translate(pose.tip_m.data());
+    if (cross.norm() > 1e-12) {
+      m_toolTransform->RotateWXYZ(angle, cross.x(), cross.y(), cross.z());
+    } else if (y.dot(axis) < 0.0) {
+      m_toolTransform->RotateWXYZ(180.0, 1.0, 0.0, 0.0);
+    }
+    m_toolTransform->Modified();
+    m_shadowActor->SetPosition(pose.tip_m.x(), m_trayHeight_m + 0.0005, pose.tip_m.z());
+    const double colour = pose.isGrasping ? 0.45 : 0.72;  // jaws closed: darker steel
+    m_tipActor->GetProperty()->SetColor(colour, colour + 0.02, colour + 0.06);
+  }
+}
+
+void TissueSceneView::setColourMap(bool isOn) {
+  m_isColourMap = isOn;
+  m_surfaceActor->GetMapper()->SetScalarVisibility(isOn);
+  m_surfaceActor->GetProperty()->SetSpecular(isOn ? 0.15 : 0.35);
+  m_scalarBar->SetVisibility(isOn);
+}
+
+void TissueSceneView::setWireframe(bool isOn) {
+  m_isWireframe = isOn;
+  m_springActor->SetVisibility(isOn);
+  m_surfaceActor->GetProperty()->SetOpacity(isOn ? 0.45 : 1.0);
+}
+
+void TissueSceneView::resetCamera() {
+  const Eigen::Matrix3Xd& rest = m_springs.restPositions_m;
+  const Eigen::Vector3d centre = 0.5 * (rest.rowwise().minCoeff() + rest.rowwise().maxCoeff());
+  const double size = (rest.rowwise().maxCoeff() - rest.rowwise().minCoeff()).norm();
+  vtkCamera* camera = m_renderer->GetActiveCamera();
+  camera->SetFocalPoint(centre.data());
+  // From the front, above and to the right: y is up in the bundled scenes.
+  const Eigen::Vector3d eye = centre + size * Eigen::Vector3d(0.55, 0.75, 1.25);
+  camera->SetPosition(eye.data());
+  camera->SetViewUp(0.0, 1.0, 0.0);
+  camera->SetViewAngle(30.0);
+  m_renderer->ResetCameraClippingRange();
+}
+
+}  // namespace tissuesim

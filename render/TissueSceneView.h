@@ -1,0 +1,95 @@
+#pragma once
+// The 3D scene a trainee sees, as a VTK renderer: the liver's visual surface (smooth-shaded,
+// its vertices carried by the tet mesh through the barycentric embedding), an optional stretch
+// colour map with a scalar bar, an optional spring wireframe, the instrument (a shaft with a
+// blunt tip), and depth cues: a tray under the organ and the tip's shadow on it.
+//
+// It reads positions (a snapshot of the physics state) and never touches the simulation, so a
+// frame costs the physics nothing. Nothing here depends on Qt: the same view renders in the
+// window and offscreen (snapshots, image tests).
+//
+// Colour map: per tet node, the stretch lambda of its incident spring farthest from rest
+// (lambda < 1 compression, > 1 tension), interpolated to the surface with the embedding's
+// weights; the colour range is fixed (kStretchRange) so images compare across frames.
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
+
+#include "sim/ContactProvider.h"
+#include "sim/SceneFile.h"
+#include "sim/SceneGeometry.h"
+#include "springs/SpringMesh.h"
+
+class vtkActor;
+class vtkDoubleArray;
+class vtkPolyData;
+class vtkPolyDataNormals;
+class vtkRenderer;
+class vtkScalarBarActor;
+class vtkTransform;
+
+namespace tissuesim {
+
+class TissueSceneView {
+ public:
+  /// Colour map limits (stretch): blue at the lower, white at 1, red at the upper.
+  static constexpr double kStretchRange[2] = {0.9, 1.1};
+
+  /// All three must outlive the view. `instrument` null: none drawn.
+  TissueSceneView(const SceneGeometry& geometry, const SpringMesh& springs,
+                  const SceneInstrument* instrument);
+  ~TissueSceneView();
+  TissueSceneView(const TissueSceneView&) = delete;
+  TissueSceneView& operator=(const TissueSceneView&) = delete;
+
+  vtkRenderer* renderer() const { return m_renderer; }
+
+  /// Moves the surface, springs and instrument to a state (x: 3 by #nodes, m).
+  void update(const Eigen::Matrix3Xd& x, const InstrumentPose& pose);
+
+  void setColourMap(bool isOn);
+  bool isColourMap() const { return m_isColourMap; }
+  void setWireframe(bool isOn);
+  bool isWireframe() const { return m_isWireframe; }
+
+  /// The default camera: a three-quarter view of the organ from above, fitted to the tray.
+  void resetCamera();
+
+ private:
+  void buildSurface();
+  void buildSprings();
+  void buildInstrument();
+  void buildTray();
+
+  const SceneGeometry& m_geometry;
+  const SpringMesh& m_springs;
+  const SceneInstrument* m_instrument;
+  vtkSmartPointer<vtkRenderer> m_renderer;
+
+  vtkSmartPointer<vtkPolyData> m_surface;  ///< points moved in place each update
+  vtkSmartPointer<vtkDoubleArray> m_surfaceStretch;
+  vtkSmartPointer<vtkPolyDataNormals> m_normals;
+  vtkSmartPointer<vtkActor> m_surfaceActor;
+  vtkSmartPointer<vtkScalarBarActor> m_scalarBar;
+
+  vtkSmartPointer<vtkPolyData> m_springLines;
+  vtkSmartPointer<vtkActor> m_springActor;
+
+  vtkSmartPointer<vtkTransform> m_toolTransform;
+  vtkSmartPointer<vtkActor> m_shaftActor;
+  vtkSmartPointer<vtkActor> m_tipActor;
+  vtkSmartPointer<vtkActor> m_shadowActor;
+  vtkSmartPointer<vtkActor> m_trayActor;
+  double m_trayHeight_m = 0.0;  ///< along the up axis (y)
+
+  Eigen::Matrix3Xd m_surfaceX;          ///< scratch: surface vertices (m)
+  Eigen::VectorXd m_nodeStretch;        ///< scratch: per tet node
+  bool m_isColourMap = false;
+  bool m_isWireframe = false;
+};
+
+}  // namespace tissuesim
