@@ -21,10 +21,47 @@ constexpr double kUnconvergedResidual_N = 1e-3;
 
 Simulation::Simulation(const SceneDescription& scene)
     : m_scene(scene), m_geometry(loadSceneGeometry(scene)), m_timeStep_s(scene.timeStep_s) {
-  m_parameters = std::make_unique<TissueParameters>(loadTissueFile(scene.tissue));
+  buildPhysics(loadTissueFile(scene.tissue));
+  m_state = m_system->restState();
+  if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
+}
+
+void Simulation::replaceTissue(const TissueParameters& parameters) {
+  const MechanicalState kept = m_state;
+  const Eigen::Vector3d gravity = m_system->gravity_m_s2;
+  buildPhysics(parameters);
+  m_system->gravity_m_s2 = gravity;
+  m_state = kept;
+  m_activeConditions.clear();
+}
+
+void Simulation::setSoftening(bool isOn) {
+  m_scene.isSoftening = isOn;
+  replaceTissue(TissueParameters(*m_parameters));
+}
+
+void Simulation::setGravity(const Eigen::Vector3d& gravity_m_s2) { m_system->gravity_m_s2 = gravity_m_s2; }
+Eigen::Vector3d Simulation::gravity() const { return m_system->gravity_m_s2; }
+
+void Simulation::buildPhysics(const TissueParameters& parameters) {
+  const SceneDescription& scene = m_scene;
+  // Dependents first: each holds references into the ones before it.
+  m_integrator.reset();
+  m_system.reset();
+  m_volume.reset();
+  m_springs.reset();
+  m_law.reset();
+  m_grasp.reset();
+  m_parameters = std::make_unique<TissueParameters>(parameters);
   m_energy = std::make_unique<StrainEnergy>(*m_parameters);
   m_table = std::make_unique<StiffnessTable>(*m_energy);
-  m_springMesh = std::make_unique<SpringMesh>(buildSpringMesh(m_geometry.mesh, m_parameters->density_kg_m3));
+  // Rebuilt in place: views of the scene keep a reference to the spring mesh across a new tissue.
+  SpringMesh springMesh = buildSpringMesh(m_geometry.mesh, m_parameters->density_kg_m3);
+  if (m_springMesh) {
+    *m_springMesh = std::move(springMesh);
+  } else {
+    m_springMesh = std::make_unique<SpringMesh>(std::move(springMesh));
+  }
   // The network's missing Poisson effect: scale V_e so a lattice's small-strain modulus is the
   // continuum's 3 mu0, measured once on the paper's specimen meshed with the same Kuhn lattice
   // the bundled meshes use (TensileTest::smallStrainCalibration; about 5.8). A scene can set
@@ -69,7 +106,6 @@ Simulation::Simulation(const SceneDescription& scene)
     m_integrator = std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
   }
   if (scene.instrument) {
-    m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
     // The grasper reaches surface nodes within two shaft radii of the tip.
     const Eigen::Matrix3Xi faces = boundaryFaces(m_geometry.mesh);
     std::vector<int> surfaceNodes(faces.data(), faces.data() + faces.size());
@@ -77,8 +113,8 @@ Simulation::Simulation(const SceneDescription& scene)
     surfaceNodes.erase(std::unique(surfaceNodes.begin(), surfaceNodes.end()), surfaceNodes.end());
     m_grasp = std::make_unique<Grasp>(std::move(surfaceNodes), 2.0 * scene.instrument->shaftRadius_m);
   }
-  m_state = m_system->restState();
 }
+
 
 Simulation::~Simulation() = default;
 

@@ -53,6 +53,18 @@ class Simulation {
   StepOutcome step();
   void reset();
 
+  // Changes while running (the caller pauses any loop stepping this simulation first). The
+  // state (positions, velocities, time) is kept; the Mullins memory starts afresh, since it
+  // belongs to the material that was replaced.
+  /// A new tissue: material, stiffness tables, masses and spring laws rebuilt.
+  void replaceTissue(const TissueParameters& parameters);
+  /// Stress softening on or off (the scene's effects.softening).
+  void setSoftening(bool isOn);
+  bool isSoftening() const { return m_scene.isSoftening; }
+  void setGravity(const Eigen::Vector3d& gravity_m_s2);
+  Eigen::Vector3d gravity() const;
+  const TissueParameters& parameters() const { return *m_parameters; }
+
   double time_s() const { return m_time_s; }
   long steps() const { return m_steps; }
   double timeStep_s() const { return m_timeStep_s; }
@@ -70,6 +82,8 @@ class Simulation {
 
  private:
   void record(const char* kind, const std::string& detail);
+  /// Material, tables, spring mesh, laws, system and integrator from the parameters.
+  void buildPhysics(const TissueParameters& parameters);
 
   SceneDescription m_scene;
   SceneGeometry m_geometry;

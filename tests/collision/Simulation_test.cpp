@@ -70,5 +70,55 @@ TEST(Simulation, NonFiniteContactIsReportedAndTheStateKept) {
   EXPECT_EQ(simulation.steps(), 1);
 }
 
+TEST(Simulation, ANewTissueKeepsTheStateAndChangesTheResponse) {
+  // The instructor loads a stiffer tissue mid-run, before the tool touches: positions stay,
+  // and the same poke then meets a harder liver.
+  const auto pokeForce = [](double stiffening) {
+    Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+    const SceneInstrument& tool = *simulation.scene().instrument;
+    const InstrumentScript script = InstrumentScript::poke({tool.tipStart_m, tool.direction}, 0.04, 1.0);
+    CapsuleContact contact(simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m});
+    simulation.setContactProvider(&contact);
+    simulation.setInstrumentSource(&script);
+    for (int n = 0; n < 100; ++n) EXPECT_TRUE(simulation.step().isGood);
+    if (stiffening != 1.0) {
+      const SpringMesh* springMesh = &simulation.springMesh();
+      const Eigen::Matrix3Xd before = simulation.state().x;
+      const double time = simulation.time_s();
+      TissueParameters stiffer = simulation.parameters();
+      stiffer.mu_Pa *= stiffening;  // every modulus: the network and the fibre term
+      stiffer.A1_Pa *= stiffening;
+      stiffer.A2_Pa *= stiffening;
+      simulation.replaceTissue(stiffer);
+      EXPECT_EQ(&simulation.springMesh(), springMesh);  // views holding it stay valid
+      EXPECT_EQ(simulation.state().x, before);
+      EXPECT_EQ(simulation.time_s(), time);
+      EXPECT_EQ(simulation.parameters().mu_Pa, stiffer.mu_Pa);
+    }
+    double force = 0.0;
+    for (int n = 100; n < 550; ++n) force = simulation.step().contact.toolForce_N.norm();
+    return force;
+  };
+  const double original = pokeForce(1.0);
+  EXPECT_GT(original, 0.05);
+  // The contact penalty (300 N/m) is in series with the tissue, so a softer tissue shows more
+  // than a stiffer one; both must move the force the right way.
+  EXPECT_LT(pokeForce(0.25), 0.8 * original);
+  EXPECT_GT(pokeForce(4.0), original);
+}
+
+TEST(Simulation, SofteningCanBeSwitchedOffWhileRunning) {
+  Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+  EXPECT_TRUE(simulation.isSoftening());
+  for (int n = 0; n < 5; ++n) simulation.step();
+  const Eigen::Matrix3Xd before = simulation.state().x;
+  simulation.setGravity({0.0, -9.81, 0.0});
+  simulation.setSoftening(false);
+  EXPECT_FALSE(simulation.isSoftening());
+  EXPECT_EQ(simulation.gravity(), Eigen::Vector3d(0.0, -9.81, 0.0));  // kept across the rebuild
+  EXPECT_EQ(simulation.state().x, before);
+  EXPECT_TRUE(simulation.step().isGood);
+}
+
 }  // namespace
 }  // namespace tissuesim
