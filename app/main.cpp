@@ -7,11 +7,14 @@
 #include <CLI/CLI.hpp>
 
 #include "BenchCommand.h"
+#include "CommandError.h"
+#include "GuiCommand.h"
 #include "MeshCommand.h"
 #include "RunCommand.h"
 #include "SnapshotCommand.h"
 #include "TensileCommand.h"
 #include "UniaxialCommand.h"
+#include "AssetPaths.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"TissueSim: real-time soft-tissue simulation with the Equivalent Energy Spring "
@@ -29,6 +32,7 @@ int main(int argc, char** argv) {
   tissuesim::app::registerRunCommand(app);
   tissuesim::app::registerSnapshotCommand(app);
   tissuesim::app::registerBenchCommand(app);
+  tissuesim::app::registerGuiCommand(app, argc, argv);
 
   try {
     app.parse(argc, argv);
@@ -39,9 +43,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (app.get_subcommands().empty()) {
-    // The trainee's window arrives with the GUI; until then say what there is.
-    std::cout << app.help() << "\nThe interactive window is not built yet; "
-                 "try: tissuesim uniaxial --help\n";
+    // No subcommand: the trainee's window on the bundled liver scene.
+    try {
+      return tissuesim::app::runGui(tissuesim::app::bundledAsset("scenes/liver-poke.json").string(), 1, argv);
+    } catch (const std::exception& error) {
+      std::cerr << "tissuesim: error: " << error.what() << "\n";
+      return 1;
+    }
   }
   return 0;
 }

@@ -30,15 +30,15 @@ class NodeBlockMatrix {
   /// The same for edge e of the constructor's list (its nodes a = edges(0, e), b = edges(1, e)),
   /// from offsets found once at construction: no search in the assembly loop.
   void addEdgeStiffness(Eigen::Index e, const double* k) {
-    const EdgeSlots& slots = m_edgeSlots[static_cast<std::size_t>(e)];
+    const EdgeSlots& at = m_edgeSlots[static_cast<std::size_t>(e)];
     double* values = m_matrix.valuePtr();
     for (int c = 0; c < 3; ++c) {
       for (int r = 0; r < 3; ++r) {
         const double v = k[3 * c + r];
-        values[slots.aa + c * slots.strideA + r] += v;
-        values[slots.ba + c * slots.strideA + r] -= v;
-        values[slots.bb + c * slots.strideB + r] += v;
-        values[slots.ab + c * slots.strideB + r] -= v;
+        values[at.aa + c * at.strideA + r] += v;
+        values[at.ba + c * at.strideA + r] -= v;
+        values[at.bb + c * at.strideB + r] += v;
+        values[at.ab + c * at.strideB + r] -= v;
       }
     }
   }

@@ -11,6 +11,7 @@ SimulationSnapshot initialSnapshot(const Simulation& simulation) {
   snapshot.time_s = simulation.time_s();
   snapshot.positions_m = simulation.state().x;
   snapshot.instrument = simulation.instrumentPose();
+  snapshot.eventCount = simulation.events().size();
   return snapshot;
 }
 }  // namespace
@@ -59,6 +60,7 @@ void RealTimeLoop::run() {
     snapshot.instrument = m_simulation.instrumentPose();
     snapshot.toolForce_N = outcome.contact.toolForce_N;
     snapshot.maxStretch = outcome.maxStretch;
+    snapshot.eventCount = m_simulation.events().size();
     m_snapshots.publish();
 
     due += period;

@@ -25,6 +25,7 @@ struct SimulationSnapshot {
   InstrumentPose instrument;
   Eigen::Vector3d toolForce_N = Eigen::Vector3d::Zero();
   double maxStretch = 1.0;
+  std::size_t eventCount = 0;  ///< instability events so far (the list stays with the physics)
 };
 
 /// An instrument pose written by one thread (the GUI, a device) and read by the physics.

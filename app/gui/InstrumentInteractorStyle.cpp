@@ -1,0 +1,35 @@
+#include "gui/InstrumentInteractorStyle.h"
+
+#include <vtkObjectFactory.h>
+#include <vtkRenderWindowInteractor.h>
+
+namespace tissuesim::app {
+
+vtkStandardNewMacro(InstrumentInteractorStyle)
+
+void InstrumentInteractorStyle::OnMouseMove() {
+  if (GetState() == VTKIS_NONE && onHover) {
+    const int* position = GetInteractor()->GetEventPosition();
+    onHover(position[0], position[1]);
+    return;
+  }
+  vtkInteractorStyleTrackballCamera::OnMouseMove();
+}
+
+void InstrumentInteractorStyle::OnMouseWheelForward() {
+  if (GetInteractor()->GetControlKey() == 0 && onWheel) {
+    onWheel(+1);
+    return;
+  }
+  vtkInteractorStyleTrackballCamera::OnMouseWheelForward();
+}
+
+void InstrumentInteractorStyle::OnMouseWheelBackward() {
+  if (GetInteractor()->GetControlKey() == 0 && onWheel) {
+    onWheel(-1);
+    return;
+  }
+  vtkInteractorStyleTrackballCamera::OnMouseWheelBackward();
+}
+
+}  // namespace tissuesim::app

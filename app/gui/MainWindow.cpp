@@ -1,0 +1,368 @@
+#include "gui/MainWindow.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <QAction>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QKeySequence>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QStatusBar>
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkCamera.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkImageData.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+#include <vtkWindowToImageFilter.h>
+
+#include "CommandError.h"
+#include "OffscreenImage.h"
+#include "analysis/UniaxialTest.h"
+#include "gui/ForcePlotWidget.h"
+#include "gui/InstrumentInteractorStyle.h"
+#include "material/StiffnessTable.h"
+#include "material/StrainEnergy.h"
+#include "material/TissueFile.h"
+
+namespace tissuesim::app {
+namespace {
+constexpr int kFrameInterval_ms = 16;  ///< about 60 frames per second
+constexpr double kWheelStep_m = 0.002;  ///< tool travel per wheel notch
+}  // namespace
+
+MainWindow::MainWindow(const QString& scenePath, QWidget* parent) : QMainWindow(parent) {
+  setWindowTitle("TissueSim");
+  resize(1280, 800);
+  m_vtkWidget = new QVTKOpenGLNativeWidget(this);
+  m_renderWindow = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  m_vtkWidget->setRenderWindow(m_renderWindow);
+  m_vtkWidget->setObjectName("sceneView");
+  setCentralWidget(m_vtkWidget);
+  m_style = vtkSmartPointer<InstrumentInteractorStyle>::New();
+  m_style->onHover = [this](int x, int y) { moveInstrumentToDisplay(x, y); };
+  m_style->onWheel = [this](int notches) { pushInstrument(notches * kWheelStep_m); };
+  m_renderWindow->GetInteractor()->SetInteractorStyle(m_style);
+
+  m_statusLabel = new QLabel(this);
+  m_statusLabel->setObjectName("statusText");
+  statusBar()->addPermanentWidget(m_statusLabel, 1);
+  buildDocks();
+  buildMenus();
+
+  connect(&m_frameTimer, &QTimer::timeout, this, &MainWindow::renderFrame);
+  m_clock.start();
+  if (!loadScene(scenePath)) {
+    statusBar()->showMessage("no scene loaded: File > Open scene");
+  }
+  m_frameTimer.start(kFrameInterval_ms);
+}
+
+MainWindow::~MainWindow() {
+  m_frameTimer.stop();
+  if (m_loop) m_loop->stop();
+}
+
+void MainWindow::buildDocks() {
+  m_forcePlot = new ForcePlotWidget(this);
+  auto* forceDock = new QDockWidget("Tool force", this);
+  forceDock->setObjectName("forceDock");
+  forceDock->setWidget(m_forcePlot);
+  addDockWidget(Qt::RightDockWidgetArea, forceDock);
+
+  m_chartWidget = new QVTKOpenGLNativeWidget(this);
+  m_chartWindow = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  m_chartWidget->setRenderWindow(m_chartWindow);
+  m_chartWidget->setMinimumSize(320, 260);
+  m_materialChart = std::make_unique<CurveChart>("Tissue: uniaxial stress-stretch", "stretch",
+                                                 "stress (kPa)");
+  m_chartWindow->AddRenderer(m_materialChart->renderer());
+  auto* chartDock = new QDockWidget("Material", this);
+  chartDock->setObjectName("materialDock");
+  chartDock->setWidget(m_chartWidget);
+  addDockWidget(Qt::RightDockWidgetArea, chartDock);
+}
+
+void MainWindow::buildMenus() {
+  QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("Open &tissue parameters...", this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, "Open tissue parameters", QString(), "Tissue (*.json)");
+    if (!path.isEmpty()) loadTissue(path);
+  });
+  file->addAction("Open &scene...", this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, "Open scene", QString(), "Scene (*.json)");
+    if (!path.isEmpty()) loadScene(path);
+  }, QKeySequence::Open);
+  file->addAction("Save &image...", this, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, "Save image", "tissuesim.png", "PNG (*.png)");
+    if (!path.isEmpty()) saveImage(path);
+  }, QKeySequence::Save);
+  file->addSeparator();
+  file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
+
+  QMenu* simulation = menuBar()->addMenu("&Simulation");
+  m_pauseAction = simulation->addAction("&Pause", this, [this](bool on) { setPaused(on); }, Qt::Key_Space);
+  m_pauseAction->setCheckable(true);
+  simulation->addAction("&Reset", this, [this] { resetSimulation(); }, Qt::Key_R);
+  simulation->addAction("Toggle &grasper", this, [this] {
+    m_pose.isGrasping = !m_pose.isGrasping;
+    publishPose();
+  }, Qt::Key_G);
+  simulation->addSeparator();
+  m_softeningAction = simulation->addAction("Stress &softening", this, [this](bool on) { setSoftening(on); });
+  m_softeningAction->setCheckable(true);
+  m_gravityAction = simulation->addAction("Gra&vity", this, [this](bool on) { setGravity(on); });
+  m_gravityAction->setCheckable(true);
+
+  QMenu* view = menuBar()->addMenu("&View");
+  m_colourMapAction = view->addAction("Stretch &colour map", this, [this](bool on) { setColourMap(on); }, Qt::Key_C);
+  m_colourMapAction->setCheckable(true);
+  m_wireframeAction = view->addAction("&Springs", this, [this](bool on) {
+    if (m_view) m_view->setWireframe(on);
+  }, Qt::Key_W);
+  m_wireframeAction->setCheckable(true);
+  view->addAction("Reset &camera", this, [this] {
+    if (m_view) m_view->resetCamera();
+  });
+}
+
+void MainWindow::showError(const QString& title, const QString& text) {
+  // Not modal-blocking: the simulation keeps running behind it (and tests can see it).
+  auto* box = new QMessageBox(QMessageBox::Critical, title, text, QMessageBox::Ok, this);
+  box->setObjectName("errorDialog");
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();
+  statusBar()->showMessage(text, 10000);
+}
+
+bool MainWindow::loadScene(const QString& path) {
+  std::unique_ptr<SceneSession> session;
+  try {
+    session = std::make_unique<SceneSession>(path.toStdString(), std::string(), InstrumentDriver::Live);
+  } catch (const std::exception& error) {
+    showError("Scene refused", error.what());
+    return false;
+  }
+  if (m_loop) m_loop->stop();
+  m_frameTimer.stop();
+  if (m_view) m_renderWindow->RemoveRenderer(m_view->renderer());
+  m_latest = nullptr;
+  m_loop.reset();
+  m_view.reset();
+  m_session = std::move(session);
+  m_scenePath = path;
+  Simulation& simulation = m_session->simulation();
+  const auto& instrument = m_session->scene().instrument;
+  m_view = std::make_unique<TissueSceneView>(simulation.geometry(), simulation.springMesh(),
+                                             instrument ? &*instrument : nullptr);
+  m_view->setColourMap(m_colourMapAction->isChecked());
+  m_view->setWireframe(m_wireframeAction->isChecked());
+  m_renderWindow->AddRenderer(m_view->renderer());
+  m_pose = simulation.instrumentPose();
+  m_softeningAction->setChecked(simulation.isSoftening());
+  m_gravityAction->setChecked(simulation.gravity().squaredNorm() > 0.0);
+  m_forcePlot->clear();
+  updateMaterialChart();
+  m_loop = std::make_unique<RealTimeLoop>(simulation);
+  m_stepsAtWindowStart = 0;
+  m_windowStart_s = m_clock.elapsed() / 1000.0;
+  if (!m_pauseAction->isChecked()) m_loop->start();
+  m_frameTimer.start(kFrameInterval_ms);
+  setWindowTitle("TissueSim - " + QString::fromStdString(m_session->scene().name));
+  renderFrame();
+  return true;
+}
+
+bool MainWindow::loadTissue(const QString& path) {
+  if (!m_session) return false;
+  TissueParameters parameters;
+  try {
+    parameters = loadTissueFile(path.toStdString());
+    // Tables and springs are built before anything running is touched: a tissue that loads
+    // but cannot be tabulated leaves the old one in place as well.
+    const StrainEnergy energy(parameters);
+    const StiffnessTable table(energy);
+  } catch (const std::exception& error) {
+    showError("Tissue refused", error.what());
+    return false;
+  }
+  const bool wasRunning = m_loop->isRunning();
+  m_loop->stop();
+  m_session->simulation().replaceTissue(parameters);
+  if (wasRunning) m_loop->start();
+  updateMaterialChart();
+  statusBar()->showMessage("tissue: " + QString::fromStdString(parameters.name) + " (" + path + ")", 10000);
+  return true;
+}
+
+bool MainWindow::saveImage(const QString& path) {
+  auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
+  grab->SetInput(m_renderWindow);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  try {
+    writePng(grab->GetOutput(), path.toStdString());
+  } catch (const std::exception& error) {
+    showError("Image not saved", error.what());
+    return false;
+  }
+  statusBar()->showMessage("saved " + path, 5000);
+  return true;
+}
+
+void MainWindow::setPaused(bool isPaused) {
+  m_pauseAction->setChecked(isPaused);
+  if (!m_loop) return;
+  if (isPaused) {
+    m_loop->stop();
+  } else {
+    m_loop->start();
+  }
+}
+
+bool MainWindow::isPaused() const { return !m_loop || !m_loop->isRunning(); }
+
+void MainWindow::resetSimulation() {
+  if (!m_session) return;
+  const bool wasRunning = m_loop->isRunning();
+  m_loop->stop();
+  m_session->simulation().reset();
+  m_loop = std::make_unique<RealTimeLoop>(m_session->simulation());  // a fresh first snapshot
+  m_latest = nullptr;
+  m_stepsAtWindowStart = 0;  // the new loop counts from zero
+  m_forcePlot->clear();
+  if (wasRunning) m_loop->start();
+  renderFrame();
+}
+
+void MainWindow::setSoftening(bool isOn) {
+  m_softeningAction->setChecked(isOn);
+  if (!m_session) return;
+  const bool wasRunning = m_loop->isRunning();
+  m_loop->stop();
+  m_session->simulation().setSoftening(isOn);
+  if (wasRunning) m_loop->start();
+}
+
+void MainWindow::setGravity(bool isOn) {
+  m_gravityAction->setChecked(isOn);
+  if (!m_session) return;
+  // The scene's gravity when it has one, else 9.81 m/s^2 down the bundled scenes' -y.
+  Eigen::Vector3d gravity = m_session->scene().gravity_m_s2;
+  if (gravity.squaredNorm() == 0.0) gravity = {0.0, -9.81, 0.0};
+  const bool wasRunning = m_loop->isRunning();
+  m_loop->stop();
+  m_session->simulation().setGravity(isOn ? gravity : Eigen::Vector3d::Zero());
+  if (wasRunning) m_loop->start();
+}
+
+void MainWindow::setColourMap(bool isOn) {
+  m_colourMapAction->setChecked(isOn);
+  if (m_view) m_view->setColourMap(isOn);
+}
+
+void MainWindow::publishPose() {
+  if (m_session && m_session->liveInstrument() != nullptr) m_session->liveInstrument()->setPose(m_pose);
+}
+
+void MainWindow::moveInstrumentToDisplay(int x, int y) {
+  if (!m_view || !m_session || m_session->liveInstrument() == nullptr) return;
+  vtkRenderer* renderer = m_view->renderer();
+  // The tip's depth on screen, then the cursor's point at that depth.
+  renderer->SetWorldPoint(m_pose.tip_m.x(), m_pose.tip_m.y(), m_pose.tip_m.z(), 1.0);
+  renderer->WorldToDisplay();
+  const double depth = renderer->GetDisplayPoint()[2];
+  renderer->SetDisplayPoint(x, y, depth);
+  renderer->DisplayToWorld();
+  const double* world = renderer->GetWorldPoint();
+  if (world[3] == 0.0) return;
+  const Eigen::Vector3d tip(world[0] / world[3], world[1] / world[3], world[2] / world[3]);
+  if (!tip.allFinite()) return;
+  m_pose.tip_m = tip;
+  publishPose();
+}
+
+void MainWindow::pushInstrument(double distance_m) {
+  if (!m_session || m_session->liveInstrument() == nullptr) return;
+  m_pose.tip_m += distance_m * m_pose.direction.normalized();
+  publishPose();
+}
+
+void MainWindow::updateMaterialChart() {
+  if (!m_session) return;
+  // The current tissue's uniaxial cycles, as the `uniaxial` command computes them.
+  const TissueParameters& parameters = m_session->simulation().parameters();
+  const StrainEnergy energy(parameters);
+  const StiffnessTable table(energy);
+  const UniaxialTest test(energy, table);
+  std::vector<double> peaks;
+  for (const double peak : {1.15, 1.23, 1.30}) {
+    if (peak < table.range().upper) peaks.push_back(peak);
+  }
+  std::vector<ChartSeries> series;
+  if (!peaks.empty()) {
+    const std::vector<CurveBranch> curve = test.run(UniaxialModel::Sedf, {peaks, 60});
+    for (const CurveBranch& branch : curve) {
+      // One line per branch (a joined line would draw chords between cycles).
+      const bool isLoading = branch.phase == LoadPhase::Loading;
+      ChartSeries line{std::string(isLoading ? "loading " : "unloading ") + std::to_string(branch.cycle),
+                       {}, {}, isLoading ? std::array<unsigned char, 3>{200, 40, 30}
+                                         : std::array<unsigned char, 3>{30, 90, 200},
+                       false, 2.0f};
+      for (std::size_t i = 0; i < branch.stretch.size(); ++i) {
+        line.x.push_back(branch.stretch[i]);
+        line.y.push_back(branch.stress_Pa[i] / 1000.0);
+      }
+      series.push_back(std::move(line));
+    }
+    // Reloading follows the unloading path below the previous peak (the Mullins model): draw
+    // the unloading lines last so they are not hidden.
+    std::stable_partition(series.begin(), series.end(),
+                          [](const ChartSeries& line) { return line.name.rfind("loading", 0) == 0; });
+  }
+  m_materialChart->chart()->SetTitle(parameters.name + ": loading (red), unloading (blue)");
+  m_materialChart->setLegend(false);
+  m_materialChart->setSeries(series);
+  m_chartWindow->Render();
+}
+
+void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
+  const double now = m_clock.elapsed() / 1000.0;
+  ++m_framesInWindow;
+  if (now - m_windowStart_s >= 0.5) {
+    // Steps taken by the simulation in the window (a reset starts its count again: skip it).
+    m_fps = m_framesInWindow / (now - m_windowStart_s);
+    const long steps = snapshot.step - m_stepsAtWindowStart;
+    if (steps >= 0) m_physicsHz = steps / (now - m_windowStart_s);
+    m_stepsAtWindowStart = snapshot.step;
+    m_framesInWindow = 0;
+    m_windowStart_s = now;
+  }
+  const Simulation& simulation = m_session->simulation();
+  m_statusLabel->setText(QString("%1   physics %2 Hz   %3 fps   %4 springs   tool force %5 N   max stretch %6   t = %7 s   %8 events")
+                             .arg(isPaused() ? "paused" : "running")
+                             .arg(m_physicsHz, 0, 'f', 0)
+                             .arg(m_fps, 0, 'f', 0)
+                             .arg(simulation.springMesh().springCount())
+                             .arg(snapshot.toolForce_N.norm(), 0, 'f', 3)
+                             .arg(snapshot.maxStretch, 0, 'f', 3)
+                             .arg(snapshot.time_s, 0, 'f', 2)
+                             .arg(snapshot.eventCount));
+}
+
+void MainWindow::renderFrame() {
+  if (!m_loop || !m_view) return;
+  const SimulationSnapshot& snapshot = m_loop->snapshot();
+  m_latest = &snapshot;
+  m_view->update(snapshot.positions_m, snapshot.instrument);
+  m_forcePlot->addSample(snapshot.time_s, snapshot.toolForce_N.norm());
+  updateStatus(snapshot);
+  m_renderWindow->Render();
+}
+
+}  // namespace tissuesim::app

@@ -1,0 +1,105 @@
+#pragma once
+// The trainee's and instructor's window: the 3D view (QVTKOpenGLNativeWidget), a live force
+// plot, the tissue's stress-stretch chart (VTK charts), a status bar, and the menus.
+//
+// Threads: the physics runs on RealTimeLoop's thread at the scene's fixed step; a 60 Hz timer
+// here takes the newest snapshot (never waiting for the physics) and renders it. The instrument
+// pose goes the other way through a LiveInstrument. Anything that changes the simulation itself
+// (new tissue, reset, toggles) pauses the loop, changes it, and resumes.
+//
+// Errors (a bad tissue or scene file) open a non-blocking error dialog (object name
+// "errorDialog") and leave the running simulation as it was.
+
+#include <memory>
+
+#include <QElapsedTimer>
+#include <QMainWindow>
+#include <QTimer>
+#include <vtkSmartPointer.h>
+
+#include "CurveChart.h"
+#include "SceneSession.h"
+#include "TissueSceneView.h"
+
+class QAction;
+class QLabel;
+class QVTKOpenGLNativeWidget;
+class vtkGenericOpenGLRenderWindow;
+
+namespace tissuesim::app {
+
+class ForcePlotWidget;
+class InstrumentInteractorStyle;
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+ public:
+  explicit MainWindow(const QString& scenePath, QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  /// Each returns false (after showing the error dialog) when the file is refused.
+  bool loadScene(const QString& path);
+  bool loadTissue(const QString& path);
+  bool saveImage(const QString& path);
+
+  void setPaused(bool isPaused);
+  bool isPaused() const;
+  void resetSimulation();
+  void setSoftening(bool isOn);
+  void setGravity(bool isOn);
+  void setColourMap(bool isOn);
+
+  /// Puts the tool tip under display point (x, y) (pixels, origin bottom-left) at its depth.
+  void moveInstrumentToDisplay(int x, int y);
+  /// Moves the tool along its shaft by `distance_m` (positive: deeper).
+  void pushInstrument(double distance_m);
+  /// Where the tool is now (the GUI's side of the live pose).
+  InstrumentPose instrumentPose() const { return m_pose; }
+
+  /// The newest physics snapshot (refreshed by each frame).
+  const SimulationSnapshot* latestSnapshot() const { return m_latest; }
+  const Simulation* simulation() const { return m_session ? &m_session->simulation() : nullptr; }
+  /// Renders a frame now (the timer does this at 60 Hz).
+  void renderFrame();
+  double framesPerSecond() const { return m_fps; }
+  double physicsHz() const { return m_physicsHz; }
+
+ private:
+  void buildMenus();
+  void buildDocks();
+  void showError(const QString& title, const QString& text);
+  void updateMaterialChart();
+  void updateStatus(const SimulationSnapshot& snapshot);
+  void publishPose();
+
+  std::unique_ptr<SceneSession> m_session;
+  std::unique_ptr<RealTimeLoop> m_loop;
+  std::unique_ptr<TissueSceneView> m_view;
+  std::unique_ptr<CurveChart> m_materialChart;
+  QString m_scenePath;
+
+  QVTKOpenGLNativeWidget* m_vtkWidget = nullptr;
+  QVTKOpenGLNativeWidget* m_chartWidget = nullptr;
+  vtkSmartPointer<vtkGenericOpenGLRenderWindow> m_renderWindow;
+  vtkSmartPointer<vtkGenericOpenGLRenderWindow> m_chartWindow;
+  vtkSmartPointer<InstrumentInteractorStyle> m_style;
+  ForcePlotWidget* m_forcePlot = nullptr;
+  QLabel* m_statusLabel = nullptr;
+  QAction* m_pauseAction = nullptr;
+  QAction* m_softeningAction = nullptr;
+  QAction* m_gravityAction = nullptr;
+  QAction* m_colourMapAction = nullptr;
+  QAction* m_wireframeAction = nullptr;
+
+  QTimer m_frameTimer;
+  QElapsedTimer m_clock;
+  InstrumentPose m_pose;
+  const SimulationSnapshot* m_latest = nullptr;
+  double m_fps = 0.0;
+  double m_physicsHz = 0.0;
+  long m_framesInWindow = 0;
+  long m_stepsAtWindowStart = 0;
+  double m_windowStart_s = 0.0;
+};
+
+}  // namespace tissuesim::app

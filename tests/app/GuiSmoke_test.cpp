@@ -1,0 +1,143 @@
+// The window, driven as a trainee and an instructor would (QTest, under Xvfb when there is no
+// display): start on the bundled scene, push the instrument into the liver with the mouse
+// wheel, see the surface move and no error; load a bad tissue file, see the error dialog and
+// the simulation carry on; load a good one; save an image.
+
+#include <QApplication>
+#include <QMessageBox>
+#include <QSurfaceFormat>
+#include <QTemporaryDir>
+#include <QVTKOpenGLNativeWidget.h>
+#include <QWheelEvent>
+#include <QtTest/QtTest>
+
+#include "HeadlessDisplay.h"
+#include "gui/MainWindow.h"
+
+namespace tissuesim::app {
+
+class GuiSmokeTest : public QObject {
+  Q_OBJECT
+
+ private:
+  std::unique_ptr<MainWindow> m_window;
+  QWidget* view() const { return m_window->findChild<QWidget*>("sceneView"); }
+  long steps() const { return m_window->latestSnapshot() ? m_window->latestSnapshot()->step : 0; }
+  void wheel(int notches) {
+    // What the mouse wheel sends, one notch at a time, to the 3D view.
+    const QPoint centre = view()->rect().center();
+    for (int i = 0; i < std::abs(notches); ++i) {
+      QWheelEvent event(centre, view()->mapToGlobal(centre), QPoint(), QPoint(0, notches > 0 ? 120 : -120),
+                        Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+      QApplication::sendEvent(view(), &event);
+      QTest::qWait(25);
+    }
+  }
+  QMessageBox* errorDialog() const { return m_window->findChild<QMessageBox*>("errorDialog"); }
+
+ private slots:
+  void initTestCase() {
+    m_window = std::make_unique<MainWindow>(QString(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
+    m_window->show();
+    QVERIFY(QTest::qWaitForWindowExposed(m_window.get()));
+    QVERIFY(view() != nullptr);
+    QVERIFY(m_window->simulation() != nullptr);
+    QTRY_VERIFY_WITH_TIMEOUT(steps() > 20, 10000);  // the physics runs on its own
+    QVERIFY(errorDialog() == nullptr);
+  }
+
+  void hoverMovesTheTool() {
+    const Eigen::Vector3d before = m_window->instrumentPose().tip_m;
+    const QPoint target = view()->rect().center() + QPoint(30, 0);
+    QMouseEvent move(QEvent::MouseMove, target, Qt::NoButton, Qt::NoButton, Qt::NoModifier);
+    QApplication::sendEvent(view(), &move);
+    const Eigen::Vector3d after = m_window->instrumentPose().tip_m;
+    QVERIFY2((after - before).norm() > 1e-3, "the tip did not follow the cursor");
+    // Back over the poke point, for the next test.
+    QMouseEvent back(QEvent::MouseMove, view()->rect().center(), Qt::NoButton, Qt::NoButton, Qt::NoModifier);
+    QApplication::sendEvent(view(), &back);
+  }
+
+  void wheelPushesTheToolIntoTheLiver() {
+    m_window->resetSimulation();
+    QTRY_VERIFY_WITH_TIMEOUT(m_window->latestSnapshot() != nullptr, 5000);
+    const Eigen::Matrix3Xd rest = m_window->latestSnapshot()->positions_m;
+    const double startHeight = m_window->instrumentPose().tip_m.y();
+    wheel(20);  // 2 mm a notch, down the shaft: through the 1.7 cm gap and into the liver
+    QVERIFY(m_window->instrumentPose().tip_m.y() < startHeight - 0.03);
+    double force = 0.0;
+    double moved = 0.0;
+    QTRY_VERIFY_WITH_TIMEOUT(
+        (m_window->renderFrame(), force = m_window->latestSnapshot()->toolForce_N.norm(),
+         moved = (m_window->latestSnapshot()->positions_m - rest).colwise().norm().maxCoeff(),
+         force > 0.05 && moved > 1e-3),
+        20000);
+    QVERIFY(errorDialog() == nullptr);
+    QVERIFY(m_window->framesPerSecond() >= 0.0);
+  }
+
+  void aBadTissueFileShowsAnErrorAndTheSimulationGoesOn() {
+    const std::string before = m_window->simulation()->parameters().name;
+    QVERIFY(!m_window->loadTissue(QString(TISSUESIM_TEST_DATA_DIR) + "/tissues/negative-modulus.json"));
+    QMessageBox* dialog = errorDialog();
+    QVERIFY(dialog != nullptr);
+    QVERIFY(dialog->isVisible());
+    QVERIFY(dialog->text().contains("mu_kpa"));
+    QCOMPARE(m_window->simulation()->parameters().name, before);
+    const long stepsThen = steps();
+    QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(), steps() > stepsThen + 20), 10000);
+    dialog->close();
+  }
+
+  void aGoodTissueFileIsApplied() {
+    QVERIFY(m_window->loadTissue(QString(TISSUESIM_TEST_DATA_DIR) + "/tissues/valid-exact-n2.json"));
+    QCOMPARE(QString::fromStdString(m_window->simulation()->parameters().name), QString("test"));
+    const long stepsThen = steps();
+    QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(), steps() > stepsThen + 20), 10000);
+  }
+
+  void aBadSceneKeepsTheOldOne() {
+    const Simulation* before = m_window->simulation();
+    QVERIFY(!m_window->loadScene(QString(TISSUESIM_TEST_DATA_DIR) + "/scenes/unknown-integrator.json"));
+    QCOMPARE(m_window->simulation(), before);
+    if (QMessageBox* dialog = errorDialog()) dialog->close();
+  }
+
+  void pauseStopsThePhysics() {
+    m_window->setPaused(true);
+    QVERIFY(m_window->isPaused());
+    m_window->renderFrame();
+    const long stepsThen = steps();
+    QTest::qWait(200);
+    m_window->renderFrame();
+    QCOMPARE(steps(), stepsThen);
+    m_window->setPaused(false);
+    QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(), steps() > stepsThen), 5000);
+  }
+
+  void savesAnImage() {
+    QTemporaryDir directory;
+    const QString path = directory.filePath("view.png");
+    m_window->setColourMap(true);
+    QVERIFY(m_window->saveImage(path));
+    QVERIFY(QFileInfo(path).size() > 1000);
+    // A picture of the whole window on request (for the README and for looking at it by eye).
+    if (const QString shot = qEnvironmentVariable("TISSUESIM_GUI_SCREENSHOT"); !shot.isEmpty()) {
+      QVERIFY(m_window->grab().save(shot));
+    }
+  }
+
+  void cleanupTestCase() { m_window.reset(); }
+};
+
+}  // namespace tissuesim::app
+
+int main(int argc, char** argv) {
+  const tissuesim::app::HeadlessDisplay display(true);
+  QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+  QApplication application(argc, argv);
+  tissuesim::app::GuiSmokeTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "GuiSmoke_test.moc"

@@ -1,0 +1,97 @@
+// Image regression: the bundled scene rendered offscreen (llvmpipe under Xvfb) against reference
+// PNGs in tests/images. Metric and tolerance: render/ImageComparison.h (a pixel differs when a
+// channel is off by more than 24/255; at most 0.2 % of the pixels may differ). On a failure the
+// actual image and an amplified difference are written to <build>/image-failures/.
+// To re-record the references after an intended change: TISSUESIM_UPDATE_IMAGES=1 ctest -R image
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <vtkImageData.h>
+
+#include "HeadlessDisplay.h"
+#include "ImageComparison.h"
+#include "OffscreenImage.h"
+#include "SceneSession.h"
+#include "TissueSceneView.h"
+
+namespace tissuesim::app {
+namespace {
+
+constexpr int kWidth = 480;
+constexpr int kHeight = 300;
+
+class ImageRegression : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { s_display = std::make_unique<HeadlessDisplay>(true); }
+  static void TearDownTestSuite() { s_display.reset(); }
+
+  /// The bundled poke scene after `frames` frames of 1/60 s, rendered.
+  static vtkSmartPointer<vtkImageData> render(int frames, bool isColourMap) {
+    SceneSession session(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json", "",
+                         InstrumentDriver::Script);
+    Simulation& simulation = session.simulation();
+    const long steps = std::lround(frames / 60.0 / simulation.timeStep_s());
+    for (long n = 0; n < steps; ++n) EXPECT_TRUE(simulation.step().isGood);
+    TissueSceneView view(simulation.geometry(), simulation.springMesh(), &*session.scene().instrument);
+    view.setColourMap(isColourMap);
+    view.update(simulation.state().x, simulation.instrumentPose());
+    return renderOffscreen(view.renderer(), kWidth, kHeight);
+  }
+
+  static std::filesystem::path referencePath(const std::string& name) {
+    return std::filesystem::path(TISSUESIM_TEST_IMAGE_DIR) / (name + ".png");
+  }
+
+  static void expectMatchesReference(const std::string& name, vtkImageData* actual) {
+    const std::filesystem::path reference = referencePath(name);
+    if (const char* update = std::getenv("TISSUESIM_UPDATE_IMAGES"); update != nullptr && std::string(update) == "1") {
+      writePng(actual, reference);
+      GTEST_SKIP() << "recorded " << reference;
+    }
+    ASSERT_TRUE(std::filesystem::exists(reference)) << reference << " is missing";
+    vtkSmartPointer<vtkImageData> diff;
+    const ImageDifference difference = compareImages(actual, readPng(reference), ImageTolerance{}, &diff);
+    if (!difference.matches(ImageTolerance{})) {
+      const std::filesystem::path failures = std::filesystem::path(TISSUESIM_BUILD_DIR) / "image-failures";
+      std::filesystem::create_directories(failures);
+      writePng(actual, failures / (name + "-actual.png"));
+      if (diff) writePng(diff, failures / (name + "-diff.png"));
+      ADD_FAILURE() << name << ": " << difference.describe() << "; actual and diff in " << failures;
+    }
+  }
+
+  static std::unique_ptr<HeadlessDisplay> s_display;
+};
+std::unique_ptr<HeadlessDisplay> ImageRegression::s_display;
+
+TEST_F(ImageRegression, LiverAtRest) { expectMatchesReference("liver-rest", render(0, false)); }
+
+TEST_F(ImageRegression, LiverMidPoke) { expectMatchesReference("liver-mid-poke", render(36, false)); }
+
+TEST_F(ImageRegression, LiverMidPokeColourMap) { expectMatchesReference("liver-mid-poke-colour-map", render(36, true)); }
+
+TEST_F(ImageRegression, RenderingIsDeterministic) {
+  const auto first = render(30, true);
+  const auto second = render(30, true);
+  const ImageDifference difference = compareImages(first, second, ImageTolerance{});
+  EXPECT_TRUE(difference.isSameSize);
+  EXPECT_EQ(difference.differingPixels, 0) << difference.describe();
+  EXPECT_EQ(difference.meanAbsoluteDifference, 0.0);
+}
+
+TEST_F(ImageRegression, TheMetricSeesThePokeAndTheColourMap) {
+  // The tolerance must not hide what the tests are for: a rest image does not pass for the
+  // mid-poke reference, nor a plain one for the colour-mapped one.
+  const auto rest = render(0, false);
+  const auto poke = render(36, false);
+  EXPECT_FALSE(compareImages(rest, poke, ImageTolerance{}).matches(ImageTolerance{}));
+  EXPECT_FALSE(compareImages(poke, render(36, true), ImageTolerance{}).matches(ImageTolerance{}));
+}
+
+}  // namespace
+}  // namespace tissuesim::app
