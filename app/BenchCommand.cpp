@@ -9,6 +9,7 @@
 #include "AssetPaths.h"
 #include "CommandError.h"
 #include "bench/ContactBenchmarks.h"
+#include "bench/RenderBenchmarks.h"
 #include "bench/DynamicsBenchmarks.h"
 #include "bench/MaterialBenchmarks.h"
 
@@ -25,6 +26,7 @@ void runBench(const BenchOptions& options) {
   registerMaterialBenchmarks(options.tissuePath);
   registerDynamicsBenchmarks(options.tissuePath);
   registerContactBenchmarks(options.scenePath);
+  registerRenderBenchmarks(options.scenePath);
   std::vector<std::string> arguments = {"tissuesim bench"};
   arguments.insert(arguments.end(), options.benchmarkArguments.begin(),
                    options.benchmarkArguments.end());

@@ -7,6 +7,7 @@
 #include "CommandError.h"
 #include "CurveChart.h"
 #include "HeadlessDisplay.h"
+#include "ImageSize.h"
 #include "OffscreenImage.h"
 
 namespace tissuesim::app {
@@ -30,9 +31,7 @@ ChartSeries seriesOf(const std::string& name, const std::vector<CurveBranch>& br
 }  // namespace
 
 void checkPlotPath(const std::string& path) {
-  if (path.size() < 5 || path.substr(path.size() - 4) != ".png") {
-    throw CommandError("--plot " + path + ": expected a file name ending in .png");
-  }
+  checkPngOutput(path, "--plot");
 }
 
 void writeCurvePlot(const std::string& path, const std::string& title,

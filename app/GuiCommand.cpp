@@ -2,6 +2,8 @@
 
 #include <cstdlib>
 #include <memory>
+#include <string>
+#include <thread>
 
 #include <QApplication>
 #include <QSurfaceFormat>
@@ -20,6 +22,13 @@ int runGui(const std::string& scenePath, int argc, char** argv) {
     throw CommandError(
         "the window needs an X display and DISPLAY is unset; for a headless check run "
         "'xvfb-run -a tissuesim', for images 'tissuesim snapshot --output FILE.png'");
+  }
+  // Mesa's software renderer takes every core by default; leave one to the physics thread, which
+  // must keep its rate while frames are drawn (measured: Render/PhysicsRate in the benchmark).
+  // A hardware driver ignores this.
+  if (std::getenv("LP_NUM_THREADS") == nullptr) {
+    const unsigned cores = std::thread::hardware_concurrency();
+    ::setenv("LP_NUM_THREADS", std::to_string(cores > 1 ? cores - 1 : 1).c_str(), 0);
   }
   // Before QApplication: the OpenGL context VTK needs (VTK's Qt examples do the same).
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());

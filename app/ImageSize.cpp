@@ -1,6 +1,8 @@
 #include "ImageSize.h"
 
 #include <charconv>
+#include <filesystem>
+#include <fstream>
 
 #include "CommandError.h"
 
@@ -22,6 +24,15 @@ ImageSize parseImageSize(const std::string& text, const std::string& option) {
     throw fail();
   }
   return size;
+}
+
+void checkPngOutput(const std::string& path, const std::string& option) {
+  if (path.size() < 5 || path.substr(path.size() - 4) != ".png") {
+    throw CommandError(option + " " + path + ": expected a file name ending in .png");
+  }
+  const bool existed = std::filesystem::exists(path);
+  if (!std::ofstream(path, std::ios::app)) throw CommandError("cannot write the image " + path);
+  if (!existed) std::filesystem::remove(path);
 }
 
 }  // namespace tissuesim::app

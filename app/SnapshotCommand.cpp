@@ -33,9 +33,7 @@ struct SnapshotOptions {
 };
 
 void takeSnapshot(const SnapshotOptions& options) {
-  if (options.outputPath.size() < 5 || options.outputPath.substr(options.outputPath.size() - 4) != ".png") {
-    throw CommandError("--output " + options.outputPath + ": expected a file name ending in .png");
-  }
+  checkPngOutput(options.outputPath, "--output");
   if (options.frames < 0 || options.frames > 100000) {
     throw CommandError("--frames " + std::to_string(options.frames) + ": expected 0 to 100000");
   }

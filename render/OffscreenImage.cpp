@@ -12,23 +12,39 @@
 
 namespace tissuesim {
 
-vtkSmartPointer<vtkImageData> renderOffscreen(vtkRenderer* renderer, int width, int height) {
-  auto window = vtkSmartPointer<vtkRenderWindow>::New();
-  window->SetOffScreenRendering(1);
-  window->SetMultiSamples(0);  // the same pixels on every run and driver setting
-  window->SetSize(width, height);
-  window->AddRenderer(renderer);
-  window->Render();
+OffscreenWindow::OffscreenWindow(vtkRenderer* renderer, int width, int height)
+    : m_renderer(renderer), m_window(vtkSmartPointer<vtkRenderWindow>::New()) {
+  m_window->SetOffScreenRendering(1);
+  m_window->SetMultiSamples(0);  // the same pixels on every run and driver setting
+  m_window->SetSize(width, height);
+  m_window->AddRenderer(renderer);
+}
+
+OffscreenWindow::~OffscreenWindow() {
+  m_window->RemoveRenderer(m_renderer);
+  m_window->Finalize();
+}
+
+void OffscreenWindow::render() {
+  m_window->Render();
+  m_window->WaitForCompletion();  // glFinish: a timed frame is a drawn frame
+}
+
+vtkSmartPointer<vtkImageData> OffscreenWindow::image() {
   auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
-  grab->SetInput(window);
+  grab->SetInput(m_window);
   grab->SetInputBufferTypeToRGB();
   grab->ReadFrontBufferOff();
   grab->Update();
   auto image = vtkSmartPointer<vtkImageData>::New();
   image->DeepCopy(grab->GetOutput());
-  window->RemoveRenderer(renderer);
-  window->Finalize();
   return image;
+}
+
+vtkSmartPointer<vtkImageData> renderOffscreen(vtkRenderer* renderer, int width, int height) {
+  OffscreenWindow window(renderer, width, height);
+  window.render();
+  return window.image();
 }
 
 void writePng(vtkImageData* image, const std::filesystem::path& path) {

@@ -8,9 +8,26 @@
 #include <vtkSmartPointer.h>
 
 class vtkImageData;
+class vtkRenderWindow;
 class vtkRenderer;
 
 namespace tissuesim {
+
+/// A hidden window kept for many frames (the frame benchmark): render() draws one frame.
+class OffscreenWindow {
+ public:
+  OffscreenWindow(vtkRenderer* renderer, int width, int height);
+  ~OffscreenWindow();
+  OffscreenWindow(const OffscreenWindow&) = delete;
+  OffscreenWindow& operator=(const OffscreenWindow&) = delete;
+  void render();
+  /// The last frame's pixels (RGB, 8 bits).
+  vtkSmartPointer<vtkImageData> image();
+
+ private:
+  vtkRenderer* m_renderer;
+  vtkSmartPointer<vtkRenderWindow> m_window;
+};
 
 /// One offscreen frame of `renderer` at width x height pixels (RGB, 8 bits).
 vtkSmartPointer<vtkImageData> renderOffscreen(vtkRenderer* renderer, int width, int height);
