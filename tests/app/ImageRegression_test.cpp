@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <vtkImageData.h>
 
+#include "CommandError.h"
 #include "HeadlessDisplay.h"
 #include "ImageComparison.h"
 #include "OffscreenImage.h"
@@ -91,6 +92,23 @@ TEST_F(ImageRegression, TheMetricSeesThePokeAndTheColourMap) {
   const auto poke = render(36, false);
   EXPECT_FALSE(compareImages(rest, poke, ImageTolerance{}).matches(ImageTolerance{}));
   EXPECT_FALSE(compareImages(poke, render(36, true), ImageTolerance{}).matches(ImageTolerance{}));
+}
+
+TEST(HeadlessDisplay, SaysHowToInstallXvfbWhenItIsMissing) {
+  // No DISPLAY and no Xvfb on the PATH: a one-line error naming the package, not a crash.
+  const char* display = std::getenv("DISPLAY");
+  const std::string savedDisplay = display != nullptr ? display : "";
+  const std::string savedPath = std::getenv("PATH") != nullptr ? std::getenv("PATH") : "";
+  ::unsetenv("DISPLAY");
+  ::setenv("PATH", "/nonexistent", 1);
+  try {
+    HeadlessDisplay headless(true);
+    ADD_FAILURE() << "expected an error";
+  } catch (const CommandError& error) {
+    EXPECT_NE(std::string(error.what()).find("apt-get install xvfb"), std::string::npos) << error.what();
+  }
+  ::setenv("PATH", savedPath.c_str(), 1);
+  if (!savedDisplay.empty()) ::setenv("DISPLAY", savedDisplay.c_str(), 1);
 }
 
 }  // namespace
