@@ -2,9 +2,13 @@
 
 #include "sim/Simulation.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "CapsuleContact.h"
+#include "mesh/TetMesh.h"
+#include "mesh/TriangleSurface.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim {
@@ -105,6 +109,56 @@ TEST(Simulation, ANewTissueKeepsTheStateAndChangesTheResponse) {
   // than a stiffer one; both must move the force the right way.
   EXPECT_LT(pokeForce(0.25), 0.8 * original);
   EXPECT_GT(pokeForce(4.0), original);
+}
+
+/// The tool at `speed` (m/s) 3 cm into the liver past first touch; per step: touching or not,
+/// and whether the tip is inside the deformed liver (winding number of its boundary > 1/2).
+struct FastPoke {
+  int firstContact = -1;
+  int stepsWithoutContactAfterTouch = 0;
+  int stepsTipInside = 0;
+  int steps = 0;
+};
+FastPoke fastPoke(double speed_m_s) {
+  Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+  const SceneInstrument& tool = *simulation.scene().instrument;
+  const double travel_m = 0.017 + 0.03;  // the 1.7 cm gap above the liver, then 3 cm in
+  const InstrumentScript script =
+      InstrumentScript::poke({tool.tipStart_m, tool.direction}, travel_m, travel_m / speed_m_s);
+  CapsuleContact contact(simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m});
+  simulation.setContactProvider(&contact);
+  simulation.setInstrumentSource(&script);
+  TriangleSurface boundary{simulation.state().x, boundaryFaces(simulation.geometry().mesh)};
+  FastPoke result;
+  result.steps = static_cast<int>(std::lround(travel_m / speed_m_s / simulation.timeStep_s()));
+  for (int n = 0; n < result.steps; ++n) {
+    const StepOutcome outcome = simulation.step();
+    EXPECT_TRUE(outcome.isGood) << n;
+    const bool touching = outcome.contact.toolForce_N.norm() > 0.0;
+    if (touching && result.firstContact < 0) result.firstContact = n;
+    if (result.firstContact >= 0 && !touching) ++result.stepsWithoutContactAfterTouch;
+    boundary.vertices_m = simulation.state().x;
+    result.stepsTipInside += windingNumber(boundary, simulation.instrumentPose().tip_m) > 0.5 ? 1 : 0;
+  }
+  return result;
+}
+
+TEST(Simulation, AFastPokeKeepsContact) {
+  // 0.5 m/s, the issue's top tool speed: 0.5 mm a step against a 2.5 mm shaft radius, so no
+  // step can jump past the surface; once touching, the tool keeps touching all the way in.
+  const FastPoke poke = fastPoke(0.5);
+  ASSERT_GE(poke.firstContact, 0);
+  EXPECT_LT(poke.firstContact, poke.steps / 2);
+  EXPECT_EQ(poke.stepsWithoutContactAfterTouch, 0);
+}
+
+// Fails today, kept so that it runs the day the contact is fixed (--gtest_also_run_disabled_tests):
+// the penalty contact is explicit and soft (300 N/m, capped by stability), so the tip sinks
+// below the deformed surface and the surface wraps the shaft (61 of 94 steps at 0.5 m/s, and
+// the slow default poke too). The remedy, contact stiffness inside the implicit solve, is the
+// first item left on the collision issue.
+TEST(Simulation, DISABLED_AFastPokeKeepsTheTipOutsideTheLiver) {
+  EXPECT_EQ(fastPoke(0.5).stepsTipInside, 0);
 }
 
 TEST(Simulation, SofteningCanBeSwitchedOffWhileRunning) {
