@@ -11,6 +11,7 @@
 
 #include "AssetPaths.h"
 #include "CommandError.h"
+#include "HeadlessDisplay.h"
 #include "gui/MainWindow.h"
 
 namespace tissuesim::app {
@@ -23,13 +24,7 @@ int runGui(const std::string& scenePath, int argc, char** argv) {
         "the window needs an X display and DISPLAY is unset; for a headless check run "
         "'xvfb-run -a tissuesim', for images 'tissuesim snapshot --output FILE.png'");
   }
-  // Mesa's software renderer takes every core by default; leave one to the physics thread, which
-  // must keep its rate while frames are drawn (measured: Render/PhysicsRate in the benchmark).
-  // A hardware driver ignores this.
-  if (std::getenv("LP_NUM_THREADS") == nullptr) {
-    const unsigned cores = std::thread::hardware_concurrency();
-    ::setenv("LP_NUM_THREADS", std::to_string(cores > 1 ? cores - 1 : 1).c_str(), 0);
-  }
+  leaveACoreForPhysics();  // measured: Render/PhysicsRate in the benchmark
   // Before QApplication: the OpenGL context VTK needs (VTK's Qt examples do the same).
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
   QApplication application(argc, argv);

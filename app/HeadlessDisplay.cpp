@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 #include <fcntl.h>
 #include <poll.h>
@@ -32,6 +33,12 @@ std::string findOnPath(const std::string& name) {
 }
 
 }  // namespace
+
+void leaveACoreForPhysics() {
+  if (std::getenv("LP_NUM_THREADS") != nullptr) return;
+  const unsigned cores = std::thread::hardware_concurrency();
+  ::setenv("LP_NUM_THREADS", std::to_string(cores > 1 ? cores - 1 : 1).c_str(), 0);
+}
 
 HeadlessDisplay::HeadlessDisplay(bool isQuiet) {
   if (const char* display = std::getenv("DISPLAY"); display != nullptr && *display != '\0') {

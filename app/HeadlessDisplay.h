@@ -10,6 +10,11 @@
 
 namespace tissuesim::app {
 
+/// Mesa's software renderer (llvmpipe) takes every core by default; this sets LP_NUM_THREADS
+/// (unless the user has) to one fewer than the machine has, so drawing leaves the physics
+/// thread a core. Call before the first OpenGL context. Hardware drivers ignore it.
+void leaveACoreForPhysics();
+
 class HeadlessDisplay {
  public:
   /// Ensures a display. @throws CommandError with what to install or run when it cannot.

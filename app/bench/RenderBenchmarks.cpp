@@ -16,6 +16,7 @@ namespace {
 
 /// Started on the first render benchmark only: a filtered run without them starts no Xvfb.
 void ensureDisplay() {
+  leaveACoreForPhysics();  // as the window does: frames and physics rates are the window's
   static std::unique_ptr<HeadlessDisplay> display;
   if (!display) display = std::make_unique<HeadlessDisplay>(true);
 }
