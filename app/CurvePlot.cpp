@@ -7,7 +7,6 @@
 #include "CommandError.h"
 #include "CurveChart.h"
 #include "HeadlessDisplay.h"
-#include "ImageSize.h"
 #include "OffscreenImage.h"
 
 namespace tissuesim::app {
@@ -30,14 +29,9 @@ ChartSeries seriesOf(const std::string& name, const std::vector<CurveBranch>& br
 
 }  // namespace
 
-void checkPlotPath(const std::string& path) {
-  checkPngOutput(path, "--plot");
-}
-
 void writeCurvePlot(const std::string& path, const std::string& title,
                     const std::vector<std::pair<std::string, std::vector<CurveBranch>>>& models,
                     const std::vector<CurveBranch>& reference) {
-  checkPlotPath(path);
   const HeadlessDisplay display;
   CurveChart chart(title, "stretch lambda", "engineering stress (kPa)");
   static constexpr std::array<std::array<unsigned char, 3>, 3> kColours = {

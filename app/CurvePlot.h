@@ -11,10 +11,8 @@
 
 namespace tissuesim::app {
 
-/// @throws CommandError unless the path ends in .png (call before the work, to fail fast).
-void checkPlotPath(const std::string& path);
-
-/// Renders and writes the chart (900 x 600). @throws CommandError when it cannot be written.
+/// Renders and writes the chart (900 x 600). Callers check the path first, before the work
+/// (checkPngOutput). @throws CommandError when it cannot be written.
 void writeCurvePlot(const std::string& path, const std::string& title,
                     const std::vector<std::pair<std::string, std::vector<CurveBranch>>>& models,
                     const std::vector<CurveBranch>& reference);

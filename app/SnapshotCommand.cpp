@@ -1,26 +1,19 @@
 #include "SnapshotCommand.h"
 
-#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
-
-#include <vtkImageData.h>
 
 #include "AssetPaths.h"
 #include "CommandError.h"
 #include "HeadlessDisplay.h"
 #include "ImageSize.h"
 #include "OffscreenImage.h"
-#include "SceneSession.h"
-#include "TissueSceneView.h"
+#include "SceneSnapshot.h"
 
 namespace tissuesim::app {
 namespace {
-
-/// Frames are at 60 Hz of simulated time: frame N shows the state after N / 60 s.
-constexpr double kFrameRate_Hz = 60.0;
 
 struct SnapshotOptions {
   std::string scenePath;
@@ -37,32 +30,22 @@ void takeSnapshot(const SnapshotOptions& options) {
   if (options.frames < 0 || options.frames > 100000) {
     throw CommandError("--frames " + std::to_string(options.frames) + ": expected 0 to 100000");
   }
-  const ImageSize size = parseImageSize(options.size, "--size");
+  const SnapshotSettings settings{options.frames, parseImageSize(options.size, "--size"),
+                                  options.isColourMap, options.isWireframe};
   // Everything that can be refused is checked before a display is started.
   SceneSession session(options.scenePath, options.scriptPath, InstrumentDriver::Script);
-  Simulation& simulation = session.simulation();
-  const long steps = std::lround(options.frames / kFrameRate_Hz / simulation.timeStep_s());
-  double maxForce = 0.0;
-  for (long n = 0; n < steps; ++n) {
-    const StepOutcome outcome = simulation.step();
-    maxForce = std::max(maxForce, outcome.contact.toolForce_N.norm());
-  }
-
   const HeadlessDisplay display;
-  const auto& instrument = session.scene().instrument;
-  TissueSceneView view(simulation.geometry(), simulation.springMesh(), instrument ? &*instrument : nullptr);
-  view.setColourMap(options.isColourMap);
-  view.setWireframe(options.isWireframe);
-  view.update(simulation.state().x, simulation.instrumentPose());
-  const vtkSmartPointer<vtkImageData> image = renderOffscreen(view.renderer(), size.width, size.height);
+  const SceneSnapshot snapshot = takeSceneSnapshot(session, settings);
   try {
-    writePng(image, options.outputPath);
+    writePng(snapshot.image, options.outputPath);
   } catch (const std::runtime_error& error) {
     throw CommandError(error.what());
   }
+  const Simulation& simulation = session.simulation();
   std::printf("%s: %d frames (%ld steps, t = %.3f s), max tool force %.3f N, %zu instability events; wrote %s (%dx%d)\n",
               session.scene().name.c_str(), options.frames, simulation.steps(), simulation.time_s(),
-              maxForce, simulation.events().size(), options.outputPath.c_str(), size.width, size.height);
+              snapshot.maxToolForce_N, simulation.events().size(), options.outputPath.c_str(),
+              settings.size.width, settings.size.height);
 }
 
 }  // namespace

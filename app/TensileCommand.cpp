@@ -10,6 +10,7 @@
 #include "CommandError.h"
 #include "CurveCsv.h"
 #include "CurvePlot.h"
+#include "ImageSize.h"
 #include "LoadedTissue.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/TensileTest.h"
@@ -71,7 +72,7 @@ void runTensile(const TensileCommandOptions& options) {
     throw CommandError("unknown --integrator '" + integrator +
                        "'; expected static, implicit, quasi-newton or explicit");
   }
-  if (!options.plotPath.empty()) checkPlotPath(options.plotPath);
+  if (!options.plotPath.empty()) checkPngOutput(options.plotPath, "--plot");
   const LoadedTissue tissue(options.tissuePath);
   const StrainEnergy& energy = tissue.energy;
   const StiffnessTable& table = tissue.table;

@@ -8,6 +8,7 @@
 #include "CommandError.h"
 #include "CurveCsv.h"
 #include "CurvePlot.h"
+#include "ImageSize.h"
 #include "LoadedTissue.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialTest.h"
@@ -33,7 +34,7 @@ void runUniaxial(const UniaxialOptions& options) {
     throw CommandError("unknown --model '" + options.modelName + "'; expected one of " +
                        modelNames());
   }
-  if (!options.plotPath.empty()) checkPlotPath(options.plotPath);
+  if (!options.plotPath.empty()) checkPngOutput(options.plotPath, "--plot");
   const LoadedTissue tissue(options.tissuePath);
   const TissueParameters& parameters = tissue.parameters;
   const StrainEnergy& energy = tissue.energy;

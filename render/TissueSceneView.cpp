@@ -259,8 +259,10 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
     m_surfaceStretch->Modified();
   }
   m_surface->Modified();
-  if (m_isWireframe) setPoints(m_springLines->GetPoints(), x);
-  m_springLines->Modified();
+  if (m_isWireframe) {
+    setPoints(m_springLines->GetPoints(), x);
+    m_springLines->Modified();
+  }
 
   if (m_toolTransform) {
     // Tool y axis along -direction (the shaft goes back from the tip).

@@ -9,16 +9,12 @@
 #include "sim/Simulation.h"
 
 namespace tissuesim::app {
-namespace {
 
-/// The scene's probe pressed 5 mm into the liver's highest point.
 InstrumentPose pressedPose(const Simulation& simulation) {
   Eigen::Index top = 0;
   simulation.state().x.row(1).maxCoeff(&top);
   return {simulation.state().x.col(top) - Eigen::Vector3d(0, 0.005, 0), {0, -1, 0}, false};
 }
-
-}  // namespace
 
 void registerContactBenchmarks(const std::string& scenePath) {
   const SceneDescription scene = loadSceneFile(scenePath);

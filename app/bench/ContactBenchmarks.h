@@ -5,7 +5,13 @@
 
 #include <string>
 
+#include "sim/Simulation.h"
+
 namespace tissuesim::app {
+
+/// The scene's probe pressed 5 mm into the liver's highest point (the contact and rendering
+/// benchmarks' fixed load).
+InstrumentPose pressedPose(const Simulation& simulation);
 
 void registerContactBenchmarks(const std::string& scenePath);
 

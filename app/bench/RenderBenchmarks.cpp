@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 
 #include "HeadlessDisplay.h"
+#include "bench/ContactBenchmarks.h"
 #include "OffscreenImage.h"
 #include "SceneSession.h"
 #include "TissueSceneView.h"
@@ -19,13 +20,6 @@ void ensureDisplay() {
   leaveACoreForPhysics();  // as the window does: frames and physics rates are the window's
   static std::unique_ptr<HeadlessDisplay> display;
   if (!display) display = std::make_unique<HeadlessDisplay>(true);
-}
-
-/// The probe pressed into the liver's top, 5 mm below the surface.
-InstrumentPose pressedPose(const Simulation& simulation) {
-  Eigen::Index top = 0;
-  simulation.state().x.row(1).maxCoeff(&top);
-  return {simulation.state().x.col(top) - Eigen::Vector3d(0, 0.005, 0), {0, -1, 0}, false};
 }
 
 void frameBenchmark(benchmark::State& state, const std::string& scenePath, bool isColourMap) {

@@ -25,8 +25,6 @@
 #include "analysis/UniaxialTest.h"
 #include "gui/ForcePlotWidget.h"
 #include "gui/InstrumentInteractorStyle.h"
-#include "material/StiffnessTable.h"
-#include "material/StrainEnergy.h"
 #include "material/TissueFile.h"
 
 namespace tissuesim::app {
@@ -34,6 +32,14 @@ namespace {
 constexpr int kFrameInterval_ms = 16;  ///< about 60 frames per second
 constexpr double kWheelStep_m = 0.002;  ///< tool travel per wheel notch
 }  // namespace
+
+template <typename Change>
+void MainWindow::whilePaused(const Change& change) {
+  const bool wasRunning = m_loop->isRunning();
+  m_loop->stop();
+  change();
+  if (wasRunning) m_loop->start();
+}
 
 MainWindow::MainWindow(const QString& scenePath, QWidget* parent) : QMainWindow(parent) {
   setWindowTitle("TissueSim");
@@ -181,19 +187,12 @@ bool MainWindow::loadTissue(const QString& path) {
   if (!m_session) return false;
   TissueParameters parameters;
   try {
-    parameters = loadTissueFile(path.toStdString());
-    // Tables and springs are built before anything running is touched: a tissue that loads
-    // but cannot be tabulated leaves the old one in place as well.
-    const StrainEnergy energy(parameters);
-    const StiffnessTable table(energy);
+    parameters = loadTissueFile(path.toStdString());  // every check a tissue file gets
   } catch (const std::exception& error) {
     showError("Tissue refused", error.what());
     return false;
   }
-  const bool wasRunning = m_loop->isRunning();
-  m_loop->stop();
-  m_session->simulation().replaceTissue(parameters);
-  if (wasRunning) m_loop->start();
+  whilePaused([&] { m_session->simulation().replaceTissue(parameters); });
   updateMaterialChart();
   statusBar()->showMessage("tissue: " + QString::fromStdString(parameters.name) + " (" + path + ")", 10000);
   return true;
@@ -229,24 +228,19 @@ bool MainWindow::isPaused() const { return !m_loop || !m_loop->isRunning(); }
 
 void MainWindow::resetSimulation() {
   if (!m_session) return;
-  const bool wasRunning = m_loop->isRunning();
-  m_loop->stop();
-  m_session->simulation().reset();
-  m_loop = std::make_unique<RealTimeLoop>(m_session->simulation());  // a fresh first snapshot
-  m_latest = nullptr;
-  m_stepsAtWindowStart = 0;  // the new loop counts from zero
-  m_forcePlot->clear();
-  if (wasRunning) m_loop->start();
+  whilePaused([&] {
+    m_session->simulation().reset();
+    m_loop = std::make_unique<RealTimeLoop>(m_session->simulation());  // a fresh first snapshot
+    m_latest = nullptr;
+    m_forcePlot->clear();
+  });
   renderFrame();
 }
 
 void MainWindow::setSoftening(bool isOn) {
   m_softeningAction->setChecked(isOn);
   if (!m_session) return;
-  const bool wasRunning = m_loop->isRunning();
-  m_loop->stop();
-  m_session->simulation().setSoftening(isOn);
-  if (wasRunning) m_loop->start();
+  whilePaused([&] { m_session->simulation().setSoftening(isOn); });
 }
 
 void MainWindow::setGravity(bool isOn) {
@@ -255,10 +249,7 @@ void MainWindow::setGravity(bool isOn) {
   // The scene's gravity when it has one, else 9.81 m/s^2 down the bundled scenes' -y.
   Eigen::Vector3d gravity = m_session->scene().gravity_m_s2;
   if (gravity.squaredNorm() == 0.0) gravity = {0.0, -9.81, 0.0};
-  const bool wasRunning = m_loop->isRunning();
-  m_loop->stop();
-  m_session->simulation().setGravity(isOn ? gravity : Eigen::Vector3d::Zero());
-  if (wasRunning) m_loop->start();
+  whilePaused([&] { m_session->simulation().setGravity(isOn ? gravity : Eigen::Vector3d::Zero()); });
 }
 
 void MainWindow::setColourMap(bool isOn) {
@@ -296,10 +287,11 @@ void MainWindow::pushInstrument(double distance_m) {
 void MainWindow::updateMaterialChart() {
   if (!m_session) return;
   // The current tissue's uniaxial cycles, as the `uniaxial` command computes them.
-  const TissueParameters& parameters = m_session->simulation().parameters();
-  const StrainEnergy energy(parameters);
-  const StiffnessTable table(energy);
-  const UniaxialTest test(energy, table);
+  // The running simulation's own material and tables: read-only, replaced only while paused.
+  const Simulation& simulation = m_session->simulation();
+  const TissueParameters& parameters = simulation.parameters();
+  const StiffnessTable& table = simulation.table();
+  const UniaxialTest test(simulation.energy(), table);
   std::vector<double> peaks;
   for (const double peak : {1.15, 1.23, 1.30}) {
     if (peak < table.range().upper) peaks.push_back(peak);

@@ -71,6 +71,9 @@ class MainWindow : public QMainWindow {
   void updateMaterialChart();
   void updateStatus(const SimulationSnapshot& snapshot);
   void publishPose();
+  /// Stops the physics loop, applies `change`, and restarts the loop if it was running.
+  template <typename Change>
+  void whilePaused(const Change& change);
 
   std::unique_ptr<SceneSession> m_session;
   std::unique_ptr<RealTimeLoop> m_loop;

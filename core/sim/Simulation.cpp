@@ -45,6 +45,22 @@ Eigen::Vector3d Simulation::gravity() const { return m_system->gravity_m_s2; }
 
 void Simulation::buildPhysics(const TissueParameters& parameters) {
   const SceneDescription& scene = m_scene;
+  // What can refuse the tissue is built first, aside: if it throws, the running physics is
+  // untouched (the window keeps the old tissue after a bad file).
+  auto newParameters = std::make_unique<TissueParameters>(parameters);
+  auto energy = std::make_unique<StrainEnergy>(*newParameters);
+  auto table = std::make_unique<StiffnessTable>(*energy);
+  SpringMesh springMesh = buildSpringMesh(m_geometry.mesh, newParameters->density_kg_m3);
+  // The network's missing Poisson effect: scale V_e so a lattice's small-strain modulus is the
+  // continuum's 3 mu0, measured once on the paper's specimen meshed with the same Kuhn lattice
+  // the bundled meshes use (TensileTest::smallStrainCalibration; about 5.8). A scene can set
+  // its own factor (effects.stiffness_scale) for meshes of another structure.
+  const double stiffnessScale = scene.stiffnessScale > 0.0
+                                    ? scene.stiffnessScale
+                                    : TensileTest(*energy, *table, TensileSpecimen{})
+                                          .smallStrainCalibration(energy->initialShearModulus());
+  springMesh.volume_m3 *= stiffnessScale;
+
   // Dependents first: each holds references into the ones before it.
   m_integrator.reset();
   m_system.reset();
@@ -52,25 +68,16 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   m_springs.reset();
   m_law.reset();
   m_grasp.reset();
-  m_parameters = std::make_unique<TissueParameters>(parameters);
-  m_energy = std::make_unique<StrainEnergy>(*m_parameters);
-  m_table = std::make_unique<StiffnessTable>(*m_energy);
+  m_parameters = std::move(newParameters);
+  m_energy = std::move(energy);
+  m_table = std::move(table);
+  m_stiffnessScale = stiffnessScale;
   // Rebuilt in place: views of the scene keep a reference to the spring mesh across a new tissue.
-  SpringMesh springMesh = buildSpringMesh(m_geometry.mesh, m_parameters->density_kg_m3);
   if (m_springMesh) {
     *m_springMesh = std::move(springMesh);
   } else {
     m_springMesh = std::make_unique<SpringMesh>(std::move(springMesh));
   }
-  // The network's missing Poisson effect: scale V_e so a lattice's small-strain modulus is the
-  // continuum's 3 mu0, measured once on the paper's specimen meshed with the same Kuhn lattice
-  // the bundled meshes use (TensileTest::smallStrainCalibration; about 5.8). A scene can set
-  // its own factor (effects.stiffness_scale) for meshes of another structure.
-  m_stiffnessScale = scene.stiffnessScale > 0.0
-                         ? scene.stiffnessScale
-                         : TensileTest(*m_energy, *m_table, TensileSpecimen{})
-                               .smallStrainCalibration(m_energy->initialShearModulus());
-  m_springMesh->volume_m3 *= m_stiffnessScale;
   const SpringLaw law = scene.springLaw == "eesm-paper" ? SpringLaw::EesmPaper
                         : scene.springLaw == "smm"      ? SpringLaw::Smm
                                                         : SpringLaw::Eesm;

@@ -56,7 +56,8 @@ class Simulation {
   // Changes while running (the caller pauses any loop stepping this simulation first). The
   // state (positions, velocities, time) is kept; the Mullins memory starts afresh, since it
   // belongs to the material that was replaced.
-  /// A new tissue: material, stiffness tables, masses and spring laws rebuilt.
+  /// A new tissue: material, stiffness tables, masses and spring laws rebuilt. If building
+  /// them throws, the simulation is left as it was.
   void replaceTissue(const TissueParameters& parameters);
   /// Stress softening on or off (the scene's effects.softening).
   void setSoftening(bool isOn);
@@ -64,6 +65,9 @@ class Simulation {
   void setGravity(const Eigen::Vector3d& gravity_m_s2);
   Eigen::Vector3d gravity() const;
   const TissueParameters& parameters() const { return *m_parameters; }
+  /// The current tissue's material and tables (replaced only by replaceTissue/setSoftening).
+  const StrainEnergy& energy() const { return *m_energy; }
+  const StiffnessTable& table() const { return *m_table; }
 
   double time_s() const { return m_time_s; }
   long steps() const { return m_steps; }

@@ -4,7 +4,6 @@
 // actual image and an amplified difference are written to <build>/image-failures/.
 // To re-record the references after an intended change: TISSUESIM_UPDATE_IMAGES=1 ctest -R image
 
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -18,7 +17,7 @@
 #include "ImageComparison.h"
 #include "OffscreenImage.h"
 #include "SceneSession.h"
-#include "TissueSceneView.h"
+#include "SceneSnapshot.h"
 
 namespace tissuesim::app {
 namespace {
@@ -31,17 +30,13 @@ class ImageRegression : public ::testing::Test {
   static void SetUpTestSuite() { s_display = std::make_unique<HeadlessDisplay>(true); }
   static void TearDownTestSuite() { s_display.reset(); }
 
-  /// The bundled poke scene after `frames` frames of 1/60 s, rendered.
+  /// The bundled poke scene after `frames` frames of 1/60 s, rendered as `snapshot` does.
   static vtkSmartPointer<vtkImageData> render(int frames, bool isColourMap) {
     SceneSession session(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json", "",
                          InstrumentDriver::Script);
-    Simulation& simulation = session.simulation();
-    const long steps = std::lround(frames / 60.0 / simulation.timeStep_s());
-    for (long n = 0; n < steps; ++n) EXPECT_TRUE(simulation.step().isGood);
-    TissueSceneView view(simulation.geometry(), simulation.springMesh(), &*session.scene().instrument);
-    view.setColourMap(isColourMap);
-    view.update(simulation.state().x, simulation.instrumentPose());
-    return renderOffscreen(view.renderer(), kWidth, kHeight);
+    const SceneSnapshot snapshot = takeSceneSnapshot(session, {frames, {kWidth, kHeight}, isColourMap, false});
+    EXPECT_EQ(snapshot.badSteps, 0);
+    return snapshot.image;
   }
 
   static std::filesystem::path referencePath(const std::string& name) {

@@ -14,6 +14,21 @@
 namespace tissuesim {
 namespace {
 
+/// The bundled liver scene with FCL contact and the probe pushed `depth_m` along its axis over
+/// `pressTime_s` (then back): what every test here steps.
+struct ScriptedPoke {
+  Simulation simulation{loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json")};
+  const SceneInstrument& tool = *simulation.scene().instrument;
+  InstrumentScript script;
+  CapsuleContact contact{simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m}};
+
+  ScriptedPoke(double depth_m, double pressTime_s)
+      : script(InstrumentScript::poke({tool.tipStart_m, tool.direction}, depth_m, pressTime_s)) {
+    simulation.setContactProvider(&contact);
+    simulation.setInstrumentSource(&script);
+  }
+};
+
 struct PokeRun {
   std::vector<double> forces;
   Eigen::Matrix3Xd finalPositions;
@@ -21,12 +36,8 @@ struct PokeRun {
 };
 
 PokeRun poke(int steps) {
-  Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
-  const SceneInstrument& tool = *simulation.scene().instrument;
-  const InstrumentScript script = InstrumentScript::poke({tool.tipStart_m, tool.direction}, 0.04, 1.0);
-  CapsuleContact contact(simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m});
-  simulation.setContactProvider(&contact);
-  simulation.setInstrumentSource(&script);
+  ScriptedPoke scene(0.04, 1.0);
+  Simulation& simulation = scene.simulation;
   PokeRun run;
   for (int n = 0; n < steps; ++n) {
     const StepOutcome outcome = simulation.step();
@@ -78,12 +89,8 @@ TEST(Simulation, ANewTissueKeepsTheStateAndChangesTheResponse) {
   // The instructor loads a stiffer tissue mid-run, before the tool touches: positions stay,
   // and the same poke then meets a harder liver.
   const auto pokeForce = [](double stiffening) {
-    Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
-    const SceneInstrument& tool = *simulation.scene().instrument;
-    const InstrumentScript script = InstrumentScript::poke({tool.tipStart_m, tool.direction}, 0.04, 1.0);
-    CapsuleContact contact(simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m});
-    simulation.setContactProvider(&contact);
-    simulation.setInstrumentSource(&script);
+    ScriptedPoke scene(0.04, 1.0);
+    Simulation& simulation = scene.simulation;
     for (int n = 0; n < 100; ++n) EXPECT_TRUE(simulation.step().isGood);
     if (stiffening != 1.0) {
       const SpringMesh* springMesh = &simulation.springMesh();
@@ -120,14 +127,9 @@ struct FastPoke {
   int steps = 0;
 };
 FastPoke fastPoke(double speed_m_s) {
-  Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
-  const SceneInstrument& tool = *simulation.scene().instrument;
   const double travel_m = 0.017 + 0.03;  // the 1.7 cm gap above the liver, then 3 cm in
-  const InstrumentScript script =
-      InstrumentScript::poke({tool.tipStart_m, tool.direction}, travel_m, travel_m / speed_m_s);
-  CapsuleContact contact(simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m});
-  simulation.setContactProvider(&contact);
-  simulation.setInstrumentSource(&script);
+  ScriptedPoke scene(travel_m, travel_m / speed_m_s);
+  Simulation& simulation = scene.simulation;
   TriangleSurface boundary{simulation.state().x, boundaryFaces(simulation.geometry().mesh)};
   FastPoke result;
   result.steps = static_cast<int>(std::lround(travel_m / speed_m_s / simulation.timeStep_s()));
