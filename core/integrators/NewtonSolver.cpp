@@ -74,12 +74,12 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
                  (m_cholesky.vectorD().array() > 0.0).all();
       if (isSolved) m_step = m_cholesky.solve(m_rhs);
     } else {
-      m_cg.setTolerance(m_linearTolerance);  // inexact Newton: the outer iteration tightens the rest
-      m_cg.setMaxIterations(static_cast<Eigen::Index>(3 * x.cols()));
-      m_cg.compute(m_matrix->matrix());
-      m_step = m_cg.solve(m_rhs);
-      report.linearIterations += static_cast<int>(m_cg.iterations());
-      isSolved = m_cg.info() == Eigen::Success || m_cg.error() < std::max(1e-6, m_linearTolerance);
+      // Inexact Newton: the outer iteration tightens the rest.
+      m_cg.setThreadPool(system.springs().threadPool());
+      const ConjugateGradientReport cg = m_cg.solve(*m_matrix, m_rhs, m_step, m_linearTolerance,
+                                                    static_cast<int>(3 * x.cols()));
+      report.linearIterations += cg.iterations;
+      isSolved = cg.converged || cg.relativeResidual < std::max(1e-6, m_linearTolerance);
     }
     if ((!isSolved || !m_step.allFinite()) && isExact) {
       isExact = false;  // indefinite: fall back to the PSD projection

@@ -13,12 +13,13 @@
 // (raised tenfold each time, relaxed after a good step); the solve stops, unconverged, when even
 // a vanishing gradient step gives no descent (a kink in the force, say) and reports it. Linear solves: sparse Cholesky (Eigen
 // SimplicialLDLT, symbolic analysis once per pattern) or conjugate gradients (Jacobi
-// preconditioner).
+// preconditioner, BlockConjugateGradient: on the springs' thread pool when they have one).
 
 #include <memory>
 
 #include <Eigen/SparseCholesky>
-#include <Eigen/IterativeLinearSolvers>
+
+#include "numerics/BlockConjugateGradient.h"
 
 #include "integrators/TimeIntegrator.h"
 
@@ -57,7 +58,7 @@ class NewtonSolver {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
   // Jacobi (diagonal) preconditioning: a 3x3 block-Jacobi one was tried and saved 2-6 % of the
   // CG iterations at dt = 1 ms (the mass term dominates), less than its cost.
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> m_cg;
+  BlockConjugateGradient m_cg;
   bool m_isPatternAnalysed = false;
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;
   Eigen::VectorXd m_rhs, m_step;

@@ -6,18 +6,22 @@
 
 namespace tissuesim {
 
-NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi& edges)
-    : m_neighbours(static_cast<std::size_t>(nodeCount)) {
-  for (Eigen::Index v = 0; v < nodeCount; ++v) m_neighbours[static_cast<std::size_t>(v)].push_back(static_cast<int>(v));
+NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi& edges) {
+  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(nodeCount));
+  for (Eigen::Index v = 0; v < nodeCount; ++v) neighbours[static_cast<std::size_t>(v)].push_back(static_cast<int>(v));
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
-    m_neighbours[static_cast<std::size_t>(edges(0, e))].push_back(edges(1, e));
-    m_neighbours[static_cast<std::size_t>(edges(1, e))].push_back(edges(0, e));
+    neighbours[static_cast<std::size_t>(edges(0, e))].push_back(edges(1, e));
+    neighbours[static_cast<std::size_t>(edges(1, e))].push_back(edges(0, e));
   }
   Eigen::Index nonZeros = 0;
-  for (auto& list : m_neighbours) {
+  m_neighbourStart.reserve(static_cast<std::size_t>(nodeCount) + 1);
+  m_neighbourStart.push_back(0);
+  for (auto& list : neighbours) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
     nonZeros += 9 * static_cast<Eigen::Index>(list.size());
+    m_neighbourIndex.insert(m_neighbourIndex.end(), list.begin(), list.end());
+    m_neighbourStart.push_back(static_cast<int>(m_neighbourIndex.size()));
   }
   const Eigen::Index size = 3 * nodeCount;
   m_matrix.resize(size, size);
@@ -27,35 +31,37 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
     for (int c = 0; c < 3; ++c) {
       const Eigen::Index column = 3 * j + c;
       m_matrix.startVec(column);
-      for (const int i : m_neighbours[static_cast<std::size_t>(j)]) {
+      for (const int i : neighbours[static_cast<std::size_t>(j)]) {
         for (int r = 0; r < 3; ++r) m_matrix.insertBack(3 * i + r, column) = 0.0;
       }
     }
   }
   m_matrix.finalize();
+  m_diagonalStart.reserve(static_cast<std::size_t>(nodeCount));
+  for (Eigen::Index j = 0; j < nodeCount; ++j) m_diagonalStart.push_back(blockStart(static_cast<int>(j), static_cast<int>(j)));
   m_edgeSlots.reserve(static_cast<std::size_t>(edges.cols()));
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
     const int a = edges(0, e);
     const int b = edges(1, e);
     m_edgeSlots.push_back({blockStart(a, a), blockStart(b, b), blockStart(a, b), blockStart(b, a),
-                           3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(a)].size()),
-                           3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(b)].size())});
+                           blockStride(a), blockStride(b)});
   }
 }
 
 Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
-  const auto& list = m_neighbours[static_cast<std::size_t>(j)];
-  const auto found = std::lower_bound(list.begin(), list.end(), i);
-  if (found == list.end() || *found != i) {
+  const auto first = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j)];
+  const auto last = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j) + 1];
+  const auto found = std::lower_bound(first, last, i);
+  if (found == last || *found != i) {
     throw std::logic_error("NodeBlockMatrix: nodes " + std::to_string(i) + " and " +
                            std::to_string(j) + " share no edge");
   }
-  return m_matrix.outerIndexPtr()[3 * j] + 3 * (found - list.begin());
+  return m_matrix.outerIndexPtr()[3 * j] + 3 * (found - first);
 }
 
 void NodeBlockMatrix::addBlock(int i, int j, const Eigen::Matrix3d& block) {
   const Eigen::Index start = blockStart(i, j);
-  const Eigen::Index stride = 3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(j)].size());
+  const Eigen::Index stride = blockStride(j);
   double* values = m_matrix.valuePtr();
   for (int c = 0; c < 3; ++c) {
     for (int r = 0; r < 3; ++r) values[start + c * stride + r] += block(r, c);
@@ -70,8 +76,8 @@ void NodeBlockMatrix::addEdgeStiffness(int a, int b, const Eigen::Matrix3d& k) {
 }
 
 void NodeBlockMatrix::addToDiagonal(int i, double value) {
-  const Eigen::Index start = blockStart(i, i);
-  const Eigen::Index stride = 3 * static_cast<Eigen::Index>(m_neighbours[static_cast<std::size_t>(i)].size());
+  const Eigen::Index start = m_diagonalStart[static_cast<std::size_t>(i)];
+  const Eigen::Index stride = blockStride(i);
   double* values = m_matrix.valuePtr();
   for (int c = 0; c < 3; ++c) values[start + c * stride + c] += value;
 }

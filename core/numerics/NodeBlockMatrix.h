@@ -54,12 +54,52 @@ class NodeBlockMatrix {
   /// y = A x (both 3#V).
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const { y.noalias() = m_matrix * x; }
 
+  /// Rows 3j .. 3j+2 of y = A x for the nodes j in [begin, end) only, block by block: by
+  /// symmetry row 3j+c is column 3j+c, whose neighbour blocks are contiguous, so the loop reads
+  /// one neighbour index per 3x3 block. Disjoint node ranges can run on different threads.
+  void multiplyNodes(Eigen::Index begin, Eigen::Index end, const double* x, double* y) const {
+    const double* values = m_matrix.valuePtr();
+    const int* outer = m_matrix.outerIndexPtr();
+    for (Eigen::Index j = begin; j < end; ++j) {
+      const int first = m_neighbourStart[static_cast<std::size_t>(j)];
+      const int count = m_neighbourStart[static_cast<std::size_t>(j) + 1] - first;
+      const double* column = values + outer[3 * j];
+      const Eigen::Index stride = 3 * static_cast<Eigen::Index>(count);
+      double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+      for (int p = 0; p < count; ++p) {
+        const double* xi = x + 3 * static_cast<Eigen::Index>(m_neighbourIndex[static_cast<std::size_t>(first + p)]);
+        const double* block = column + 3 * p;
+        y0 += block[0] * xi[0] + block[1] * xi[1] + block[2] * xi[2];
+        y1 += block[stride] * xi[0] + block[stride + 1] * xi[1] + block[stride + 2] * xi[2];
+        y2 += block[2 * stride] * xi[0] + block[2 * stride + 1] * xi[1] + block[2 * stride + 2] * xi[2];
+      }
+      y[3 * j] = y0;
+      y[3 * j + 1] = y1;
+      y[3 * j + 2] = y2;
+    }
+  }
+
+  /// The diagonal entry of DOF 3j + c.
+  double diagonal(Eigen::Index j, int c) const {
+    return m_matrix.valuePtr()[m_diagonalStart[static_cast<std::size_t>(j)] + c * (blockStride(static_cast<int>(j)) + 1)];
+  }
+
+  /// #V.
+  Eigen::Index nodeCount() const { return static_cast<Eigen::Index>(m_neighbourStart.size()) - 1; }
+  /// Stored values in the columns of nodes [0, j): a cost measure for cutting node ranges.
+  Eigen::Index valuesBefore(Eigen::Index j) const { return m_matrix.outerIndexPtr()[3 * j]; }
+
   const Eigen::SparseMatrix<double>& matrix() const { return m_matrix; }
   /// #E, the constructor's edge count.
   Eigen::Index edgeCount() const { return static_cast<Eigen::Index>(m_edgeSlots.size()); }
 
  private:
   Eigen::Index blockStart(int i, int j) const;
+  /// Values between column c and c + 1 of a block in node j's columns: 3 x j's neighbour count.
+  Eigen::Index blockStride(int j) const {
+    return 3 * static_cast<Eigen::Index>(m_neighbourStart[static_cast<std::size_t>(j) + 1] -
+                                         m_neighbourStart[static_cast<std::size_t>(j)]);
+  }
 
   /// Where edge (a, b)'s four blocks start in the value array; column c of a block in node j's
   /// columns is `stride` values after column c - 1.
@@ -69,7 +109,11 @@ class NodeBlockMatrix {
   };
 
   Eigen::SparseMatrix<double> m_matrix;
-  std::vector<std::vector<int>> m_neighbours;  ///< per node, sorted, itself included
+  // Per node j, its neighbours (sorted, j included) are m_neighbourIndex[m_neighbourStart[j] ..
+  // m_neighbourStart[j + 1]).
+  std::vector<int> m_neighbourStart;  ///< #V + 1
+  std::vector<int> m_neighbourIndex;
+  std::vector<Eigen::Index> m_diagonalStart;  ///< per node j, where block (j, j) starts
   std::vector<EdgeSlots> m_edgeSlots;          ///< per edge of the constructor's list
   std::vector<char> m_fixedFlags;              ///< the flags m_fixedEntries were listed for
   std::vector<Eigen::Index> m_fixedEntries;    ///< values zeroed by applyFixedDofs

@@ -43,6 +43,8 @@ class SpringForceField {
   /// Runs the spring passes on `pool` (which must outlive this object), or on the calling
   /// thread when null (the default). Not thread-safe itself: one caller at a time.
   void setThreadPool(ForkJoinPool* pool) { m_pool = pool; }
+  /// The pool set above (null: none); the implicit solvers run their linear solves on it too.
+  ForkJoinPool* threadPool() const { return m_pool; }
 
   /// forces (3 by #V, N) += spring forces at positions x (3 by #V, m).
   SpringFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces) const;

@@ -1,0 +1,141 @@
+#include "numerics/BlockConjugateGradient.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tissuesim {
+
+void BlockConjugateGradient::resize(const NodeBlockMatrix& a) {
+  const Eigen::Index nodes = a.nodeCount();
+  m_nodeCount = nodes;
+  for (Eigen::VectorXd* v : {&m_inverseDiagonal, &m_r, &m_z, &m_p, &m_q}) v->resize(3 * nodes);
+  // Cut where the stored values (the product's work) reach p / kParts of the total.
+  const Eigen::Index total = a.valuesBefore(nodes);
+  m_bounds[0] = 0;
+  Eigen::Index j = 0;
+  for (int p = 1; p < kParts; ++p) {
+    while (j < nodes && a.valuesBefore(j) * kParts < total * p) ++j;
+    m_bounds[static_cast<std::size_t>(p)] = j;
+  }
+  m_bounds[kParts] = nodes;
+}
+
+template <typename Pass>
+void BlockConjugateGradient::forEachPart(Pass& pass) {
+  const auto runPart = [&](int p) {
+    pass(static_cast<std::size_t>(p), m_bounds[static_cast<std::size_t>(p)],
+         m_bounds[static_cast<std::size_t>(p) + 1]);
+  };
+  const int threads = m_pool != nullptr ? m_pool->threadCount() : 1;
+  if (threads <= 1) {
+    for (int p = 0; p < kParts; ++p) runPart(p);
+    return;
+  }
+  auto task = [&](int thread) {
+    for (int p = thread; p < kParts; p += threads) runPart(p);
+  };
+  m_pool->run(task);
+}
+
+namespace {
+/// The parts' partial sums in part order: the same whatever thread computed each part.
+template <std::size_t N>
+double sumInOrder(const std::array<double, N>& partial) {
+  double sum = 0.0;
+  for (const double value : partial) sum += value;
+  return sum;
+}
+}  // namespace
+
+ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
+                                                      const Eigen::VectorXd& b,
+                                                      Eigen::VectorXd& x, double tolerance,
+                                                      int maxIterations) {
+  if (m_nodeCount != a.nodeCount()) resize(a);
+  if (x.size() != b.size()) x.resize(b.size());
+  ConjugateGradientReport report;
+  double* const xs = x.data();
+  const double* const bs = b.data();
+  double* const r = m_r.data();
+  double* const z = m_z.data();
+  double* const p = m_p.data();
+  double* const q = m_q.data();
+  double* const inverseDiagonal = m_inverseDiagonal.data();
+
+  // x = 0, r = b, z = M^-1 r, p = z; partial sums of b.b and r.z.
+  auto start = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
+    double bb = 0.0, rz = 0.0;
+    for (Eigen::Index j = first; j < last; ++j) {
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::Index d = 3 * j + c;
+        const double diagonal = a.diagonal(j, c);
+        inverseDiagonal[d] = diagonal != 0.0 ? 1.0 / diagonal : 1.0;  // as Eigen's Jacobi
+        xs[d] = 0.0;
+        r[d] = bs[d];
+        z[d] = inverseDiagonal[d] * r[d];
+        p[d] = z[d];
+        bb += bs[d] * bs[d];
+        rz += r[d] * z[d];
+      }
+    }
+    m_dotA[part] = bb;
+    m_dotB[part] = rz;
+  };
+  forEachPart(start);
+  const double bNorm2 = sumInOrder(m_dotA);
+  if (bNorm2 == 0.0) {
+    report.converged = true;
+    return report;
+  }
+  const double threshold = std::max(tolerance * tolerance * bNorm2,
+                                    std::numeric_limits<double>::min());
+  double rz = sumInOrder(m_dotB);
+  double alpha = 0.0, beta = 0.0;
+
+  // q = A p on the part's rows; partial p.q.
+  auto product = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
+    a.multiplyNodes(first, last, p, q);
+    double pq = 0.0;
+    for (Eigen::Index d = 3 * first; d < 3 * last; ++d) pq += p[d] * q[d];
+    m_dotA[part] = pq;
+  };
+  // x += alpha p, r -= alpha q, z = M^-1 r; partial r.r and r.z.
+  auto update = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
+    double rr = 0.0, rzPart = 0.0;
+    for (Eigen::Index d = 3 * first; d < 3 * last; ++d) {
+      xs[d] += alpha * p[d];
+      r[d] -= alpha * q[d];
+      z[d] = inverseDiagonal[d] * r[d];
+      rr += r[d] * r[d];
+      rzPart += r[d] * z[d];
+    }
+    m_dotA[part] = rr;
+    m_dotB[part] = rzPart;
+  };
+  // p = z + beta p.
+  auto direction = [&](std::size_t, Eigen::Index first, Eigen::Index last) {
+    for (Eigen::Index d = 3 * first; d < 3 * last; ++d) p[d] = z[d] + beta * p[d];
+  };
+
+  double residualNorm2 = bNorm2;
+  while (report.iterations < maxIterations) {
+    forEachPart(product);
+    const double pq = sumInOrder(m_dotA);
+    if (!(pq > 0.0)) break;  // not positive definite along p (or NaN): give up, unconverged
+    alpha = rz / pq;
+    forEachPart(update);
+    ++report.iterations;
+    residualNorm2 = sumInOrder(m_dotA);
+    if (!(residualNorm2 >= threshold)) break;  // converged, or NaN (reported below)
+    const double rzNext = sumInOrder(m_dotB);
+    beta = rzNext / rz;
+    rz = rzNext;
+    forEachPart(direction);
+  }
+  report.relativeResidual = std::sqrt(residualNorm2 / bNorm2);
+  report.converged = residualNorm2 < threshold;
+  return report;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,142 @@
+#include "numerics/BlockConjugateGradient.h"
+
+#include <random>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <gtest/gtest.h>
+
+namespace tissuesim {
+namespace {
+
+/// A lattice of nx x ny x nz nodes joined to their axis neighbours: a spring network's pattern.
+Eigen::Matrix2Xi latticeEdges(int nx, int ny, int nz) {
+  std::vector<int> pairs;
+  const auto id = [&](int i, int j, int k) { return i + nx * (j + ny * k); };
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        if (i + 1 < nx) pairs.insert(pairs.end(), {id(i, j, k), id(i + 1, j, k)});
+        if (j + 1 < ny) pairs.insert(pairs.end(), {id(i, j, k), id(i, j + 1, k)});
+        if (k + 1 < nz) pairs.insert(pairs.end(), {id(i, j, k), id(i, j, k + 1)});
+      }
+  return Eigen::Map<Eigen::Matrix2Xi>(pairs.data(), 2, static_cast<Eigen::Index>(pairs.size() / 2));
+}
+
+/// Random positive semi-definite edge blocks (B B^T, N/m) plus a small mass term on the
+/// diagonal: symmetric positive definite, badly enough conditioned to need tens of iterations.
+NodeBlockMatrix randomSpdMatrix(const Eigen::Matrix2Xi& edges, int nodes, unsigned seed) {
+  NodeBlockMatrix matrix(nodes, edges);
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    Eigen::Matrix3d b;
+    for (int c = 0; c < 9; ++c) b.data()[c] = uniform(random);
+    const Eigen::Matrix3d k = 100.0 * b * b.transpose();
+    matrix.addEdgeStiffness(e, k.data());
+  }
+  for (int i = 0; i < nodes; ++i) matrix.addToDiagonal(i, 0.5 + 0.25 * (1.0 + uniform(random)));
+  return matrix;
+}
+
+Eigen::VectorXd randomVector(Eigen::Index size, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::VectorXd v(size);
+  for (Eigen::Index i = 0; i < size; ++i) v[i] = uniform(random);
+  return v;
+}
+
+TEST(NodeBlockMatrix, BlockProductMatchesTheSparseProduct) {
+  const Eigen::Matrix2Xi edges = latticeEdges(5, 4, 3);
+  const NodeBlockMatrix a = randomSpdMatrix(edges, 60, 1);
+  const Eigen::VectorXd x = randomVector(180, 2);
+  Eigen::VectorXd y = Eigen::VectorXd::Constant(180, 7.0);
+  a.multiplyNodes(0, 25, x.data(), y.data());
+  a.multiplyNodes(25, 60, x.data(), y.data());
+  const Eigen::VectorXd expected = a.matrix() * x;
+  EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+  EXPECT_EQ(a.diagonal(7, 2), a.matrix().coeff(23, 23));
+}
+
+TEST(BlockConjugateGradient, SolvesToTheToleranceLikeEigensConjugateGradient) {
+  const Eigen::Matrix2Xi edges = latticeEdges(8, 6, 5);
+  const int nodes = 240;
+  NodeBlockMatrix a = randomSpdMatrix(edges, nodes, 3);
+  std::vector<char> fixed(3 * nodes, 0);
+  for (int d = 0; d < 12; ++d) fixed[static_cast<std::size_t>(d)] = 1;  // clamped DOFs too
+  a.applyFixedDofs(fixed);
+  Eigen::VectorXd b = randomVector(3 * nodes, 4);
+  for (int d = 0; d < 12; ++d) b[d] = 0.0;
+
+  BlockConjugateGradient cg;
+  Eigen::VectorXd x;
+  const ConjugateGradientReport report = cg.solve(a, b, x, 1e-8, 1000);
+  EXPECT_TRUE(report.converged);
+  const double residual = (b - a.matrix() * x).norm() / b.norm();
+  EXPECT_LE(residual, 1e-8);
+  EXPECT_NEAR(report.relativeResidual, residual, 1e-9);  // the recurrence tracks the true one
+
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> eigenCg;
+  eigenCg.setTolerance(1e-8);
+  eigenCg.compute(a.matrix());
+  const Eigen::VectorXd expected = eigenCg.solve(b);
+  EXPECT_GT(report.iterations, 10);
+  EXPECT_NEAR(report.iterations, static_cast<int>(eigenCg.iterations()), 1);
+  EXPECT_LT((x - expected).norm(), 1e-6 * expected.norm());
+}
+
+TEST(BlockConjugateGradient, ResultsDoNotDependOnTheThreadCount) {
+  const Eigen::Matrix2Xi edges = latticeEdges(10, 7, 6);
+  const int nodes = 420;
+  const NodeBlockMatrix a = randomSpdMatrix(edges, nodes, 5);
+  const Eigen::VectorXd b = randomVector(3 * nodes, 6);
+  BlockConjugateGradient serial;
+  Eigen::VectorXd expected;
+  const ConjugateGradientReport expectedReport = serial.solve(a, b, expected, 1e-10, 2000);
+  ASSERT_TRUE(expectedReport.converged);
+  for (const int threads : {2, 4}) {
+    ForkJoinPool pool(threads);
+    BlockConjugateGradient parallel;
+    parallel.setThreadPool(&pool);
+    Eigen::VectorXd x;
+    for (int repeat = 0; repeat < 2; ++repeat) {  // the scratch is reused between solves
+      const ConjugateGradientReport report = parallel.solve(a, b, x, 1e-10, 2000);
+      EXPECT_EQ(report.iterations, expectedReport.iterations) << threads << " threads";
+      EXPECT_EQ((x - expected).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
+    }
+  }
+}
+
+TEST(BlockConjugateGradient, ReportsAnUnconvergedSolve) {
+  const Eigen::Matrix2Xi edges = latticeEdges(6, 5, 4);
+  const NodeBlockMatrix a = randomSpdMatrix(edges, 120, 7);
+  const Eigen::VectorXd b = randomVector(360, 8);
+  BlockConjugateGradient cg;
+  Eigen::VectorXd x;
+  const ConjugateGradientReport capped = cg.solve(a, b, x, 1e-10, 3);
+  EXPECT_EQ(capped.iterations, 3);
+  EXPECT_FALSE(capped.converged);
+  EXPECT_GT(capped.relativeResidual, 1e-10);
+  EXPECT_NEAR(capped.relativeResidual, (b - a.matrix() * x).norm() / b.norm(), 1e-9);
+
+  // Negative definite: no positive curvature along the first direction.
+  NodeBlockMatrix negative(120, edges);
+  for (int i = 0; i < 120; ++i) negative.addToDiagonal(i, -1.0);
+  const ConjugateGradientReport indefinite = cg.solve(negative, b, x, 1e-10, 100);
+  EXPECT_FALSE(indefinite.converged);
+  EXPECT_TRUE(x.allFinite());
+}
+
+TEST(BlockConjugateGradient, ZeroRightHandSideGivesZero) {
+  const Eigen::Matrix2Xi edges = latticeEdges(3, 3, 3);
+  const NodeBlockMatrix a = randomSpdMatrix(edges, 27, 9);
+  BlockConjugateGradient cg;
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(81);
+  const ConjugateGradientReport report = cg.solve(a, Eigen::VectorXd::Zero(81), x, 1e-8, 100);
+  EXPECT_TRUE(report.converged);
+  EXPECT_EQ(report.iterations, 0);
+  EXPECT_EQ(x.cwiseAbs().maxCoeff(), 0.0);
+}
+
+}  // namespace
+}  // namespace tissuesim
