@@ -6,15 +6,20 @@
 // current positions every step (never rebuilt), collided with the capsule (libccd's GJK/EPA
 // where FCL uses it) to find the triangles it touches.
 //
-// Response: penalty with damping per touched triangle, along its outward normal n:
-//   f = -(k delta + c v.n) n on the tissue, delta = r - (height of the capsule axis above the
-//   triangle's plane), spread to the triangle's corners by barycentric weights.
-// The penalty is explicit in time, so k is bounded by stability: k dt^2 / m_node < 1. With the
-// liver's node masses (~1 g) at 1 ms that allows about 1,000 N/m; we use 300 N/m per triangle,
-// so a 1 N push over three or more triangles penetrates about 1 mm (the stated tolerance).
-// The reaction on the instrument is minus the sum, and the torque about the tip; that is what a
-// haptic device would render. Tunnelling: the tool moves 0.5 mm a step at 0.5 m/s, a fifth of
-// its radius, so nodes are always caught inside before they can pass through.
+// Response: one penalty contact (PenaltyContacts.h) per touched triangle, along its outward
+// normal n at the start of the step: the axis point c nearest the triangle's centroid must stay
+// at least r above the triangle's plane, so the triangle point s under c (barycentric weights w)
+// is held below the plane n . y = n . c - r with stiffness k. The integrator evaluates it at its
+// trial states; with the implicit integrators k enters the Newton matrix, so it can be stiff:
+// 10^4 N/m per triangle (a 1.7 N push over one triangle penetrates 0.17 mm). It used to be an
+// explicit force, capped near 1,000 N/m by stability; at 300 N/m the 2.5 mm tip sank below the
+// surface and the surface wrapped the shaft instead of being carried ahead of the tip. The
+// explicit integrator substeps for it (its stability bound includes the contacts).
+// Triangles within half a radius of touching are added too, inactive until the tissue reaches
+// them inside the step. Damping: none in the contact itself; the integrator's mass damping and
+// implicit Euler's dissipation take it.
+// Tunnelling: the tool moves 0.5 mm a step at 0.5 m/s, a fifth of its radius, so a triangle is
+// always caught before it could pass the tip.
 
 #include <memory>
 
@@ -27,8 +32,7 @@ namespace tissuesim {
 struct CapsuleContactSettings {
   double radius_m = 0.0025;
   double length_m = 0.3;
-  double stiffness_N_m = 300.0;      ///< penalty k per triangle
-  double damping_N_s_m = 0.5;        ///< c per triangle
+  double stiffness_N_m = 1e4;  ///< penalty k per triangle
 };
 
 class CapsuleContact final : public ContactProvider {
@@ -37,8 +41,8 @@ class CapsuleContact final : public ContactProvider {
   CapsuleContact(const TetMesh& mesh, CapsuleContactSettings settings);
   ~CapsuleContact() override;
 
-  ContactResult addContactForces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
-                                 const InstrumentPose& pose, Eigen::Matrix3Xd& forces) override;
+  void findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
+                    PenaltyContactSet& contacts) override;
 
   Eigen::Index boundaryTriangleCount() const { return m_faces.cols(); }
 

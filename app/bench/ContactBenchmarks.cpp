@@ -23,13 +23,14 @@ void registerContactBenchmarks(const std::string& scenePath) {
     CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
     const InstrumentPose pose = pressedPose(simulation);
     Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, simulation.state().x.cols());
-    int contacts = 0;
+    PenaltyContactSet contacts;
     for (auto _ : state) {
-      const ContactResult result = contact.addContactForces(simulation.state().x, simulation.state().v, pose, forces);
-      contacts = result.contactNodes;
-      benchmark::DoNotOptimize(result.toolForce_N);
+      contacts.clear();
+      contact.findContacts(simulation.state().x, pose, contacts);
+      contacts.addForces(simulation.state().x, forces);
+      benchmark::DoNotOptimize(forces.data());
     }
-    state.counters["contacts"] = contacts;
+    state.counters["contacts"] = static_cast<double>(contacts.contacts().size());
     state.counters["boundary_triangles"] = static_cast<double>(contact.boundaryTriangleCount());
   })->Unit(benchmark::kMicrosecond);
 

@@ -32,10 +32,11 @@ void MechanicalSystem::releaseAll() {
   ++m_constraintRevision;
 }
 
-void MechanicalSystem::addExternalAndZeroFixed(Eigen::Matrix3Xd& f) const {
+void MechanicalSystem::addExternalAndZeroFixed(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
   const Eigen::VectorXd& mass = mesh().nodeMass_kg;
   for (Eigen::Index i = 0; i < f.cols(); ++i) f.col(i) += mass[i] * gravity_m_s2;
   f += externalForces_N;
+  contacts.addForces(x, f);
   double* flat = f.data();
   for (std::size_t d = 0; d < m_isFixed.size(); ++d) {
     if (m_isFixed[d] != 0) flat[d] = 0.0;
@@ -47,7 +48,7 @@ ForceReport MechanicalSystem::forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd
   ForceReport report;
   report.springs = m_springs.addForces(x, f);
   if (m_volume != nullptr) report.volume = m_volume->addForces(x, f, nullptr);
-  addExternalAndZeroFixed(f);
+  addExternalAndZeroFixed(x, f);
   return report;
 }
 
@@ -63,7 +64,8 @@ ForceReport MechanicalSystem::forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, 
       for (int i = 0; i < 4; ++i) nodeStiffness[mesh().tets(i, t)] += bound;
     }
   }
-  addExternalAndZeroFixed(f);
+  contacts.addNodeStiffness(x, nodeStiffness);
+  addExternalAndZeroFixed(x, f);
   return report;
 }
 
@@ -92,7 +94,8 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
       }
     }
   }
-  addExternalAndZeroFixed(f);
+  contacts.addStiffness(x, stiffness);
+  addExternalAndZeroFixed(x, f);
   return report;
 }
 

@@ -1,11 +1,12 @@
 #pragma once
 // The mechanical system the integrators advance: lumped masses M (kg), internal forces of the
-// spring network and the optional volume term, gravity, external forces (contacts, set by the
-// caller each step) and fixed degrees of freedom (clamps and prescribed motion: a fixed DOF
+// spring network and the optional volume term, gravity, the instrument's penalty contacts
+// (evaluated at every trial state, with their stiffness in K), external forces (the grasp, set
+// by the caller each step) and fixed degrees of freedom (clamps and prescribed motion: a fixed DOF
 // keeps whatever value the caller puts in the state).
 //
-//   f(x) = f_springs(x) + f_volume(x) + M g + f_ext                                     (N)
-//   K(x) = -df/dx, PSD-projected per spring and Gauss-Newton per tet                  (N/m)
+//   f(x) = f_springs(x) + f_volume(x) + f_contacts(x) + M g + f_ext                      (N)
+//   K(x) = -df/dx, PSD-projected per spring, Gauss-Newton per tet, exact for contacts  (N/m)
 //
 // Forces on fixed DOFs are zeroed; so are their rows and columns of K (identity diagonal).
 
@@ -14,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "integrators/PenaltyContacts.h"
 #include "numerics/NodeBlockMatrix.h"
 #include "springs/SpringForceField.h"
 #include "springs/VolumeForceField.h"
@@ -55,6 +57,7 @@ class MechanicalSystem {
 
   Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();
   Eigen::Matrix3Xd externalForces_N;  ///< 3 by #V, zero unless a caller sets it
+  PenaltyContactSet contacts;         ///< empty unless a caller sets them (each step)
 
   /// f (3 by #V) overwritten with the total force at x.
   ForceReport forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const;
@@ -74,7 +77,7 @@ class MechanicalSystem {
   double totalEnergy(const MechanicalState& state) const;
 
  private:
-  void addExternalAndZeroFixed(Eigen::Matrix3Xd& f) const;
+  void addExternalAndZeroFixed(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const;
 
   SpringForceField& m_springs;
   const VolumeForceField* m_volume;

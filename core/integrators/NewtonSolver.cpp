@@ -23,6 +23,12 @@ double NewtonSolver::residual(const MechanicalSystem& system, const Eigen::Matri
                               Eigen::Matrix3Xd& r, ForceReport* report) {
   const ForceReport forces = system.forces(x, m_force);
   if (report != nullptr) *report = forces;
+  return residualFromForce(system, x, xHat, inertiaWeight, r);
+}
+
+double NewtonSolver::residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                                       const Eigen::Matrix3Xd& xHat, double inertiaWeight,
+                                       Eigen::Matrix3Xd& r) const {
   const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
   const std::vector<char>& fixed = system.fixedDofs();
   for (Eigen::Index i = 0; i < x.cols(); ++i) {
@@ -52,11 +58,19 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
   const double rho = regularization;
   double shift = 0.0;  // Levenberg-Marquardt shift (N/m), relative to K's largest diagonal entry
   bool isExact = m_kind == LinearSolverKind::Cholesky;
-  report.residual_N = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
+  // The first iteration's stiffness comes with the initial residual's forces, in one pass.
+  bool isMatrixCurrent = maxIterations > 0;
+  if (isMatrixCurrent) {
+    report.forces = system.forcesAndStiffness(x, m_force, *m_matrix, /*isProjected=*/!isExact);
+    report.residual_N = residualFromForce(system, x, xHat, inertiaWeight, m_r);
+  } else {
+    report.residual_N = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
+  }
   while (report.residual_N > tolerance_N && report.iterations < maxIterations &&
          std::isfinite(report.residual_N)) {
     ++report.iterations;
-    system.forcesAndStiffness(x, m_force, *m_matrix, /*isProjected=*/!isExact);
+    if (!isMatrixCurrent) system.forcesAndStiffness(x, m_force, *m_matrix, /*isProjected=*/!isExact);
+    isMatrixCurrent = false;  // the shift and constraints below change it in place
     for (Eigen::Index i = 0; i < x.cols(); ++i) {
       m_matrix->addToDiagonal(static_cast<int>(i), (inertiaWeight + rho) * mass[i] + shift);
     }

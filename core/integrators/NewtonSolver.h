@@ -49,6 +49,10 @@ class NewtonSolver {
   double residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
                   const Eigen::Matrix3Xd& xHat, double inertiaWeight, Eigen::Matrix3Xd& r,
                   ForceReport* report);
+  /// r from the forces already in m_force (those at x).
+  double residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                           const Eigen::Matrix3Xd& xHat, double inertiaWeight,
+                           Eigen::Matrix3Xd& r) const;
   void prepare(const MechanicalSystem& system);
 
   LinearSolverKind m_kind;

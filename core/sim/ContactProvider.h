@@ -1,10 +1,14 @@
 #pragma once
-// The engine's view of collision: given node positions and the instrument's pose, add contact
-// forces to the nodes and return the reaction on the instrument. collision/ implements it with
-// FCL; the engine runs and tests without it (no provider: no contact).
+// The engine's view of collision: given node positions and the instrument's pose, find where
+// the instrument touches (or is about to touch) the tissue, as penalty contacts frozen for the
+// coming step (PenaltyContacts.h); the integrator evaluates them at its trial states.
+// collision/ implements it with FCL; the engine runs and tests without it (no provider: no
+// contact).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
+
+#include "integrators/PenaltyContacts.h"
 
 namespace tissuesim {
 
@@ -16,19 +20,13 @@ struct InstrumentPose {
   bool isGrasping = false;  ///< the grasper's jaws closed: hold the surface nodes at the tip
 };
 
-struct ContactResult {
-  Eigen::Vector3d toolForce_N = Eigen::Vector3d::Zero();    ///< on the instrument
-  Eigen::Vector3d toolTorque_Nm = Eigen::Vector3d::Zero();  ///< on the instrument, about the tip
-  double maxPenetration_m = 0.0;
-  int contactNodes = 0;  ///< contact points (triangles or nodes) pushing
-};
-
 class ContactProvider {
  public:
   virtual ~ContactProvider() = default;
-  /// forces (3 by #V, N) += contact forces at positions x (3 by #V, m), velocities v (m/s).
-  virtual ContactResult addContactForces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
-                                         const InstrumentPose& pose, Eigen::Matrix3Xd& forces) = 0;
+  /// Adds to `contacts` the contacts between the tissue at positions x (3 by #V, m) and the
+  /// instrument at `pose` (the pose at the end of the coming step).
+  virtual void findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
+                            PenaltyContactSet& contacts) = 0;
 };
 
 }  // namespace tissuesim

@@ -148,11 +148,17 @@ StepOutcome Simulation::step() {
   const double next = m_time_s + m_timeStep_s;
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
   m_system->externalForces_N.setZero();
-  if (m_contact != nullptr && m_scene.instrument) {
-    outcome.contact = m_contact->addContactForces(m_state.x, m_state.v, m_pose, m_system->externalForces_N);
-  }
+  m_system->contacts.clear();
+  if (m_contact != nullptr && m_scene.instrument) m_contact->findContacts(m_state.x, m_pose, m_system->contacts);
   if (m_grasp) m_grasp->apply(m_state.x, m_state.v, m_pose, m_system->externalForces_N, outcome.contact);
   outcome.integrator = m_integrator->step(*m_system, m_state, m_timeStep_s);
+  // What the instrument feels: the contacts at the state the step reached (the last good one
+  // after a failed step), plus the grasp's pull.
+  const ContactResult pushed = m_system->contacts.reaction(m_state.x, m_pose.tip_m);
+  outcome.contact.toolForce_N += pushed.toolForce_N;
+  outcome.contact.toolTorque_Nm += pushed.toolTorque_Nm;
+  outcome.contact.maxPenetration_m = pushed.maxPenetration_m;
+  outcome.contact.contactNodes += pushed.contactNodes;
   outcome.isGood = !outcome.integrator.refused && outcome.integrator.isFinite;
   outcome.maxStretch = outcome.integrator.forces.springs.maxStretch;
 

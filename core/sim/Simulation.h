@@ -3,8 +3,9 @@
 // spring mesh -> (contacts in) integration -> state out. What the scene does not name is not
 // built: no volume term unless asked, no contact without an instrument and a ContactProvider.
 //
-// Each step: the instrument pose at t + dt from the InstrumentSource, contact forces from the
-// ContactProvider (penalty, explicit in time), one integrator step. Instabilities (refused or
+// Each step: the instrument pose at t + dt from the InstrumentSource, the contacts it makes from
+// the ContactProvider (penalty terms the integrator evaluates at its trial states: implicit
+// with the implicit integrators), the grasp's pull, one integrator step. Instabilities (refused or
 // non-finite steps, Newton not converged, springs past locking, collapsed springs, inverted
 // tets) are detected every step and recorded as events when they start; a refused or
 // non-finite step leaves the last good state in place, so the simulation stays usable.

@@ -11,14 +11,23 @@ namespace {
 class CapsuleContactTest : public ::testing::Test {
  protected:
   TetMesh m_block = makeBlockMesh({0.04, 0.04, 0.02}, {8, 8, 4});
-  CapsuleContact m_contact{m_block, {0.0025, 0.1, 300.0, 0.0}};
-  Eigen::Matrix3Xd m_velocities = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
+  CapsuleContact m_contact{m_block, {0.0025, 0.1, 300.0}};
 
-  ContactResult pressTo(double tipHeight, Eigen::Matrix3Xd* forces = nullptr) {
-    Eigen::Matrix3Xd local = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
-    Eigen::Matrix3Xd& f = forces != nullptr ? *forces : local;
-    return m_contact.addContactForces(m_block.nodes_m, m_velocities, {{0.02, 0.02, tipHeight}, {0, 0, -1}}, f);
+  /// The contacts found with the probe's tip at `tip`, evaluated on `x` (the block at rest by
+  /// default): the reaction on the tool, and the forces on the nodes into `forces`.
+  ContactResult press(const Eigen::Vector3d& tip, Eigen::Matrix3Xd* forces = nullptr,
+                      const Eigen::Matrix3Xd* x = nullptr) {
+    const Eigen::Matrix3Xd& at = x != nullptr ? *x : m_block.nodes_m;
+    PenaltyContactSet contacts;
+    m_contact.findContacts(at, {tip, {0, 0, -1}}, contacts);
+    if (forces != nullptr) contacts.addForces(at, *forces);
+    m_found = static_cast<int>(contacts.contacts().size());
+    return contacts.reaction(at, tip);
   }
+  ContactResult pressTo(double tipHeight, Eigen::Matrix3Xd* forces = nullptr) {
+    return press({0.02, 0.02, tipHeight}, forces);
+  }
+  int m_found = 0;  ///< contacts found by the last press, active or not
 };
 
 TEST_F(CapsuleContactTest, NoForceBeforeContact) {
@@ -26,6 +35,9 @@ TEST_F(CapsuleContactTest, NoForceBeforeContact) {
   const ContactResult above = pressTo(0.021);
   EXPECT_EQ(above.contactNodes, 0);
   EXPECT_EQ(above.toolForce_N.norm(), 0.0);
+  EXPECT_GT(m_found, 0);  // 1 mm above: found, to activate if the tissue comes up in the step
+  pressTo(0.0215);
+  EXPECT_EQ(m_found, 0);  // past the half-radius margin: nothing
 }
 
 TEST_F(CapsuleContactTest, ForceRisesMonotonicallyWithDepthAndPushesTheToolBack) {
@@ -46,8 +58,7 @@ TEST_F(CapsuleContactTest, ForceRisesMonotonicallyWithDepthAndPushesTheToolBack)
 TEST_F(CapsuleContactTest, AProbeBetweenNodesIsCaughtByTheFace) {
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
   // Nodes every 5 mm; a 2.5 mm probe centred between four of them.
-  const ContactResult result =
-      m_contact.addContactForces(m_block.nodes_m, m_velocities, {{0.0225, 0.0225, 0.019}, {0, 0, -1}}, forces);
+  const ContactResult result = press({0.0225, 0.0225, 0.019}, &forces);
   EXPECT_GT(result.contactNodes, 0);
   EXPECT_GT(result.toolForce_N.z(), 0.0);
   EXPECT_NEAR(result.maxPenetration_m, 0.001, 1e-9);
@@ -57,8 +68,8 @@ TEST_F(CapsuleContactTest, RefitFollowsTheDeformedSurface) {
   Eigen::Matrix3Xd lowered = m_block.nodes_m;
   lowered.row(2).array() -= 0.005;  // the whole block 5 mm lower
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, m_block.nodeCount());
-  EXPECT_EQ(m_contact.addContactForces(lowered, m_velocities, {{0.02, 0.02, 0.018}, {0, 0, -1}}, forces).contactNodes, 0);
-  EXPECT_GT(m_contact.addContactForces(lowered, m_velocities, {{0.02, 0.02, 0.014}, {0, 0, -1}}, forces).contactNodes, 0);
+  EXPECT_EQ(press({0.02, 0.02, 0.018}, &forces, &lowered).contactNodes, 0);
+  EXPECT_GT(press({0.02, 0.02, 0.014}, &forces, &lowered).contactNodes, 0);
 }
 
 }  // namespace

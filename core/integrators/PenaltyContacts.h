@@ -1,0 +1,70 @@
+#pragma once
+// Instrument contacts as penalty terms that the integrators evaluate at every trial state, so
+// that an implicit step carries the contact's stiffness in its Newton matrix and the penalty
+// can be stiff (10^4 N/m and more) where an explicit penalty is capped by stability.
+//
+// Each contact is frozen for one step by the collision code: a point on the tissue
+//   s(x) = sum_k w_k x_k                      (m; a surface triangle's corners, weights >= 0)
+// that must stay below the plane n . y = offset (n the surface's outward normal, unit):
+//   delta(x) = n . s(x) - offset             penetration (m), active when > 0
+//   E = k delta^2 / 2,   f_k = -k delta w_k n (N),   K_ij = k w_i w_j n n^T (N/m)
+// An inactive contact (delta <= 0 at the trial state) adds nothing; a contact found a little
+// before touching activates inside the step if the tissue reaches it. The reaction on the
+// instrument is minus the sum of f_k, and its torque is taken about the tip. Nodes of one
+// contact must be joined by springs (a surface triangle's corners are, being tet edges).
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
+
+#include "numerics/NodeBlockMatrix.h"
+
+namespace tissuesim {
+
+/// What the instrument feels (a haptic device renders force and torque) and how deep it is.
+struct ContactResult {
+  Eigen::Vector3d toolForce_N = Eigen::Vector3d::Zero();    ///< on the instrument
+  Eigen::Vector3d toolTorque_Nm = Eigen::Vector3d::Zero();  ///< on the instrument, about the tip
+  double maxPenetration_m = 0.0;
+  int contactNodes = 0;  ///< contact points (triangles or nodes) pushing
+};
+
+struct PenaltyContact {
+  std::array<int, 3> nodes{};
+  Eigen::Vector3d weights = Eigen::Vector3d::Zero();  ///< barycentric, summing to 1
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, out of the tissue
+  double offset_m = 0.0;
+  double stiffness_N_m = 0.0;
+
+  Eigen::Vector3d point(const Eigen::Matrix3Xd& x) const {
+    return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) + weights[2] * x.col(nodes[2]);
+  }
+  double penetration(const Eigen::Matrix3Xd& x) const { return normal.dot(point(x)) - offset_m; }
+};
+
+class PenaltyContactSet {
+ public:
+  PenaltyContactSet() { m_contacts.reserve(256); }  // a step's contacts fit without allocating
+
+  void clear() { m_contacts.clear(); }
+  void add(const PenaltyContact& contact) { m_contacts.push_back(contact); }
+  bool empty() const { return m_contacts.empty(); }
+  const std::vector<PenaltyContact>& contacts() const { return m_contacts; }
+
+  /// forces (3 by #V, N) += the active contacts' forces at x.
+  void addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces) const;
+  /// stiffness += the active contacts' blocks k w_i w_j n n^T at x.
+  void addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix& stiffness) const;
+  /// nodeStiffness (#V) += each active contact's row norm k w_i (sum_j w_j) at its nodes.
+  void addNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::VectorXd& nodeStiffness) const;
+  /// The reaction on the instrument at x (force, torque about tip_m, deepest penetration,
+  /// active contacts).
+  ContactResult reaction(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m) const;
+
+ private:
+  std::vector<PenaltyContact> m_contacts;
+};
+
+}  // namespace tissuesim
