@@ -85,7 +85,7 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
     }
     // penetration = r - u . (s(x) - c) = n . s(x) - offset with n = -u.
     contacts.add({{ia, ib, ic}, closest.weights, -away, -(radius + away.dot(onAxis)),
-                  m_settings.stiffness_N_m});
+                  m_settings.stiffness_N_m, m_settings.damping_N_s_m});
   }
 }
 

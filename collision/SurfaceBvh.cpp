@@ -5,7 +5,7 @@
 #include <vector>
 
 #include <fcl/fcl.h>
-#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <fcl/narrowphase/detail/gjk_solver_indep.h>
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
@@ -18,8 +18,10 @@ struct SurfaceBvh::Impl {
   std::shared_ptr<fcl::BVHModel<fcl::AABBd>> model;
   std::vector<fcl::Triangle> faces;
   // Kept between steps so a query allocates nothing: the capsule, the solver, the result.
+  // FCL's own GJK (GST_INDEP), not libccd's: libccd's MPR test loops forever on some touching
+  // configurations (FCL issue #243, libccd #7); it hung here on a quasi-Newton poke of the liver.
   std::unique_ptr<fcl::Capsuled> capsule;
-  fcl::detail::GJKSolver_libccd<double> solver;
+  fcl::detail::GJKSolver_indep<double> solver;
   fcl::CollisionResultd result;
   std::vector<fcl::Vector3d> points;
   int vertexCount = 0;
@@ -51,8 +53,10 @@ SurfaceBvh::SurfaceBvh(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
   copyVertices(vertices, m_impl->points);
   std::vector<fcl::Triangle> faces;
   // Kept between steps so a query allocates nothing: the capsule, the solver, the result.
+  // FCL's own GJK (GST_INDEP), not libccd's: libccd's MPR test loops forever on some touching
+  // configurations (FCL issue #243, libccd #7); it hung here on a quasi-Newton poke of the liver.
   std::unique_ptr<fcl::Capsuled> capsule;
-  fcl::detail::GJKSolver_libccd<double> solver;
+  fcl::detail::GJKSolver_indep<double> solver;
   fcl::CollisionResultd result;
   faces.reserve(static_cast<std::size_t>(triangles.rows()));
   for (Eigen::Index i = 0; i < triangles.rows(); ++i) {
@@ -89,6 +93,8 @@ CapsuleSurfaceDistance SurfaceBvh::distanceTo(const Capsule& capsule) const {
   distanceModel->endModel();
   const fcl::CollisionObjectd surface(distanceModel, fcl::Transform3d::Identity());
   fcl::DistanceRequestd request(/*enable_nearest_points=*/true);
+  // libccd's GJK here: FCL's own distance is off by micrometres (tested); the hang of the
+  // intersection test (below) is in libccd's MPR, which a distance query does not use.
   request.gjk_solver_type = fcl::GJKSolverType::GST_LIBCCD;
   fcl::DistanceResultd result;
   // Mesh first: FCL then reports the triangle in b1 and the mesh's point first.
@@ -111,7 +117,7 @@ void SurfaceBvh::touchedTriangles(const Capsule& capsule, std::vector<int>& tria
   // fcl::collide copies an AABB model on every call (it does so for every BV type but the
   // oriented ones); driving the traversal ourselves, with the mesh at identity, avoids that.
   using Node = fcl::detail::MeshShapeCollisionTraversalNode<fcl::AABBd, fcl::Capsuled,
-                                                            fcl::detail::GJKSolver_libccd<double>>;
+                                                            fcl::detail::GJKSolver_indep<double>>;
   Node node;
   fcl::Transform3d identity = fcl::Transform3d::Identity();
   const fcl::CollisionRequestd request(static_cast<std::size_t>(m_impl->triangleCount), false);

@@ -32,11 +32,12 @@ void MechanicalSystem::releaseAll() {
   ++m_constraintRevision;
 }
 
-void MechanicalSystem::addExternalAndZeroFixed(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
+// x: where the contacts are evaluated; null leaves them out.
+void MechanicalSystem::addExternalAndZeroFixed(const Eigen::Matrix3Xd* x, Eigen::Matrix3Xd& f) const {
   const Eigen::VectorXd& mass = mesh().nodeMass_kg;
   for (Eigen::Index i = 0; i < f.cols(); ++i) f.col(i) += mass[i] * gravity_m_s2;
   f += externalForces_N;
-  contacts.addForces(x, f);
+  if (x != nullptr) contacts.addForces(*x, f);
   double* flat = f.data();
   for (std::size_t d = 0; d < m_isFixed.size(); ++d) {
     if (m_isFixed[d] != 0) flat[d] = 0.0;
@@ -48,7 +49,7 @@ ForceReport MechanicalSystem::forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd
   ForceReport report;
   report.springs = m_springs.addForces(x, f);
   if (m_volume != nullptr) report.volume = m_volume->addForces(x, f, nullptr);
-  addExternalAndZeroFixed(x, f);
+  addExternalAndZeroFixed(&x, f);
   return report;
 }
 
@@ -64,8 +65,7 @@ ForceReport MechanicalSystem::forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, 
       for (int i = 0; i < 4; ++i) nodeStiffness[mesh().tets(i, t)] += bound;
     }
   }
-  contacts.addNodeStiffness(x, nodeStiffness);
-  addExternalAndZeroFixed(x, f);
+  addExternalAndZeroFixed(nullptr, f);
   return report;
 }
 
@@ -95,7 +95,7 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
     }
   }
   contacts.addStiffness(x, stiffness);
-  addExternalAndZeroFixed(x, f);
+  addExternalAndZeroFixed(&x, f);
   return report;
 }
 

@@ -61,7 +61,8 @@ class MechanicalSystem {
 
   /// f (3 by #V) overwritten with the total force at x.
   ForceReport forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const;
-  /// The same, with nodeStiffness (#V) = sum of ||K_e|| per node (explicit stability bound).
+  /// The same, with nodeStiffness (#V) = sum of ||K_e|| per node (explicit stability bound),
+  /// and without the contacts: the explicit integrator applies them itself, as impulses.
   ForceReport forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                      Eigen::VectorXd& nodeStiffness) const;
   /// The same, and K (made by makeMatrix()) overwritten with the internal stiffness (fixed DOFs not yet applied):
@@ -77,7 +78,7 @@ class MechanicalSystem {
   double totalEnergy(const MechanicalState& state) const;
 
  private:
-  void addExternalAndZeroFixed(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const;
+  void addExternalAndZeroFixed(const Eigen::Matrix3Xd* x, Eigen::Matrix3Xd& f) const;
 
   SpringForceField& m_springs;
   const VolumeForceField* m_volume;

@@ -14,6 +14,32 @@ void PenaltyContactSet::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f
   }
 }
 
+void PenaltyContactSet::applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& mass_kg,
+                                      const std::vector<char>& isFixed, double h,
+                                      Eigen::Matrix3Xd& v) const {
+  for (const PenaltyContact& c : m_contacts) {
+    std::array<double, 3> inverseMass{};
+    double compliance = 0.0;  // 1 / m_e = sum_k w_k^2 / m_k
+    for (int k = 0; k < 3; ++k) {
+      const int node = c.nodes[static_cast<std::size_t>(k)];
+      const auto dof = static_cast<std::size_t>(3 * node);
+      const bool isHeld = isFixed[dof] != 0 || isFixed[dof + 1] != 0 || isFixed[dof + 2] != 0;
+      inverseMass[static_cast<std::size_t>(k)] = isHeld ? 0.0 : 1.0 / mass_kg[node];
+      compliance += c.weights[k] * c.weights[k] * inverseMass[static_cast<std::size_t>(k)];
+    }
+    if (!(compliance > 0.0)) continue;
+    const double delta = c.penetration(x);
+    const double u = c.normal.dot(c.point(v));
+    const double gain = h * h * c.stiffness_N_m + h * c.damping_N_s_m;
+    const double lambda = (h * c.stiffness_N_m * delta + gain * u) / (1.0 + gain * compliance);
+    if (!(lambda > 0.0) && !std::isnan(lambda)) continue;  // push only; a NaN goes through, to be caught
+    for (int k = 0; k < 3; ++k) {
+      v.col(c.nodes[static_cast<std::size_t>(k)]) -=
+          (c.weights[k] * inverseMass[static_cast<std::size_t>(k)] * lambda) * c.normal;
+    }
+  }
+}
+
 void PenaltyContactSet::addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix& stiffness) const {
   for (const PenaltyContact& c : m_contacts) {
     if (!(c.penetration(x) > 0.0)) continue;
@@ -25,16 +51,6 @@ void PenaltyContactSet::addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix&
         stiffness.addBlock(c.nodes[static_cast<std::size_t>(i)], c.nodes[static_cast<std::size_t>(j)],
                            (c.weights[i] * c.weights[j]) * nn);
       }
-    }
-  }
-}
-
-void PenaltyContactSet::addNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::VectorXd& nodeStiffness) const {
-  for (const PenaltyContact& c : m_contacts) {
-    if (!(c.penetration(x) > 0.0)) continue;
-    const double sum = c.weights.sum();
-    for (int k = 0; k < 3; ++k) {
-      nodeStiffness[c.nodes[static_cast<std::size_t>(k)]] += c.stiffness_N_m * c.weights[k] * sum;
     }
   }
 }

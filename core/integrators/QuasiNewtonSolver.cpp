@@ -36,6 +36,39 @@ void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWe
   m_preparedRevision = system.constraintRevision();
 }
 
+void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system, const Eigen::VectorXd& x) {
+  const std::vector<PenaltyContact>& contacts = system.contacts.contacts();
+  const Eigen::Map<const Eigen::Matrix3Xd> positions(x.data(), 3, system.mesh().nodeCount());
+  const std::vector<char>& fixed = system.fixedDofs();
+  Eigen::Index count = 0;
+  for (const PenaltyContact& c : contacts) count += c.penetration(positions) > 0.0 ? 1 : 0;
+  // Resized only when the count changes (a new contact, not every step).
+  if (m_contactU.cols() != count) m_contactU.resize(m_x.size(), count);
+  m_contactU.setZero();
+  Eigen::Index column = 0;
+  for (const PenaltyContact& c : contacts) {
+    if (!(c.penetration(positions) > 0.0)) continue;
+    const double root = std::sqrt(c.stiffness_N_m);
+    for (int k = 0; k < 3; ++k) {
+      for (int axis = 0; axis < 3; ++axis) {
+        const Eigen::Index d = 3 * c.nodes[static_cast<std::size_t>(k)] + axis;
+        if (fixed[static_cast<std::size_t>(d)] == 0) m_contactU(d, column) += root * c.weights[k] * c.normal[axis];
+      }
+    }
+    ++column;
+  }
+  if (count == 0) return;
+  m_contactV = m_initialHessian.solve(m_contactU);
+  m_capacitance.compute(Eigen::MatrixXd::Identity(count, count) + m_contactU.transpose() * m_contactV);
+}
+
+void QuasiNewtonSolver::applyInitialInverse(const Eigen::VectorXd& q, Eigen::VectorXd& z) {
+  z = m_initialHessian.solve(q);
+  if (m_contactU.cols() == 0) return;
+  m_contactScratch = m_capacitance.solve(m_contactU.transpose() * z);
+  z.noalias() -= m_contactV * m_contactScratch;
+}
+
 double QuasiNewtonSolver::residual(const MechanicalSystem& system, const Eigen::VectorXd& x,
                                    Eigen::VectorXd& r, ForceReport* report) {
   const Eigen::Map<const Eigen::Matrix3Xd> positions(x.data(), 3, system.mesh().nodeCount());
@@ -64,6 +97,7 @@ StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& st
     m_x[d] = fixed[static_cast<std::size_t>(d)] != 0 ? x0[d] : m_xHat[d];
   }
   report.residual_N = residual(system, m_x, m_r, &report.forces);
+  prepareContacts(system, m_x);
 
   const Eigen::Index capacity = m_s.cols();
   Eigen::Index stored = 0;
@@ -78,7 +112,7 @@ StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& st
       m_alpha[i] = m_rhoHistory[i] * m_s.col(i).dot(m_q);
       m_q -= m_alpha[i] * m_y.col(i);
     }
-    m_z = m_initialHessian.solve(m_q);
+    applyInitialInverse(m_q, m_z);
     for (Eigen::Index k = stored - 1; k >= 0; --k) {
       const Eigen::Index i = (newest - k + capacity) % capacity;
       const double beta = m_rhoHistory[i] * m_y.col(i).dot(m_z);

@@ -17,7 +17,14 @@
 // triangular solves and O(m) vector operations, with no matrix assembly. The iteration count
 // per step is the speed/accuracy knob (IntegratorSettings::maxIterations); as it grows the
 // result converges to implicit Euler's.
+//
+// Contacts: an instrument contact is far stiffer (10^4 N/m) than anything in H0, and L-BFGS
+// with a few pairs cannot learn it: the poke diverged. Each step's contacts are rank-one terms
+// k (w (x) n)(w (x) n)^T, so H0 + U U^T is inverted by the Sherman-Morrison-Woodbury formula
+//   (H0 + U U^T)^-1 q = z - V (I + U^T V)^-1 U^T z,   z = H0^-1 q,  V = H0^-1 U  (3#V by #C)
+// at the cost of one solve per contact per step (a handful) and a #C by #C factorisation.
 
+#include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
 #include "integrators/TimeIntegrator.h"
@@ -32,6 +39,10 @@ class QuasiNewtonSolver final : public TimeIntegrator {
 
  private:
   void prepare(const MechanicalSystem& system, double inertiaWeight);
+  /// U, V and the factorised capacitance I + U^T V for the system's contacts at x.
+  void prepareContacts(const MechanicalSystem& system, const Eigen::VectorXd& x);
+  /// z = (H0 + U U^T)^-1 q.
+  void applyInitialInverse(const Eigen::VectorXd& q, Eigen::VectorXd& z);
   double residual(const MechanicalSystem& system, const Eigen::VectorXd& x, Eigen::VectorXd& r,
                   ForceReport* report);
 
@@ -43,6 +54,9 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   Eigen::VectorXd m_x, m_xHat, m_r, m_newX, m_newR, m_q, m_z, m_alpha, m_rhoHistory;
   Eigen::MatrixXd m_s, m_y;  ///< 3#V by m history of steps and residual changes
   Eigen::Matrix3Xd m_force;
+  Eigen::MatrixXd m_contactU, m_contactV;  ///< 3#V by #C (Woodbury)
+  Eigen::LDLT<Eigen::MatrixXd> m_capacitance;  ///< I + U^T V, #C by #C
+  Eigen::VectorXd m_contactScratch;
 };
 
 }  // namespace tissuesim

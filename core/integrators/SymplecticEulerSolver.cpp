@@ -1,6 +1,8 @@
 #include "integrators/SymplecticEulerSolver.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace tissuesim {
 
@@ -10,8 +12,23 @@ void SymplecticEulerSolver::ensureBuffers(Eigen::Index nodeCount) {
     m_nodeStiffness.resize(nodeCount);
     m_savedX.resize(3, nodeCount);
     m_savedV.resize(3, nodeCount);
-    m_lastFrequencySquared = -1.0;
+    m_lastStableStep = -1.0;
   }
+}
+
+double SymplecticEulerSolver::stableStepBound(const Eigen::VectorXd& nodeStiffness,
+                                              const Eigen::VectorXd& mass, double massDamping_1_s) {
+  double bound = std::numeric_limits<double>::infinity();
+  const double gamma = massDamping_1_s;
+  for (Eigen::Index i = 0; i < mass.size(); ++i) {
+    const double omega2 = 2.0 * nodeStiffness[i] / mass[i];
+    if (omega2 > 0.0) {
+      bound = std::min(bound, (std::sqrt(gamma * gamma + 4.0 * omega2) - gamma) / omega2);
+    } else if (gamma > 0.0) {
+      bound = std::min(bound, 2.0 / gamma);
+    }
+  }
+  return bound;
 }
 
 double SymplecticEulerSolver::stableTimeStep(const MechanicalSystem& system,
@@ -19,8 +36,7 @@ double SymplecticEulerSolver::stableTimeStep(const MechanicalSystem& system,
   Eigen::Matrix3Xd f(3, x.cols());
   Eigen::VectorXd nodeStiffness(x.cols());
   system.forcesAndNodeStiffness(x, f, nodeStiffness);
-  const double omega2 = (2.0 * nodeStiffness.array() / system.mesh().nodeMass_kg.array()).maxCoeff();
-  return omega2 > 0.0 ? safety * 2.0 / std::sqrt(omega2) : std::numeric_limits<double>::infinity();
+  return safety * stableStepBound(nodeStiffness, system.mesh().nodeMass_kg, 0.0);
 }
 
 StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState& state,
@@ -32,15 +48,13 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
   const double alpha = m_settings.massDamping_1_s;
   const std::vector<char>& fixed = system.fixedDofs();
 
-  if (m_lastFrequencySquared < 0.0) {
+  // Each substep's force pass refreshes the bound for the next.
+  const auto refreshBound = [&] { m_lastStableStep = stableStepBound(m_nodeStiffness, mass, alpha); };
+  if (m_lastStableStep < 0.0) {
     system.forcesAndNodeStiffness(state.x, m_force, m_nodeStiffness);
-    m_lastFrequencySquared = (2.0 * m_nodeStiffness.array() / mass.array()).maxCoeff();
+    refreshBound();
   }
-  const auto stableStep = [&] {
-    return m_lastFrequencySquared > 0.0
-               ? m_settings.stabilitySafety * 2.0 / std::sqrt(m_lastFrequencySquared)
-               : std::numeric_limits<double>::infinity();
-  };
+  const auto stableStep = [&] { return m_settings.stabilitySafety * m_lastStableStep; };
   report.stableTimeStep_s = stableStep();
   const double needed = std::ceil(dt / report.stableTimeStep_s);
   if (needed > m_settings.maxSubsteps) {
@@ -71,13 +85,18 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
       return report;
     }
     report.forces = system.forcesAndNodeStiffness(state.x, m_force, m_nodeStiffness);
-    m_lastFrequencySquared = (2.0 * m_nodeStiffness.array() / mass.array()).maxCoeff();
+    refreshBound();
     for (Eigen::Index i = 0; i < nodes; ++i) {
       for (int axis = 0; axis < 3; ++axis) {
         if (fixed[static_cast<std::size_t>(3 * i + axis)] != 0) continue;
         double& v = state.v(axis, i);
         v += h * (m_force(axis, i) / mass[i] - alpha * v);
-        state.x(axis, i) += h * v;
+      }
+    }
+    system.contacts.applyImpulses(state.x, mass, fixed, h, state.v);
+    for (Eigen::Index i = 0; i < nodes; ++i) {
+      for (int axis = 0; axis < 3; ++axis) {
+        if (fixed[static_cast<std::size_t>(3 * i + axis)] == 0) state.x(axis, i) += h * state.v(axis, i);
       }
     }
     remaining -= h;

@@ -3,11 +3,16 @@
 //
 //   v_{n+1} = v_n + h M^-1 (f(x_n) - alpha M v_n),   x_{n+1} = x_n + h v_{n+1}
 //
-// Stable while h < 2 / omega_max. omega_max^2 is bounded each substep from the same pass that
-// computes the forces (Gershgorin on M^-1 K, SpringForceField), so the step dt is split into
-// ceil(dt / (safety * 2 / omega_max)) substeps, using the bound of the previous substep (the
-// tangent stiffness changes little in one substep; the safety factor covers it). A step needing
-// more than maxSubsteps is refused, never taken unstably.
+// With the explicit mass damping alpha a node's oscillator is stable while
+// omega^2 h^2 + 2 alpha h <= 4 (Jury's test on the step's 2x2 map; h < 2 / omega without
+// damping), so h_max = (sqrt(alpha^2 + 4 omega^2) - alpha) / omega^2 over the nodes, with
+// omega^2 bounded each substep from the same pass that computes the forces (Gershgorin on
+// M^-1 K: 2 K_i / m_i, from SpringForceField). The instrument's contacts are impulses after
+// the velocity update, each stepped by backward Euler on its own (PenaltyContactSet::
+// applyImpulses), so they bound nothing. The step dt is split into ceil(dt / (safety h_max))
+// substeps, using the bound of the previous substep (the tangent stiffness changes little in one
+// substep; the safety factor covers it). A step needing more than maxSubsteps is refused, never
+// taken unstably.
 
 #include "integrators/TimeIntegrator.h"
 
@@ -25,13 +30,16 @@ class SymplecticEulerSolver final : public TimeIntegrator {
 
  private:
   void ensureBuffers(Eigen::Index nodeCount);
+  /// h_max (s) from per-node stiffness bounds (N/m) and the mass damping (1/s).
+  static double stableStepBound(const Eigen::VectorXd& nodeStiffness, const Eigen::VectorXd& mass,
+                                double massDamping_1_s);
 
   IntegratorSettings m_settings;
   Eigen::Matrix3Xd m_force;
   Eigen::VectorXd m_nodeStiffness;
   Eigen::Matrix3Xd m_savedX;
   Eigen::Matrix3Xd m_savedV;
-  double m_lastFrequencySquared = -1.0;  ///< < 0: not yet known
+  double m_lastStableStep = -1.0;  ///< h_max of the last bound (s); < 0: not yet known
 };
 
 }  // namespace tissuesim
