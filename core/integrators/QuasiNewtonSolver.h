@@ -22,7 +22,11 @@
 // with a few pairs cannot learn it: the poke diverged. Each step's contacts are rank-one terms
 // k (w (x) n)(w (x) n)^T, so H0 + U U^T is inverted by the Sherman-Morrison-Woodbury formula
 //   (H0 + U U^T)^-1 q = z - V (I + U^T V)^-1 U^T z,   z = H0^-1 q,  V = H0^-1 U  (3#V by #C)
-// at the cost of one solve per contact per step (a handful) and a #C by #C factorisation.
+// at the cost of one solve per contact per step (a handful) and a #C by #C factorisation
+// (small temporaries are allocated in a step with contacts).
+// A step whose residual ends above where it started is diverging; it iterates past the budget
+// (up to five times it) until the residual is back under its start (the report's iteration
+// count shows it).
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -39,8 +43,8 @@ class QuasiNewtonSolver final : public TimeIntegrator {
 
  private:
   void prepare(const MechanicalSystem& system, double inertiaWeight);
-  /// U, V and the factorised capacitance I + U^T V for the system's contacts at x.
-  void prepareContacts(const MechanicalSystem& system, const Eigen::VectorXd& x);
+  /// U, V and the factorised capacitance I + U^T V for the system's contacts.
+  void prepareContacts(const MechanicalSystem& system);
   /// z = (H0 + U U^T)^-1 q.
   void applyInitialInverse(const Eigen::VectorXd& q, Eigen::VectorXd& z);
   double residual(const MechanicalSystem& system, const Eigen::VectorXd& x, Eigen::VectorXd& r,

@@ -7,7 +7,7 @@ namespace tissuesim {
 namespace {
 /// How long a thread polls before it sleeps: a few tens of microseconds, about the gap
 /// between two force passes of one physics step.
-constexpr int kSpinCount = 20000;
+constexpr int kSpinCount = 2000;
 
 inline void relax() {
 #if defined(__x86_64__) || defined(__i386__)
