@@ -158,6 +158,50 @@ TEST(Simulation, EveryIntegratorPokesTheLiverAlike) {
   EXPECT_NEAR(peaks[2], peaks[0], 0.1 * peaks[0]);
 }
 
+TEST(Simulation, ContactIsFoundWhereverTheToolPokes) {
+  // Scripted pokes at the liver's top and at three of its sides (the extreme boundary nodes
+  // away from the held base), each starting 1 cm off the surface and pressing 6 mm past it
+  // towards the liver's middle: contact where the tool meets the surface, a reaction against
+  // the tool's motion, the tip within the 1 mm penetration tolerance.
+  const SceneDescription scene = pokeScene("");
+  Simulation probe(scene);
+  const Eigen::Matrix3Xd& x = probe.state().x;
+  const Eigen::Vector3d middle = x.rowwise().mean();
+  std::vector<Eigen::Index> targets(4);
+  x.row(1).maxCoeff(&targets[0]);  // top (y is up)
+  x.row(0).maxCoeff(&targets[1]);  // +x side
+  x.row(2).maxCoeff(&targets[2]);  // +z side
+  x.row(2).minCoeff(&targets[3]);  // -z side
+  for (const Eigen::Index target : targets) {
+    const Eigen::Vector3d surface = x.col(target);
+    Eigen::Vector3d direction = middle - surface;
+    if (target != targets[0]) direction.y() = 0.0;  // sides: horizontally inwards
+    direction.normalize();
+    Simulation simulation(scene);
+    CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    const InstrumentScript script = InstrumentScript::poke({surface - 0.01 * direction, direction}, 0.016, 0.4);
+    simulation.setContactProvider(&contact);
+    simulation.setInstrumentSource(&script);
+    double peak = 0.0, deepest = 0.0;
+    Eigen::Vector3d forceAtPeak = Eigen::Vector3d::Zero();
+    for (int n = 0; n < 400; ++n) {
+      const StepOutcome outcome = simulation.step();
+      ASSERT_TRUE(outcome.isGood) << "node " << target << " step " << n;
+      if (n < 150) {
+        EXPECT_EQ(outcome.contact.toolForce_N.norm(), 0.0) << "node " << target << " step " << n;
+      }
+      deepest = std::max(deepest, outcome.contact.maxPenetration_m);
+      if (outcome.contact.toolForce_N.norm() > peak) {
+        peak = outcome.contact.toolForce_N.norm();
+        forceAtPeak = outcome.contact.toolForce_N;
+      }
+    }
+    EXPECT_GT(peak, 0.05) << "node " << target;
+    EXPECT_LT(forceAtPeak.normalized().dot(direction), -0.5) << "node " << target;  // pushes the tool back
+    EXPECT_LT(deepest, 0.001) << "node " << target;
+  }
+}
+
 /// The tool at `speed` (m/s) 3 cm into the liver past first touch; per step: touching or not,
 /// and whether any point of the tool deeper than the penetration tolerance is inside the
 /// deformed liver (winding number of its boundary > 1/2): points every 0.5 mm along the axis
