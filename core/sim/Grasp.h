@@ -1,11 +1,12 @@
 #pragma once
 // The grasper: while the instrument's jaws are closed, the surface nodes that were within reach
 // of the tip when they closed are held at their offsets from the tip by stiff damped springs
-//   f_i = k (tip + o_i - x_i) - c v_i
-// (explicit in time, like the contact penalty, with k below the stability bound), and the
-// instrument feels minus their sum. Opening the jaws releases them. The offsets are kept in the
-// world frame: turning the instrument while holding does not swing the tissue round (a
-// simplification, said here).
+//   f_i = k (tip + R o_i - x_i) - c v_i
+// (explicit in time, with k below the stability bound), and the instrument feels minus their
+// sum. R turns the shaft's direction when the jaws closed onto its direction now (the shortest
+// rotation between the two), so tilting the instrument swings the held tissue round the tip.
+// The shaft's roll is not part of the pose, so turning the tool about its own axis does not.
+// Opening the jaws releases them.
 
 #include <vector>
 
@@ -38,7 +39,8 @@ class Grasp {
   double m_damping;
   bool m_wasClosed = false;
   std::vector<int> m_held;
-  std::vector<Eigen::Vector3d> m_offsets;
+  std::vector<Eigen::Vector3d> m_offsets;  ///< o_i, world frame at the closing
+  Eigen::Vector3d m_closingDirection = Eigen::Vector3d::UnitZ();
 };
 
 }  // namespace tissuesim

@@ -98,6 +98,36 @@ TEST(Grasp, LiftsSurfaceNodesAndReleasesThem) {
   EXPECT_LT(simulation.state().x(1, top) - restHeight, 0.003);  // released: it springs back
 }
 
+TEST(Grasp, TiltingTheToolSwingsTheHeldTissueRoundTheTip) {
+  // Grasp at the top, then tilt the shaft 40 degrees about z, the tip staying put: the held
+  // nodes follow their offsets turned with the shaft.
+  Simulation simulation(loadSceneFile(bundledScene()));
+  const Eigen::Matrix3Xd rest = simulation.state().x;
+  Eigen::Index top = 0;
+  rest.row(1).maxCoeff(&top);
+  const Eigen::Vector3d tip = rest.col(top) + Eigen::Vector3d(0, 0.002, 0);
+  const double angle = 40.0 * 3.14159265358979 / 180.0;
+  const Eigen::Vector3d down(0, -1, 0);
+  const Eigen::Vector3d tilted(std::sin(angle), -std::cos(angle), 0);
+  const InstrumentScript script({{0.0, {tip, down, true}}, {0.1, {tip, down, true}},
+                                 {0.5, {tip, tilted, true}}, {1.0, {tip, tilted, true}}});
+  simulation.setInstrumentSource(&script);
+  while (simulation.time_s() < 0.05) ASSERT_TRUE(simulation.step().isGood);
+  const std::vector<int> held = simulation.heldNodes();
+  ASSERT_FALSE(held.empty());
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // mean offset of the held nodes from the tip
+  for (const int node : held) offset += rest.col(node) - tip;
+  offset /= static_cast<double>(held.size());
+  while (simulation.time_s() < 1.0) ASSERT_TRUE(simulation.step().isGood);
+  Eigen::Vector3d now = Eigen::Vector3d::Zero();
+  for (const int node : held) now += simulation.state().x.col(node) - tip;
+  now /= static_cast<double>(held.size());
+  const Eigen::Vector3d turned = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()) * offset;
+  // Closer to the turned offset than to the unturned one, and most of the way there.
+  EXPECT_LT((now - turned).norm(), 0.5 * (now - offset).norm());
+  EXPECT_LT((now - turned).norm(), 0.35 * (turned - offset).norm());
+}
+
 TEST(InstrumentScript, InterpolatesAndLoads) {
   const InstrumentScript poke = InstrumentScript::poke({{0, 0, 0.1}, {0, 0, -1}, false}, 0.02, 1.0);
   EXPECT_NEAR(poke.poseAt(0.5).tip_m.z(), 0.09, 1e-12);
