@@ -52,12 +52,6 @@ SurfaceBvh::SurfaceBvh(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
   m_impl->triangleCount = static_cast<int>(triangles.rows());
   copyVertices(vertices, m_impl->points);
   std::vector<fcl::Triangle> faces;
-  // Kept between steps so a query allocates nothing: the capsule, the solver, the result.
-  // FCL's own GJK (GST_INDEP), not libccd's: libccd's MPR test loops forever on some touching
-  // configurations (FCL issue #243, libccd #7); it hung here on a quasi-Newton poke of the liver.
-  std::unique_ptr<fcl::Capsuled> capsule;
-  fcl::detail::GJKSolver_indep<double> solver;
-  fcl::CollisionResultd result;
   faces.reserve(static_cast<std::size_t>(triangles.rows()));
   for (Eigen::Index i = 0; i < triangles.rows(); ++i) {
     faces.emplace_back(static_cast<std::size_t>(triangles(i, 0)),

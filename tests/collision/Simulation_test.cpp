@@ -123,8 +123,8 @@ TEST(Simulation, ANewTissueKeepsTheStateAndChangesTheResponse) {
   };
   const double original = pokeForce(1.0);
   EXPECT_GT(original, 0.05);
-  // The contact penalty (300 N/m) is in series with the tissue, so a softer tissue shows more
-  // than a stiffer one; both must move the force the right way.
+  // The tool follows its script, so the force is the tissue's answer to the same indentation:
+  // a quarter of the moduli must push back clearly less, four times clearly more.
   EXPECT_LT(pokeForce(0.25), 0.8 * original);
   EXPECT_GT(pokeForce(4.0), original);
 }
