@@ -45,8 +45,14 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
   const std::vector<PenaltyContact>& contacts = system.contacts.contacts();
   const std::vector<char>& fixed = system.fixedDofs();
   const auto count = static_cast<Eigen::Index>(contacts.size());
-  // Resized only when the count changes (a new contact, not every step).
-  if (m_contactU.cols() != count) m_contactU.resize(m_x.size(), count);
+  // Resized only when the count changes (a new contact, not every step); then no allocation.
+  if (m_contactU.cols() != count) {
+    m_contactU.resize(m_x.size(), count);
+    m_contactV.resize(m_x.size(), count);
+    m_capacitanceMatrix.resize(count, count);
+    m_projected.resize(count);
+    m_contactScratch.resize(count);
+  }
   m_contactU.setZero();
   for (Eigen::Index column = 0; column < count; ++column) {
     const PenaltyContact& c = contacts[static_cast<std::size_t>(column)];
@@ -60,13 +66,16 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
   }
   if (count == 0) return;
   m_contactV = m_initialHessian.solve(m_contactU);
-  m_capacitance.compute(Eigen::MatrixXd::Identity(count, count) + m_contactU.transpose() * m_contactV);
+  m_capacitanceMatrix.setIdentity();
+  m_capacitanceMatrix.noalias() += m_contactU.transpose() * m_contactV;
+  m_capacitance.compute(m_capacitanceMatrix);
 }
 
 void QuasiNewtonSolver::applyInitialInverse(const Eigen::VectorXd& q, Eigen::VectorXd& z) {
   z = m_initialHessian.solve(q);
   if (m_contactU.cols() == 0) return;
-  m_contactScratch = m_capacitance.solve(m_contactU.transpose() * z);
+  m_projected.noalias() = m_contactU.transpose() * z;
+  m_contactScratch = m_capacitance.solve(m_projected);
   z.noalias() -= m_contactV * m_contactScratch;
 }
 

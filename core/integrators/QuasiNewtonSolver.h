@@ -22,8 +22,7 @@
 // with a few pairs cannot learn it: the poke diverged. Each step's contacts are rank-one terms
 // k (w (x) n)(w (x) n)^T, so H0 + U U^T is inverted by the Sherman-Morrison-Woodbury formula
 //   (H0 + U U^T)^-1 q = z - V (I + U^T V)^-1 U^T z,   z = H0^-1 q,  V = H0^-1 U  (3#V by #C)
-// at the cost of one solve per contact per step (a handful) and a #C by #C factorisation
-// (small temporaries are allocated in a step with contacts).
+// at the cost of one solve per contact per step (a handful) and a #C by #C factorisation.
 // A step whose residual ends above where it started is diverging; it iterates past the budget
 // (up to five times it) until the residual is back under its start (the report's iteration
 // count shows it).
@@ -59,8 +58,9 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   Eigen::MatrixXd m_s, m_y;  ///< 3#V by m history of steps and residual changes
   Eigen::Matrix3Xd m_force;
   Eigen::MatrixXd m_contactU, m_contactV;  ///< 3#V by #C (Woodbury)
-  Eigen::LDLT<Eigen::MatrixXd> m_capacitance;  ///< I + U^T V, #C by #C
-  Eigen::VectorXd m_contactScratch;
+  Eigen::MatrixXd m_capacitanceMatrix;          ///< I + U^T V, #C by #C
+  Eigen::LDLT<Eigen::MatrixXd> m_capacitance;   ///< its factorisation
+  Eigen::VectorXd m_projected, m_contactScratch;  ///< #C: U^T z and the capacitance solve
 };
 
 }  // namespace tissuesim
