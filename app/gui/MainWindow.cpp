@@ -118,6 +118,12 @@ void MainWindow::buildMenus() {
     m_pose.isGrasping = !m_pose.isGrasping;
     publishPose();
   }, Qt::Key_G);
+  // Tilting about the tip, in the screen's axes: 5 degrees a press.
+  constexpr double kTilt_rad = 5.0 * 3.14159265358979323846 / 180.0;
+  simulation->addAction("Tilt tool &left", this, [this] { tiltInstrument(-kTilt_rad, 0.0); }, Qt::Key_Left);
+  simulation->addAction("Tilt tool r&ight", this, [this] { tiltInstrument(kTilt_rad, 0.0); }, Qt::Key_Right);
+  simulation->addAction("Tilt tool &away", this, [this] { tiltInstrument(0.0, kTilt_rad); }, Qt::Key_Up);
+  simulation->addAction("Tilt tool &towards me", this, [this] { tiltInstrument(0.0, -kTilt_rad); }, Qt::Key_Down);
   simulation->addSeparator();
   m_softeningAction = simulation->addAction("Stress &softening", this, [this](bool on) { setSoftening(on); });
   m_softeningAction->setCheckable(true);
@@ -281,6 +287,28 @@ void MainWindow::moveInstrumentToDisplay(int x, int y) {
 void MainWindow::pushInstrument(double distance_m) {
   if (!m_session || m_session->liveInstrument() == nullptr) return;
   m_pose.tip_m += distance_m * m_pose.direction.normalized();
+  publishPose();
+}
+
+void MainWindow::tiltInstrument(double right_rad, double forward_rad) {
+  if (!m_view || !m_session || m_session->liveInstrument() == nullptr) return;
+  vtkCamera* camera = m_view->renderer()->GetActiveCamera();
+  double up[3], forward[3];
+  camera->GetViewUp(up);
+  camera->GetDirectionOfProjection(forward);
+  const Eigen::Vector3d viewUp(up[0], up[1], up[2]);
+  const Eigen::Vector3d away(forward[0], forward[1], forward[2]);
+  const Eigen::Vector3d screenRight = away.cross(viewUp).normalized();
+  // The shaft's direction points tip-first. For a tool pointing down the screen, a turn of -a
+  // about the viewing axis swings its tip a to the right, and a turn of +a about the screen's
+  // right axis swings it away from the viewer.
+  const Eigen::Vector3d turned =
+      (Eigen::AngleAxisd(forward_rad, screenRight) * Eigen::AngleAxisd(-right_rad, away.normalized()) *
+       m_pose.direction.normalized())
+          .normalized();
+  const Eigen::Vector3d start = m_session->scene().instrument->direction.normalized();
+  if (!turned.allFinite() || turned.dot(start) < std::cos(80.0 * 3.14159265358979323846 / 180.0)) return;
+  m_pose.direction = turned;
   publishPose();
 }
 

@@ -53,6 +53,10 @@ class MainWindow : public QMainWindow {
   void moveInstrumentToDisplay(int x, int y);
   /// Moves the tool along its shaft by `distance_m` (positive: deeper).
   void pushInstrument(double distance_m);
+  /// Tilts the shaft about its tip by the given angles (rad): `right` turns the tip towards
+  /// the screen's right, `forward` away from the viewer; at most 80 degrees off the scene's
+  /// start direction.
+  void tiltInstrument(double right_rad, double forward_rad);
   /// Where the tool is now (the GUI's side of the live pose).
   InstrumentPose instrumentPose() const { return m_pose; }
 

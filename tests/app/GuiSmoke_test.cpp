@@ -3,6 +3,10 @@
 // wheel, see the surface move and no error; load a bad tissue file, see the error dialog and
 // the simulation carry on; load a good one; save an image.
 
+#include <algorithm>
+#include <cmath>
+
+#include <QAction>
 #include <QApplication>
 #include <QMessageBox>
 #include <QSurfaceFormat>
@@ -56,6 +60,34 @@ class GuiSmokeTest : public QObject {
     // Back over the poke point, for the next test.
     QMouseEvent back(QEvent::MouseMove, view()->rect().center(), Qt::NoButton, Qt::NoButton, Qt::NoModifier);
     QApplication::sendEvent(view(), &back);
+  }
+
+  void arrowKeysTiltTheToolAboutItsTip() {
+    // The menu actions bound to the arrow keys (triggered directly: under Xvfb without a
+    // window manager the window never becomes active, so key shortcuts do not reach it).
+    const auto press = [&](Qt::Key key) {
+      for (QAction* action : m_window->findChildren<QAction*>()) {
+        if (action->shortcut() == QKeySequence(key)) {
+          action->trigger();
+          return true;
+        }
+      }
+      return false;
+    };
+    const InstrumentPose before = m_window->instrumentPose();
+    QVERIFY(press(Qt::Key_Right));
+    const InstrumentPose right = m_window->instrumentPose();
+    QCOMPARE(right.tip_m, before.tip_m);
+    // 5 degrees about the viewing axis: the shaft turns by up to that (all of it when it lies
+    // across the view).
+    const double degrees = std::acos(std::clamp(right.direction.dot(before.direction), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+    QVERIFY2(degrees > 1.0 && degrees <= 5.0 + 1e-9, qPrintable(QString("Right tilted the shaft %1 degrees").arg(degrees)));
+    QVERIFY(press(Qt::Key_Up));
+    QVERIFY(m_window->instrumentPose().direction.dot(right.direction) < 1.0 - 1e-6);
+    // Back: Down and Left undo them (the view has not turned meanwhile).
+    QVERIFY(press(Qt::Key_Down));
+    QVERIFY(press(Qt::Key_Left));
+    QVERIFY((m_window->instrumentPose().direction - before.direction).norm() < 1e-9);
   }
 
   void wheelPushesTheToolIntoTheLiver() {
