@@ -1,9 +1,8 @@
 #include "CapsuleContact.h"
 
-#include "SegmentTriangleDistance.h"
-
-#include <algorithm>
 #include <cmath>
+
+#include "SegmentTriangleDistance.h"
 
 namespace tissuesim {
 
