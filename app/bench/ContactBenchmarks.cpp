@@ -46,8 +46,7 @@ void registerContactBenchmarks(const std::string& scenePath) {
     double linearTolerance;
     int threads;
   };
-  const auto pokeTo = [scene](const Setting& setting, double seconds, Eigen::Matrix3Xd* positions,
-                              double* force) {
+  const auto pokeTo = [scene](const Setting& setting, double seconds, double* force) {
     SceneDescription changed = scene;
     changed.integrator = setting.integrator;
     changed.newtonIterations = setting.iterations;
@@ -65,7 +64,6 @@ void registerContactBenchmarks(const std::string& scenePath) {
       outcome = simulation.step();
       if ((n + 1) % 100 == 0) trail.push_back(simulation.state().x);
     }
-    if (positions != nullptr) *positions = simulation.state().x;
     if (force != nullptr) *force = outcome.contact.toolForce_N.norm();
     return trail;
   };
@@ -81,11 +79,11 @@ void registerContactBenchmarks(const std::string& scenePath) {
                                 Setting{"Trade/Poke/quasi_newton5", "quasi-newton", 5, 1e-6, 1}}) {
     benchmark::RegisterBenchmark(setting.name, [=](benchmark::State& state) {
       if (reference->empty()) {
-        *reference = pokeTo({"", "implicit", 8, 1e-8, 1}, 1.0, nullptr, referenceForce.get());
+        *reference = pokeTo({"", "implicit", 8, 1e-8, 1}, 1.0, referenceForce.get());
       }
       double force = 0.0;
       std::vector<Eigen::Matrix3Xd> trail;
-      for (auto _ : state) trail = pokeTo(setting, 1.0, nullptr, &force);
+      for (auto _ : state) trail = pokeTo(setting, 1.0, &force);
       double worst = 0.0;
       for (std::size_t k = 0; k < trail.size() && k < reference->size(); ++k) {
         worst = std::max(worst, (trail[k] - (*reference)[k]).colwise().norm().maxCoeff());

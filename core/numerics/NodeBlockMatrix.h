@@ -51,9 +51,6 @@ class NodeBlockMatrix {
   /// first call, and whenever the flags change), so repeated calls visit only those entries.
   void applyFixedDofs(const std::vector<char>& isFixed);
 
-  /// y = A x (both 3#V).
-  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const { y.noalias() = m_matrix * x; }
-
   /// Rows 3j .. 3j+2 of y = A x for the nodes j in [begin, end) only, block by block: by
   /// symmetry row 3j+c is column 3j+c, whose neighbour blocks are contiguous, so the loop reads
   /// one neighbour index per 3x3 block. Disjoint node ranges can run on different threads.

@@ -3,6 +3,7 @@
 #include "sim/Simulation.h"
 
 #include <cmath>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -14,24 +15,27 @@
 namespace tissuesim {
 namespace {
 
-/// The bundled liver scene with FCL contact and the probe pushed `depth_m` along its axis over
-/// `pressTime_s` (then back): what every test here steps.
+/// The bundled liver scene, with the integrator named (the scene's when empty).
 SceneDescription pokeScene(const std::string& integrator) {
   SceneDescription scene = loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
   if (!integrator.empty()) scene.integrator = integrator;
   return scene;
 }
 
+/// The bundled liver scene with FCL contact and the probe pushed `depth_m` along its axis over
+/// `pressTime_s` (then back), from the scene's start pose or the one given: what every test
+/// here steps.
 struct ScriptedPoke {
   Simulation simulation;
   const SceneInstrument& tool = *simulation.scene().instrument;
   InstrumentScript script;
   CapsuleContact contact{simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m}};
 
-  /// With the scene's integrator, or the one named.
-  ScriptedPoke(double depth_m, double pressTime_s, const std::string& integrator = "")
+  ScriptedPoke(double depth_m, double pressTime_s, const std::string& integrator = "",
+               const std::optional<InstrumentPose>& start = std::nullopt)
       : simulation(pokeScene(integrator)),
-        script(InstrumentScript::poke({tool.tipStart_m, tool.direction}, depth_m, pressTime_s)) {
+        script(InstrumentScript::poke(start ? *start : InstrumentPose{tool.tipStart_m, tool.direction},
+                                      depth_m, pressTime_s)) {
     simulation.setContactProvider(&contact);
     simulation.setInstrumentSource(&script);
   }
@@ -163,8 +167,7 @@ TEST(Simulation, ContactIsFoundWhereverTheToolPokes) {
   // away from the held base), each starting 1 cm off the surface and pressing 6 mm past it
   // towards the liver's middle: contact where the tool meets the surface, a reaction against
   // the tool's motion, the tip within the 1 mm penetration tolerance.
-  const SceneDescription scene = pokeScene("");
-  Simulation probe(scene);
+  const Simulation probe(pokeScene(""));
   const Eigen::Matrix3Xd& x = probe.state().x;
   const Eigen::Vector3d middle = x.rowwise().mean();
   std::vector<Eigen::Index> targets(4);
@@ -177,11 +180,8 @@ TEST(Simulation, ContactIsFoundWhereverTheToolPokes) {
     Eigen::Vector3d direction = middle - surface;
     if (target != targets[0]) direction.y() = 0.0;  // sides: horizontally inwards
     direction.normalize();
-    Simulation simulation(scene);
-    CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
-    const InstrumentScript script = InstrumentScript::poke({surface - 0.01 * direction, direction}, 0.016, 0.4);
-    simulation.setContactProvider(&contact);
-    simulation.setInstrumentSource(&script);
+    ScriptedPoke scene(0.016, 0.4, "", InstrumentPose{surface - 0.01 * direction, direction});
+    Simulation& simulation = scene.simulation;
     double peak = 0.0, deepest = 0.0;
     Eigen::Vector3d forceAtPeak = Eigen::Vector3d::Zero();
     for (int n = 0; n < 400; ++n) {
