@@ -83,7 +83,17 @@ class SpringForceLaw {
     return {k.value * lambda * m_inverseArea, (k.slope * lambda + k.value) * m_inverseArea};
   }
   /// The Mullins branch below lambda_max, with the n = 1 jump faded out (see the header).
-  HermiteNode softened(HermiteNode virginStress, double lambda, const SofteningPeak& peak) const;
+  HermiteNode softened(HermiteNode virginStress, double lambda, const SofteningPeak& peak) const {
+    HermiteNode p = m_softening.softenWithSlope(virginStress, lambda, peak);
+    const double below = peak.lambdaMax - lambda;
+    if (below > 0.0 && below < kJumpBlendWidth && lambda >= 1.0) {
+      // Fade the jump out: weight 1 at lambda_max, 0 at lambda_max - width, C1 at both ends.
+      const double s = 1.0 - below / kJumpBlendWidth;
+      p.value -= peak.jumpAtPeak * s * s * (3.0 - 2.0 * s);
+      p.slope -= peak.jumpAtPeak * 6.0 * s * (1.0 - s) / kJumpBlendWidth;
+    }
+    return p;
+  }
 
   SpringLaw m_law;
   const StiffnessTable& m_table;
