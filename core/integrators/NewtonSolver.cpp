@@ -8,6 +8,7 @@ void NewtonSolver::prepare(const MechanicalSystem& system) {
   if (m_preparedFor == &system && m_matrix) return;
   const Eigen::Index nodes = system.mesh().nodeCount();
   m_matrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
+  m_trialMatrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
   m_isPatternAnalysed = false;
   m_force.resize(3, nodes);
   m_r.resize(3, nodes);
@@ -105,14 +106,23 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       continue;
     }
 
-    // Backtracking on the residual's norm.
+    // Backtracking on the residual's norm. When another iteration may follow, each trial also
+    // assembles its stiffness (into the spare matrix, so the current one still scales the shift
+    // below): the accepted trial's is then the next iteration's, with no second spring pass.
+    const bool isTrialStiffnessWanted = report.iterations < maxIterations;
     const double norm2 = m_r.squaredNorm();
     double stepLength = 1.0;
     bool isAccepted = false;
     ForceReport trialForces;
     for (int halving = 0; halving < 12; ++halving) {
       m_trialX = x + stepLength * Eigen::Map<const Eigen::Matrix3Xd>(m_step.data(), 3, x.cols());
-      residual(system, m_trialX, xHat, inertiaWeight, m_trialR, &trialForces);
+      if (isTrialStiffnessWanted) {
+        trialForces = system.forcesAndStiffness(m_trialX, m_force, *m_trialMatrix,
+                                                /*isProjected=*/m_kind != LinearSolverKind::Cholesky);
+        residualFromForce(system, m_trialX, xHat, inertiaWeight, m_trialR);
+      } else {
+        residual(system, m_trialX, xHat, inertiaWeight, m_trialR, &trialForces);
+      }
       if (m_trialR.allFinite() && m_trialR.squaredNorm() <= (1.0 - 1e-4 * stepLength) * norm2) {
         isAccepted = true;
         break;
@@ -130,6 +140,10 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     }
     x.swap(m_trialX);
     m_r.swap(m_trialR);
+    if (isTrialStiffnessWanted) {
+      m_matrix.swap(m_trialMatrix);
+      isMatrixCurrent = true;
+    }
     report.forces = trialForces;
     report.residual_N = m_r.cwiseAbs().maxCoeff();
     shift *= 0.1;  // Levenberg-Marquardt: trust Newton again

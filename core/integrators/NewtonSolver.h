@@ -59,6 +59,7 @@ class NewtonSolver {
   double m_linearTolerance;  ///< CG's relative residual (inexact Newton)
   const MechanicalSystem* m_preparedFor = nullptr;
   std::unique_ptr<NodeBlockMatrix> m_matrix;
+  std::unique_ptr<NodeBlockMatrix> m_trialMatrix;  ///< the line search's trials' stiffness
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
   // Jacobi (diagonal) preconditioning: a 3x3 block-Jacobi one was tried and saved 2-6 % of the
   // CG iterations at dt = 1 ms (the mass term dominates), less than its cost.
