@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -96,16 +97,28 @@ void registerContactBenchmarks(const std::string& scenePath) {
     })->Unit(benchmark::kMillisecond)->Iterations(1);
   }
 
-  benchmark::RegisterBenchmark("Contact/WholeStep/liver5k", [scene](benchmark::State& state) {
-    Simulation simulation(scene);
+  for (const int threads : {1, 2}) {
+  const std::string name = "Contact/WholeStep/liver5k/threads:" + std::to_string(threads);
+  benchmark::RegisterBenchmark(name.c_str(), [scene, threads](benchmark::State& state) {
+    SceneDescription changed = scene;
+    changed.threads = threads;
+    Simulation simulation(changed);
     CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
     InstrumentScript hold({{0.0, pressedPose(simulation)}});
     simulation.setContactProvider(&contact);
     simulation.setInstrumentSource(&hold);
-    for (auto _ : state) benchmark::DoNotOptimize(simulation.step().contact.toolForce_N);
+    long linearIterations = 0;
+    for (auto _ : state) {
+      const StepOutcome outcome = simulation.step();
+      linearIterations += outcome.integrator.linearIterations;
+      benchmark::DoNotOptimize(outcome.contact.toolForce_N);
+    }
     state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
+    state.counters["threads"] = threads;
+    state.counters["cg_iterations"] = static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
     state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   })->Unit(benchmark::kMicrosecond);
+  }
 }
 
 }  // namespace tissuesim::app
