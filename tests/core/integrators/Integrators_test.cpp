@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -197,6 +198,38 @@ TEST(ImplicitEuler, TenTimesTheExplicitStepNeitherBlowsUpNorGainsEnergy) {
     EXPECT_LE(now, energy * (1 + 1e-9) + 1e-15) << "step " << n;
     energy = now;
   }
+}
+
+// Newton takes each iteration's matrix from the previous line search's accepted trial; a
+// matrix one iteration stale would still converge, but linearly. With the exact Hessian
+// (Cholesky) the residual must fall quadratically: each iteration at least squares its ratio to
+// the start, once the iterate is close.
+TEST(ImplicitEuler, NewtonConvergesQuadraticallyWithTheExactHessian) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
+  for (int node = 0; node < 9; ++node) block.system.fixNode(node);  // the z = 0 face
+  MechanicalState start = block.system.restState();
+  start.x.row(0) *= 1.05;
+  const double dt = 10 * SymplecticEulerSolver::stableTimeStep(block.system, start.x, 1.0);
+  std::vector<double> residuals;
+  for (int iterations = 0; iterations <= 8; ++iterations) {
+    IntegratorSettings settings;
+    settings.maxIterations = iterations;
+    settings.forceTolerance_N = 0.0;
+    MechanicalState state = start;
+    residuals.push_back(
+        ImplicitEulerSolver(settings, LinearSolverKind::Cholesky).step(block.system, state, dt).residual_N);
+  }
+  const double first = residuals[0];
+  ASSERT_GT(first, 1e-3);
+  int quadraticSteps = 0;
+  for (std::size_t k = 1; k + 1 < residuals.size(); ++k) {
+    const double ratio = residuals[k] / first;
+    if (ratio > 1e-2 || residuals[k + 1] < 1e-12) continue;  // not yet close, or at round-off
+    EXPECT_LT(residuals[k + 1] / first, 10.0 * ratio * ratio) << "iteration " << k + 1;
+    ++quadraticSteps;
+  }
+  EXPECT_GE(quadraticSteps, 1) << "never close enough to see the rate";
+  EXPECT_LT(residuals.back(), 1e-10);
 }
 
 TEST(QuasiNewton, ConvergesToImplicitEulerAsIterationsGrow) {
