@@ -27,15 +27,11 @@ void BlockConjugateGradient::forEachPart(Pass& pass) {
     pass(static_cast<std::size_t>(p), m_bounds[static_cast<std::size_t>(p)],
          m_bounds[static_cast<std::size_t>(p) + 1]);
   };
-  const int threads = m_pool != nullptr ? m_pool->threadCount() : 1;
-  if (threads <= 1) {
+  if (m_pool != nullptr && m_pool->threadCount() > 1) {
+    m_pool->run(kParts, runPart);
+  } else {
     for (int p = 0; p < kParts; ++p) runPart(p);
-    return;
   }
-  auto task = [&](int thread) {
-    for (int p = thread; p < kParts; p += threads) runPart(p);
-  };
-  m_pool->run(task);
 }
 
 namespace {

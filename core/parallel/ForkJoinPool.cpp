@@ -22,8 +22,8 @@ ForkJoinPool::ForkJoinPool(int threadCount) {
                                 " (expected at least 1)");
   }
   m_workers.reserve(static_cast<std::size_t>(threadCount - 1));
-  for (int part = 1; part < threadCount; ++part) {
-    m_workers.emplace_back([this, part] { workerLoop(part); });
+  for (int worker = 1; worker < threadCount; ++worker) {
+    m_workers.emplace_back([this] { workerLoop(); });
   }
 }
 
@@ -34,28 +34,55 @@ ForkJoinPool::~ForkJoinPool() {
   for (std::thread& worker : m_workers) worker.join();
 }
 
-void ForkJoinPool::runErased(Function function, void* context) {
+void ForkJoinPool::runErased(int parts, Function function, const void* context) {
+  if (parts < 1 || parts > kMaxParts) {
+    throw std::invalid_argument("ForkJoinPool::run: " + std::to_string(parts) + " parts (expected 1 to " +
+                                std::to_string(kMaxParts) + ")");
+  }
   if (m_workers.empty()) {
-    function(context, 0);
+    for (int part = 0; part < parts; ++part) function(context, part);
     return;
   }
   m_function = function;
   m_context = context;
-  m_pending.store(static_cast<int>(m_workers.size()), std::memory_order_relaxed);
-  m_epoch.fetch_add(1, std::memory_order_release);
+  m_done.store(0, std::memory_order_relaxed);
+  const std::uint64_t job = m_epoch.load(std::memory_order_relaxed) + 1;
+  // Publishes the function, the context and the reset count with the claim word.
+  m_claim.store((job << kJobShift) | (static_cast<std::uint64_t>(parts) << kCountShift),
+                std::memory_order_release);
+  m_epoch.store(job, std::memory_order_release);
   m_epoch.notify_all();
-  function(context, 0);
+  runClaimedParts(job);
+  // Every part is claimed now; wait for those still running on workers.
   for (int spin = 0; spin < kSpinCount; ++spin) {
-    if (m_pending.load(std::memory_order_acquire) == 0) return;
+    if (m_done.load(std::memory_order_acquire) == parts) return;
     relax();
   }
-  for (int pending = m_pending.load(std::memory_order_acquire); pending != 0;
-       pending = m_pending.load(std::memory_order_acquire)) {
-    m_pending.wait(pending, std::memory_order_acquire);
+  for (int done = m_done.load(std::memory_order_acquire); done != parts;
+       done = m_done.load(std::memory_order_acquire)) {
+    m_done.wait(done, std::memory_order_acquire);
   }
 }
 
-void ForkJoinPool::workerLoop(int part) {
+void ForkJoinPool::runClaimedParts(std::uint64_t job) {
+  std::uint64_t word = m_claim.load(std::memory_order_acquire);
+  for (;;) {
+    if ((word >> kJobShift) != job) return;  // a later run has begun: this one is done
+    const auto parts = static_cast<int>((word >> kCountShift) & kFieldMask);
+    const auto part = static_cast<int>(word & kFieldMask);
+    if (part >= parts) return;
+    // A failed exchange reloads `word` and tries again.
+    if (m_claim.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel,
+                                      std::memory_order_acquire)) {
+      // The run cannot finish before this part returns, so its function is still valid.
+      m_function(m_context, part);
+      if (m_done.fetch_add(1, std::memory_order_acq_rel) + 1 == parts) m_done.notify_one();
+      word = m_claim.load(std::memory_order_acquire);
+    }
+  }
+}
+
+void ForkJoinPool::workerLoop() {
   std::uint64_t seen = 0;
   for (;;) {
     std::uint64_t epoch = m_epoch.load(std::memory_order_acquire);
@@ -69,8 +96,7 @@ void ForkJoinPool::workerLoop(int part) {
     }
     seen = epoch;
     if (m_isStopping.load(std::memory_order_relaxed)) return;
-    m_function(m_context, part);
-    if (m_pending.fetch_sub(1, std::memory_order_acq_rel) == 1) m_pending.notify_one();
+    runClaimedParts(seen);
   }
 }
 

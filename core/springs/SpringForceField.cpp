@@ -52,14 +52,10 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
     reports[static_cast<std::size_t>(p)] = accumulateRange<withBlocks, withNodeStiffness>(
         begin, end, x, partForces, blocks, &partStiffness, isProjected);
   };
-  const int threads = m_pool != nullptr ? m_pool->threadCount() : 1;
-  if (threads <= 1) {
-    for (int p = 0; p < kSpringParts; ++p) part(p);
+  if (m_pool != nullptr && m_pool->threadCount() > 1) {
+    m_pool->run(kSpringParts, part);
   } else {
-    auto task = [&](int thread) {
-      for (int p = thread; p < kSpringParts; p += threads) part(p);
-    };
-    m_pool->run(task);
+    for (int p = 0; p < kSpringParts; ++p) part(p);
   }
   // Fixed order, whatever the thread count: the sums are bit-identical.
   SpringFieldReport report = reports[0];
