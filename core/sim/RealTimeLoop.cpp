@@ -47,6 +47,9 @@ void RealTimeLoop::run() {
   const auto start = Clock::now();
   const auto period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(m_simulation.timeStep_s()));
+  // Simulated time is counted from here: the simulation may have run before this loop did
+  // (a scripted approach, a paused and resumed window).
+  const double startTime_s = m_simulation.time_s();
   auto due = start;
   long steps = 0;
   long overruns = 0;
@@ -74,7 +77,7 @@ void RealTimeLoop::run() {
     m_steps.store(steps);
     m_overruns.store(overruns);
     m_wall_s.store(std::chrono::duration<double>(Clock::now() - start).count());
-    m_simulated_s.store(m_simulation.time_s());
+    m_simulated_s.store(m_simulation.time_s() - startTime_s);
   }
 }
 

@@ -61,6 +61,21 @@ TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
   EXPECT_NEAR(snapshot.instrument.tip_m.y(), moved.tip_m.y(), 1e-12);
 }
 
+TEST(RealTimeLoop, CountsOnlyItsOwnSimulatedTime) {
+  // A simulation that has already run (a scripted approach, a resumed window): the real-time
+  // factor is this loop's simulated time over its wall time, so steps x dt / wall.
+  Simulation simulation(loadSceneFile(bundledScene()));
+  for (int n = 0; n < 300; ++n) simulation.step();
+  RealTimeLoop loop(simulation);
+  loop.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  loop.stop();
+  const LoopStatistics statistics = loop.statistics();
+  ASSERT_GT(statistics.steps, 0);
+  EXPECT_NEAR(statistics.simulated_s, static_cast<double>(statistics.steps) * simulation.timeStep_s(), 1e-9);
+  EXPECT_LE(statistics.realtimeFactor(), 1.05);
+}
+
 TEST(RealTimeLoop, LateStepsAreCountedAndTimeFallsBehind) {
   SceneDescription scene = loadSceneFile(bundledScene());
   scene.timeStep_s = 1e-6;  // a microsecond budget: every step is late
