@@ -13,10 +13,18 @@
 
 namespace tissuesim::app {
 
-InstrumentPose pressedPose(const Simulation& simulation) {
-  Eigen::Index top = 0;
-  simulation.state().x.row(1).maxCoeff(&top);
-  return {simulation.state().x.col(top) - Eigen::Vector3d(0, 0.005, 0), {0, -1, 0}, false};
+InstrumentPose pressToPokeDepth(Simulation& simulation, const SceneDescription& scene,
+                                LiveInstrument& live) {
+  constexpr double kDepth_m = 0.04;
+  constexpr double kPressTime_s = 1.0;
+  const InstrumentScript poke = InstrumentScript::poke(
+      {scene.instrument->tipStart_m, scene.instrument->direction, false}, kDepth_m, kPressTime_s);
+  const auto steps = static_cast<long>(std::lround(kPressTime_s / simulation.timeStep_s()));
+  for (long n = 1; n <= steps; ++n) {
+    live.setPose(poke.poseAt(static_cast<double>(n) * simulation.timeStep_s()));
+    simulation.step();
+  }
+  return poke.poseAt(kPressTime_s);
 }
 
 void registerContactBenchmarks(const std::string& scenePath) {
@@ -24,7 +32,10 @@ void registerContactBenchmarks(const std::string& scenePath) {
   benchmark::RegisterBenchmark("Contact/QueryAndResponse/liver5k", [scene](benchmark::State& state) {
     Simulation simulation(scene);
     CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
-    const InstrumentPose pose = pressedPose(simulation);
+    LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
+    simulation.setContactProvider(&contact);
+    simulation.setInstrumentSource(&live);
+    const InstrumentPose pose = pressToPokeDepth(simulation, scene, live);
     Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, simulation.state().x.cols());
     PenaltyContactSet contacts;
     for (auto _ : state) {
@@ -104,15 +115,18 @@ void registerContactBenchmarks(const std::string& scenePath) {
     changed.threads = threads;
     Simulation simulation(changed);
     CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
-    InstrumentScript hold({{0.0, pressedPose(simulation)}});
+    LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
     simulation.setContactProvider(&contact);
-    simulation.setInstrumentSource(&hold);
+    simulation.setInstrumentSource(&live);
+    pressToPokeDepth(simulation, scene, live);
     long linearIterations = 0;
+    double force_N = 0.0;
     for (auto _ : state) {
       const StepOutcome outcome = simulation.step();
       linearIterations += outcome.integrator.linearIterations;
-      benchmark::DoNotOptimize(outcome.contact.toolForce_N);
+      force_N = outcome.contact.toolForce_N.norm();
     }
+    state.counters["tool_force_n"] = force_N;
     state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
     state.counters["threads"] = threads;
     state.counters["cg_iterations"] = static_cast<double>(linearIterations) / static_cast<double>(state.iterations());

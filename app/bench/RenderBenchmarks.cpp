@@ -39,13 +39,13 @@ void frameBenchmark(benchmark::State& state, const std::string& scenePath, bool 
   state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
 }
 
-/// The real-time loop for 3 s of wall time with the probe held pressed, alone or with the
+/// The real-time loop for 3 s of wall time with the probe held at the poke's depth, alone or with the
 /// main thread rendering frames at up to 60 per second as the window does.
 void physicsRateBenchmark(benchmark::State& state, const std::string& scenePath, bool isRendering) {
   if (isRendering) ensureDisplay();
   SceneSession session(scenePath, "", InstrumentDriver::Live);
   Simulation& simulation = session.simulation();
-  session.liveInstrument()->setPose(pressedPose(simulation));
+  pressToPokeDepth(simulation, session.scene(), *session.liveInstrument());
   std::unique_ptr<TissueSceneView> view;
   std::unique_ptr<OffscreenWindow> window;
   if (isRendering) {
@@ -72,6 +72,7 @@ void physicsRateBenchmark(benchmark::State& state, const std::string& scenePath,
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
       }
     }
+    state.counters["tool_force_n"] = loop.snapshot().toolForce_N.norm();
     loop.stop();
     statistics = loop.statistics();
   }
