@@ -73,16 +73,13 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
                                                  NodeBlockMatrix& stiffness,
                                                  bool isProjected) const {
   f.setZero();
-  stiffness.setZero();
   ForceReport report;
   report.springs = m_springs.addForcesAndStiffness(x, f, m_springBlocks, isProjected);
   // The matrix's edges are the springs, in order (makeMatrix).
   if (stiffness.edgeCount() != m_springBlocks.cols()) {
     throw std::logic_error("MechanicalSystem::forcesAndStiffness: the matrix is not makeMatrix()'s");
   }
-  for (Eigen::Index s = 0; s < m_springBlocks.cols(); ++s) {
-    stiffness.addEdgeStiffness(s, m_springBlocks.col(s).data());
-  }
+  stiffness.assignEdgeStiffness(m_springBlocks);  // every value: no clearing first
   if (m_volume != nullptr) {
     report.volume = m_volume->addForces(x, f, &m_tetBlocks);
     for (Eigen::Index t = 0; t < mesh().tets.cols(); ++t) {

@@ -46,6 +46,60 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
     m_edgeSlots.push_back({blockStart(a, a), blockStart(b, b), blockStart(a, b), blockStart(b, a),
                            blockStride(a), blockStride(b)});
   }
+  m_neighbourEdge.assign(m_neighbourIndex.size(), -1);
+  const auto slot = [&](int i, int j) {
+    const auto first = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j)];
+    const auto last = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j) + 1];
+    return static_cast<std::size_t>(std::lower_bound(first, last, i) - m_neighbourIndex.begin());
+  };
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    for (const std::size_t at : {slot(edges(0, e), edges(1, e)), slot(edges(1, e), edges(0, e))}) {
+      if (m_neighbourEdge[at] != -1) m_hasRepeatedEdges = true;
+      m_neighbourEdge[at] = static_cast<int>(e);
+    }
+  }
+}
+
+void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k) {
+  if (k.cols() != edgeCount()) {
+    throw std::invalid_argument("NodeBlockMatrix::assignEdgeStiffness: " + std::to_string(k.cols()) +
+                                " blocks for " + std::to_string(edgeCount()) + " edges");
+  }
+  if (m_hasRepeatedEdges) {  // two edges share a block: they must be summed
+    setZero();
+    for (Eigen::Index e = 0; e < edgeCount(); ++e) addEdgeStiffness(e, k.col(e).data());
+    return;
+  }
+  double* const values = m_matrix.valuePtr();
+  const int* const outer = m_matrix.outerIndexPtr();
+  const Eigen::Index nodes = nodeCount();
+  for (Eigen::Index j = 0; j < nodes; ++j) {
+    const int first = m_neighbourStart[static_cast<std::size_t>(j)];
+    const int count = m_neighbourStart[static_cast<std::size_t>(j) + 1] - first;
+    const Eigen::Index stride = 3 * static_cast<Eigen::Index>(count);
+    double* const column = values + outer[3 * j];
+    // Block (i, j) of edge e is -K_e as addEdgeStiffness() writes it; (j, j) sums them.
+    double diagonal[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    double* diagonalBlock = nullptr;
+    for (int p = 0; p < count; ++p) {
+      double* const block = column + 3 * p;
+      const int e = m_neighbourEdge[static_cast<std::size_t>(first + p)];
+      if (e < 0) {
+        diagonalBlock = block;
+        continue;
+      }
+      const double* const ke = k.col(e).data();
+      for (int c = 0; c < 3; ++c) {
+        for (int r = 0; r < 3; ++r) {
+          block[c * stride + r] = -ke[3 * c + r];
+          diagonal[3 * c + r] += ke[3 * c + r];
+        }
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) diagonalBlock[c * stride + r] = diagonal[3 * c + r];
+    }
+  }
 }
 
 Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {

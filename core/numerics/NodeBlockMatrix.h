@@ -43,6 +43,12 @@ class NodeBlockMatrix {
     }
   }
 
+  /// Overwrites every stored value with the edges' stiffness (9 by #E, a column-major 3x3 K_e
+  /// per edge of the constructor's list): the matrix setZero() and addEdgeStiffness() on every
+  /// edge give (up to the order of the diagonal sums), written column by column, each value
+  /// once, with no clearing pass.
+  void assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k);
+
   /// Adds `value` to the three diagonal entries of node i (a lumped mass, say).
   void addToDiagonal(int i, double value);
 
@@ -112,6 +118,9 @@ class NodeBlockMatrix {
   std::vector<int> m_neighbourIndex;
   std::vector<Eigen::Index> m_diagonalStart;  ///< per node j, where block (j, j) starts
   std::vector<EdgeSlots> m_edgeSlots;          ///< per edge of the constructor's list
+  /// Per entry of m_neighbourIndex, the edge joining the two nodes (-1 on the diagonal).
+  std::vector<int> m_neighbourEdge;
+  bool m_hasRepeatedEdges = false;  ///< an edge listed twice: assignEdgeStiffness() must add
   std::vector<char> m_fixedFlags;              ///< the flags m_fixedEntries were listed for
   std::vector<Eigen::Index> m_fixedEntries;    ///< values zeroed by applyFixedDofs
   std::vector<Eigen::Index> m_fixedDiagonal;   ///< values set to 1 by applyFixedDofs

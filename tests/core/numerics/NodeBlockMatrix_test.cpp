@@ -58,6 +58,37 @@ TEST(NodeBlockMatrix, EdgeIndexedAssemblyMatchesTheSearchedOne) {
   EXPECT_NE(Eigen::MatrixXd(byEdge.matrix()).cwiseAbs().maxCoeff(), 0.0);
 }
 
+TEST(NodeBlockMatrix, AssignedStiffnessEqualsClearedAndAdded) {
+  // Both orders of node pairs, a node with no edges, and blocks that are not symmetric (a
+  // transposed block would show). Repeated edges take the adding path.
+  for (const bool isRepeated : {false, true}) {
+    Eigen::Matrix2Xi edges(2, isRepeated ? 5 : 4);
+    if (isRepeated) {
+      edges << 0, 2, 3, 1, 1, 1, 1, 0, 3, 0;
+    } else {
+      edges << 0, 2, 3, 1, 1, 1, 0, 3;
+    }
+    Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, edges.cols());
+    for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+      for (int v = 0; v < 9; ++v) blocks(v, e) = (e + 1.0) * (v + 1.0) + 0.1 * v * v;
+    }
+    NodeBlockMatrix added(5, edges);
+    for (Eigen::Index e = 0; e < edges.cols(); ++e) added.addEdgeStiffness(e, blocks.col(e).data());
+    NodeBlockMatrix assigned(5, edges);
+    for (int i = 0; i < 5; ++i) assigned.addToDiagonal(i, 1e3);  // stale values to overwrite
+    assigned.assignEdgeStiffness(blocks * 3.0);
+    assigned.assignEdgeStiffness(blocks);
+    const Eigen::MatrixXd expected(added.matrix());
+    EXPECT_LT((Eigen::MatrixXd(assigned.matrix()) - expected).cwiseAbs().maxCoeff(),
+              1e-13 * expected.cwiseAbs().maxCoeff())
+        << (isRepeated ? "repeated edges" : "unique edges");
+    EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
+  }
+  NodeBlockMatrix matrix(2, (Eigen::Matrix2Xi(2, 1) << 0, 1).finished());
+  EXPECT_THROW(matrix.assignEdgeStiffness(Eigen::Matrix<double, 9, Eigen::Dynamic>(9, 2)),
+               std::invalid_argument);
+}
+
 TEST(NodeBlockMatrix, FixedDofsFollowChangedFlags) {
   Eigen::Matrix2Xi edges(2, 2);
   edges << 0, 1, 1, 2;
