@@ -47,13 +47,8 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
                            blockStride(a), blockStride(b)});
   }
   m_neighbourEdge.assign(m_neighbourIndex.size(), -1);
-  const auto slot = [&](int i, int j) {
-    const auto first = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j)];
-    const auto last = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j) + 1];
-    return static_cast<std::size_t>(std::lower_bound(first, last, i) - m_neighbourIndex.begin());
-  };
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
-    for (const std::size_t at : {slot(edges(0, e), edges(1, e)), slot(edges(1, e), edges(0, e))}) {
+    for (const std::size_t at : {neighbourSlot(edges(0, e), edges(1, e)), neighbourSlot(edges(1, e), edges(0, e))}) {
       if (m_neighbourEdge[at] != -1) m_hasRepeatedEdges = true;
       m_neighbourEdge[at] = static_cast<int>(e);
     }
@@ -102,7 +97,7 @@ void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::
   }
 }
 
-Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
+std::size_t NodeBlockMatrix::neighbourSlot(int i, int j) const {
   const auto first = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j)];
   const auto last = m_neighbourIndex.begin() + m_neighbourStart[static_cast<std::size_t>(j) + 1];
   const auto found = std::lower_bound(first, last, i);
@@ -110,7 +105,12 @@ Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
     throw std::logic_error("NodeBlockMatrix: nodes " + std::to_string(i) + " and " +
                            std::to_string(j) + " share no edge");
   }
-  return m_matrix.outerIndexPtr()[3 * j] + 3 * (found - first);
+  return static_cast<std::size_t>(found - m_neighbourIndex.begin());
+}
+
+Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
+  const auto position = static_cast<Eigen::Index>(neighbourSlot(i, j)) - m_neighbourStart[static_cast<std::size_t>(j)];
+  return m_matrix.outerIndexPtr()[3 * j] + 3 * position;
 }
 
 void NodeBlockMatrix::addBlock(int i, int j, const Eigen::Matrix3d& block) {

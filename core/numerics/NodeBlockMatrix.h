@@ -97,6 +97,8 @@ class NodeBlockMatrix {
   Eigen::Index edgeCount() const { return static_cast<Eigen::Index>(m_edgeSlots.size()); }
 
  private:
+  /// Where node i stands in m_neighbourIndex among j's neighbours; throws if no edge joins them.
+  std::size_t neighbourSlot(int i, int j) const;
   Eigen::Index blockStart(int i, int j) const;
   /// Values between column c and c + 1 of a block in node j's columns: 3 x j's neighbour count.
   Eigen::Index blockStride(int j) const {

@@ -39,6 +39,15 @@ TEST(TripleBuffer, TheReaderNeverSeesAHalfWrittenValue) {
   EXPECT_GE(updates, 1);
 }
 
+/// Runs a real-time loop on `simulation` for `duration` of wall time; its statistics.
+LoopStatistics runLoopFor(Simulation& simulation, std::chrono::milliseconds duration) {
+  RealTimeLoop loop(simulation);
+  loop.start();
+  std::this_thread::sleep_for(duration);
+  loop.stop();
+  return loop.statistics();
+}
+
 TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
   Simulation simulation(loadSceneFile(bundledScene()));
   LiveInstrument instrument(simulation.instrumentPose());
@@ -66,11 +75,7 @@ TEST(RealTimeLoop, CountsOnlyItsOwnSimulatedTime) {
   // factor is this loop's simulated time over its wall time, so steps x dt / wall.
   Simulation simulation(loadSceneFile(bundledScene()));
   for (int n = 0; n < 300; ++n) simulation.step();
-  RealTimeLoop loop(simulation);
-  loop.start();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  loop.stop();
-  const LoopStatistics statistics = loop.statistics();
+  const LoopStatistics statistics = runLoopFor(simulation, std::chrono::milliseconds(200));
   ASSERT_GT(statistics.steps, 0);
   EXPECT_NEAR(statistics.simulated_s, static_cast<double>(statistics.steps) * simulation.timeStep_s(), 1e-9);
   EXPECT_LE(statistics.realtimeFactor(), 1.05);
@@ -80,11 +85,7 @@ TEST(RealTimeLoop, LateStepsAreCountedAndTimeFallsBehind) {
   SceneDescription scene = loadSceneFile(bundledScene());
   scene.timeStep_s = 1e-6;  // a microsecond budget: every step is late
   Simulation simulation(scene);
-  RealTimeLoop loop(simulation);
-  loop.start();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  loop.stop();
-  const LoopStatistics statistics = loop.statistics();
+  const LoopStatistics statistics = runLoopFor(simulation, std::chrono::milliseconds(200));
   EXPECT_GT(statistics.steps, 0);
   EXPECT_EQ(statistics.overruns, statistics.steps);
   EXPECT_LT(statistics.realtimeFactor(), 0.1);
