@@ -23,9 +23,9 @@
 // k (w (x) n)(w (x) n)^T, so H0 + U U^T is inverted by the Sherman-Morrison-Woodbury formula
 //   (H0 + U U^T)^-1 q = z - V (I + U^T V)^-1 U^T z,   z = H0^-1 q,  V = H0^-1 U  (3#V by #C)
 // at the cost of one solve per contact per step (a handful) and a #C by #C factorisation.
-// A step whose residual ends above where it started is diverging; it iterates past the budget
-// (up to five times it) until the residual is back under its start (the report's iteration
-// count shows it).
+// A step that has not halved the residual of its predictor is diverging or about to (H0 misses
+// the stiffness the springs have gained); it iterates past the budget (up to five times it)
+// until it has (the report's iteration count shows it).
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
