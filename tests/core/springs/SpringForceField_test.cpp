@@ -134,6 +134,28 @@ TEST(SpringForceField, StretchHistoryOnlyGrowsAndResets) {
   EXPECT_EQ(block.springs.lambdaMax().maxCoeff(), 1.0);
 }
 
+TEST(SpringForceField, RecordingTheStretchesChangesNothingAtTheSameState) {
+  // Every stretched spring sets its peak here, and at the same positions it must stay on its
+  // virgin curve: forces and stiffness bit-identical before and after the commit. A peak even one
+  // unit in the last place above the pass's own stretch would put it just below lambda_max,
+  // where the softened tangent is nearly vertical.
+  test::BlockSystem block({0.02, 0.02, 0.02}, {3, 3, 3}, SpringLaw::Eesm, true);
+  for (const unsigned seed : {1u, 2u, 3u}) {
+    block.springs.resetStretchHistory();
+    const Eigen::Matrix3Xd x = deformed(block.mesh, 0.2, seed);
+    Eigen::Matrix3Xd before = Eigen::Matrix3Xd::Zero(3, x.cols());
+    Eigen::Matrix3Xd after = before;
+    Eigen::Matrix<double, 9, Eigen::Dynamic> blocksBefore(9, block.mesh.springCount());
+    Eigen::Matrix<double, 9, Eigen::Dynamic> blocksAfter(9, block.mesh.springCount());
+    block.springs.addForcesAndStiffness(x, before, blocksBefore);
+    block.springs.commitStretchHistory(x);
+    ASSERT_GT(block.springs.lambdaMax().maxCoeff(), 1.05) << "the state stretches springs";
+    block.springs.addForcesAndStiffness(x, after, blocksAfter);
+    EXPECT_EQ(before, after) << "seed " << seed;
+    EXPECT_EQ(blocksBefore, blocksAfter) << "seed " << seed;
+  }
+}
+
 TEST(SpringForceField, CollapsedAndOverstretchedSpringsAreReported) {
   test::BlockSystem block({0.02, 0.02, 0.02}, {1, 1, 1});
   Eigen::Matrix3Xd x = block.mesh.restPositions_m;
