@@ -12,7 +12,7 @@
 // factorisation fails or no step length reduces |r|, a Levenberg-Marquardt shift mu I is added
 // (raised tenfold each time, relaxed after a good step); the solve stops, unconverged, when even
 // a vanishing gradient step gives no descent (a kink in the force, say) and reports it. Linear solves: sparse Cholesky (Eigen
-// SimplicialLDLT, symbolic analysis once per pattern) or conjugate gradients (Jacobi
+// SimplicialLDLT, symbolic analysis once per pattern) or conjugate gradients (3x3 block-Jacobi
 // preconditioner, BlockConjugateGradient: on the springs' thread pool when they have one).
 
 #include <memory>
@@ -61,8 +61,6 @@ class NewtonSolver {
   std::unique_ptr<NodeBlockMatrix> m_matrix;
   std::unique_ptr<NodeBlockMatrix> m_trialMatrix;  ///< the line search's trials' stiffness
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
-  // Jacobi (diagonal) preconditioning: a 3x3 block-Jacobi one was tried and saved 2-6 % of the
-  // CG iterations at dt = 1 ms (the mass term dominates), less than its cost.
   BlockConjugateGradient m_cg;
   bool m_isPatternAnalysed = false;
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;

@@ -9,7 +9,8 @@ namespace tissuesim {
 void BlockConjugateGradient::resize(const NodeBlockMatrix& a) {
   const Eigen::Index nodes = a.nodeCount();
   m_nodeCount = nodes;
-  for (Eigen::VectorXd* v : {&m_inverseDiagonal, &m_r, &m_z, &m_p, &m_q}) v->resize(3 * nodes);
+  for (Eigen::VectorXd* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(3 * nodes);
+  m_inverseBlocks.resize(6 * nodes);
   // Cut where the stored values (the product's work) reach p / kParts of the total.
   const Eigen::Index total = a.valuesBefore(nodes);
   m_bounds[0] = 0;
@@ -35,6 +36,41 @@ void BlockConjugateGradient::forEachPart(Pass& pass) {
 }
 
 namespace {
+/// The preconditioner's block for one node: the inverse of the symmetric diagonal block B,
+/// stored as its upper triangle (00, 01, 02, 11, 12, 22), by cofactors. A block that is not
+/// positive definite (or has a zero pivot) gets the scalar Jacobi inverse instead, 1 where a
+/// diagonal entry is 0 (as Eigen's Jacobi preconditioner).
+void invertDiagonalBlock(const Eigen::Matrix3d& b, double* inverse) {
+  const double c00 = b(1, 1) * b(2, 2) - b(1, 2) * b(1, 2);
+  const double c01 = b(0, 2) * b(1, 2) - b(0, 1) * b(2, 2);
+  const double c02 = b(0, 1) * b(1, 2) - b(0, 2) * b(1, 1);
+  const double determinant = b(0, 0) * c00 + b(0, 1) * c01 + b(0, 2) * c02;
+  const bool isPositiveDefinite = b(0, 0) > 0.0 && b(0, 0) * b(1, 1) - b(0, 1) * b(0, 1) > 0.0 &&
+                                  determinant > 0.0 && std::isfinite(determinant);
+  if (!isPositiveDefinite) {
+    const auto scalar = [](double d) { return d != 0.0 ? 1.0 / d : 1.0; };
+    inverse[0] = scalar(b(0, 0));
+    inverse[3] = scalar(b(1, 1));
+    inverse[5] = scalar(b(2, 2));
+    inverse[1] = inverse[2] = inverse[4] = 0.0;
+    return;
+  }
+  const double scale = 1.0 / determinant;
+  inverse[0] = c00 * scale;
+  inverse[1] = c01 * scale;
+  inverse[2] = c02 * scale;
+  inverse[3] = (b(0, 0) * b(2, 2) - b(0, 2) * b(0, 2)) * scale;
+  inverse[4] = (b(0, 1) * b(0, 2) - b(0, 0) * b(1, 2)) * scale;
+  inverse[5] = (b(0, 0) * b(1, 1) - b(0, 1) * b(0, 1)) * scale;
+}
+
+/// z = B^-1 r for one node, B^-1 as invertDiagonalBlock stores it.
+inline void applyInverse(const double* inverse, const double* r, double* z) {
+  z[0] = inverse[0] * r[0] + inverse[1] * r[1] + inverse[2] * r[2];
+  z[1] = inverse[1] * r[0] + inverse[3] * r[1] + inverse[4] * r[2];
+  z[2] = inverse[2] * r[0] + inverse[4] * r[1] + inverse[5] * r[2];
+}
+
 /// The parts' partial sums in part order: the same whatever thread computed each part.
 template <std::size_t N>
 double sumInOrder(const std::array<double, N>& partial) {
@@ -57,22 +93,23 @@ ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
   double* const z = m_z.data();
   double* const p = m_p.data();
   double* const q = m_q.data();
-  double* const inverseDiagonal = m_inverseDiagonal.data();
+  double* const inverseBlocks = m_inverseBlocks.data();
 
   // x = 0, r = b, z = M^-1 r, p = z; partial sums of b.b and r.z.
   auto start = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
     double bb = 0.0, rz = 0.0;
     for (Eigen::Index j = first; j < last; ++j) {
+      double* inverse = inverseBlocks + 6 * j;
+      invertDiagonalBlock(a.diagonalBlock(j), inverse);
+      const double* bj = bs + 3 * j;
+      double* zj = z + 3 * j;
+      applyInverse(inverse, bj, zj);
       for (int c = 0; c < 3; ++c) {
-        const Eigen::Index d = 3 * j + c;
-        const double diagonal = a.diagonal(j, c);
-        inverseDiagonal[d] = diagonal != 0.0 ? 1.0 / diagonal : 1.0;  // as Eigen's Jacobi
-        xs[d] = 0.0;
-        r[d] = bs[d];
-        z[d] = inverseDiagonal[d] * r[d];
-        p[d] = z[d];
-        bb += bs[d] * bs[d];
-        rz += r[d] * z[d];
+        xs[3 * j + c] = 0.0;
+        r[3 * j + c] = bj[c];
+        p[3 * j + c] = zj[c];
+        bb += bj[c] * bj[c];
+        rz += bj[c] * zj[c];
       }
     }
     m_dotA[part] = bb;
@@ -99,12 +136,17 @@ ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
   // x += alpha p, r -= alpha q, z = M^-1 r; partial r.r and r.z.
   auto update = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
     double rr = 0.0, rzPart = 0.0;
-    for (Eigen::Index d = 3 * first; d < 3 * last; ++d) {
-      xs[d] += alpha * p[d];
-      r[d] -= alpha * q[d];
-      z[d] = inverseDiagonal[d] * r[d];
-      rr += r[d] * r[d];
-      rzPart += r[d] * z[d];
+    for (Eigen::Index j = first; j < last; ++j) {
+      double* rj = r + 3 * j;
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::Index d = 3 * j + c;
+        xs[d] += alpha * p[d];
+        rj[c] -= alpha * q[d];
+        rr += rj[c] * rj[c];
+      }
+      double* zj = z + 3 * j;
+      applyInverse(inverseBlocks + 6 * j, rj, zj);
+      rzPart += rj[0] * zj[0] + rj[1] * zj[1] + rj[2] * zj[2];
     }
     m_dotA[part] = rr;
     m_dotB[part] = rzPart;

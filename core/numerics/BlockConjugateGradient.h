@@ -1,5 +1,6 @@
 #pragma once
-// Jacobi-preconditioned conjugate gradients on a symmetric positive definite NodeBlockMatrix:
+// Block-Jacobi-preconditioned conjugate gradients on a symmetric positive definite
+// NodeBlockMatrix:
 //
 //   A x = b,   A: 3#V by 3#V (N/m),  b: 3#V (N),  x: 3#V (m), started from x = 0
 //
@@ -9,6 +10,10 @@
 // (product, updates, dot products) runs over kParts fixed node ranges, on a ForkJoinPool when
 // one is set. The ranges and the order in which their partial dot products are summed do not
 // depend on the thread count, so the result is bit-identical with 1, 2 or 4 threads.
+// The preconditioner is the inverse of each node's 3x3 diagonal block, not of its diagonal
+// entries: an instrument contact adds k w^2 n n^T there, along a normal that is rarely an axis,
+// and the springs' blocks couple the axes too. On the held probe it takes 9.5 products a step
+// against 10.8 with scalar Jacobi, on the stretched slab 14-15 against 19.
 // No allocation once the scratch is sized for a matrix (the first solve, or a new size).
 
 #include <array>
@@ -46,7 +51,8 @@ class BlockConjugateGradient {
   ForkJoinPool* m_pool = nullptr;
   Eigen::Index m_nodeCount = -1;
   std::array<Eigen::Index, kParts + 1> m_bounds{};  ///< node ranges of about equal stored values
-  Eigen::VectorXd m_inverseDiagonal, m_r, m_z, m_p, m_q;
+  Eigen::VectorXd m_inverseBlocks;  ///< 6#V: per node, the upper triangle of its block's inverse
+  Eigen::VectorXd m_r, m_z, m_p, m_q;
   std::array<double, kParts> m_dotA{}, m_dotB{};  ///< per-part partial dot products
 };
 

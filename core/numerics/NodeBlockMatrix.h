@@ -87,6 +87,17 @@ class NodeBlockMatrix {
     return m_matrix.valuePtr()[m_diagonalStart[static_cast<std::size_t>(j)] + c * (blockStride(static_cast<int>(j)) + 1)];
   }
 
+  /// Block (j, j), 3x3.
+  Eigen::Matrix3d diagonalBlock(Eigen::Index j) const {
+    const double* start = m_matrix.valuePtr() + m_diagonalStart[static_cast<std::size_t>(j)];
+    const Eigen::Index stride = blockStride(static_cast<int>(j));
+    Eigen::Matrix3d block;
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) block(r, c) = start[c * stride + r];
+    }
+    return block;
+  }
+
   /// #V.
   Eigen::Index nodeCount() const { return static_cast<Eigen::Index>(m_neighbourStart.size()) - 1; }
   /// Stored values in the columns of nodes [0, j): a cost measure for cutting node ranges.

@@ -1,6 +1,9 @@
 #include "numerics/BlockConjugateGradient.h"
 
 #include <random>
+#include <vector>
+
+#include <Eigen/LU>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <gtest/gtest.h>
@@ -46,6 +49,43 @@ Eigen::VectorXd randomVector(Eigen::Index size, unsigned seed) {
   return v;
 }
 
+/// Block-Jacobi preconditioning for Eigen's ConjugateGradient, written independently of
+/// BlockConjugateGradient's: every node's 3x3 diagonal block inverted by Eigen's LU.
+class EigenBlockJacobi {
+ public:
+  using Scalar = double;
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic };
+
+  template <typename Matrix>
+  EigenBlockJacobi& analyzePattern(const Matrix&) { return *this; }
+  template <typename Matrix>
+  EigenBlockJacobi& factorize(const Matrix& a) { return compute(a); }
+  template <typename Matrix>
+  EigenBlockJacobi& compute(const Matrix& a) {
+    const Eigen::MatrixXd dense(a);
+    m_inverses.resize(static_cast<std::size_t>(dense.rows() / 3));
+    for (std::size_t j = 0; j < m_inverses.size(); ++j) {
+      const auto at = static_cast<Eigen::Index>(3 * j);
+      m_inverses[j] = dense.block<3, 3>(at, at).inverse();
+    }
+    return *this;
+  }
+  template <typename Rhs>
+  Eigen::VectorXd solve(const Rhs& b) const {
+    Eigen::VectorXd z(b.size());
+    for (std::size_t j = 0; j < m_inverses.size(); ++j) {
+      const auto at = static_cast<Eigen::Index>(3 * j);
+      z.segment<3>(at) = m_inverses[j] * b.template segment<3>(at);
+    }
+    return z;
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+ private:
+  std::vector<Eigen::Matrix3d> m_inverses;
+};
+
 TEST(NodeBlockMatrix, BlockProductMatchesTheSparseProduct) {
   const Eigen::Matrix2Xi edges = latticeEdges(5, 4, 3);
   const NodeBlockMatrix a = randomSpdMatrix(edges, 60, 1);
@@ -58,7 +98,7 @@ TEST(NodeBlockMatrix, BlockProductMatchesTheSparseProduct) {
   EXPECT_EQ(a.diagonal(7, 2), a.matrix().coeff(23, 23));
 }
 
-TEST(BlockConjugateGradient, SolvesToTheToleranceLikeEigensConjugateGradient) {
+TEST(BlockConjugateGradient, SolvesLikeEigensConjugateGradientWithBlockJacobi) {
   const Eigen::Matrix2Xi edges = latticeEdges(8, 6, 5);
   const int nodes = 240;
   NodeBlockMatrix a = randomSpdMatrix(edges, nodes, 3);
@@ -76,13 +116,23 @@ TEST(BlockConjugateGradient, SolvesToTheToleranceLikeEigensConjugateGradient) {
   EXPECT_LE(residual, 1e-8);
   EXPECT_NEAR(report.relativeResidual, residual, 1e-9);  // the recurrence tracks the true one
 
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> eigenCg;
+  // The same method in Eigen: its CG with the 3x3 blocks' inverses as the preconditioner.
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, EigenBlockJacobi> eigenCg;
   eigenCg.setTolerance(1e-8);
   eigenCg.compute(a.matrix());
   const Eigen::VectorXd expected = eigenCg.solve(b);
   EXPECT_GT(report.iterations, 10);
   EXPECT_NEAR(report.iterations, static_cast<int>(eigenCg.iterations()), 1);
   EXPECT_LT((x - expected).norm(), 1e-6 * expected.norm());
+
+  // And the point of the blocks: fewer iterations than Eigen's scalar Jacobi preconditioning
+  // (on this matrix, whose edge blocks couple the three axes, 118 against 136).
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> scalarCg;
+  scalarCg.setTolerance(1e-8);
+  scalarCg.compute(a.matrix());
+  const Eigen::VectorXd scalarSolution = scalarCg.solve(b);
+  EXPECT_LT((scalarSolution - expected).norm(), 1e-6 * expected.norm());
+  EXPECT_LT(report.iterations, static_cast<int>(scalarCg.iterations()));
 }
 
 TEST(BlockConjugateGradient, ResultsDoNotDependOnTheThreadCount) {
