@@ -79,7 +79,8 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
   if (stiffness.edgeCount() != m_springBlocks.cols()) {
     throw std::logic_error("MechanicalSystem::forcesAndStiffness: the matrix is not makeMatrix()'s");
   }
-  stiffness.assignEdgeStiffness(m_springBlocks);  // every value: no clearing first
+  // Every value, no clearing first; on the springs' pool.
+  stiffness.assignEdgeStiffness(m_springBlocks, m_springs.threadPool());
   if (m_volume != nullptr) {
     report.volume = m_volume->addForces(x, f, &m_tetBlocks);
     for (Eigen::Index t = 0; t < mesh().tets.cols(); ++t) {

@@ -46,6 +46,14 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
     m_edgeSlots.push_back({blockStart(a, a), blockStart(b, b), blockStart(a, b), blockStart(b, a),
                            blockStride(a), blockStride(b)});
   }
+  // Node ranges of about equal stored values (the assignment's work) for assignEdgeStiffness.
+  const Eigen::Index totalValues = valuesBefore(nodeCount);
+  Eigen::Index node = 0;
+  for (int p = 1; p < kAssignParts; ++p) {
+    while (node < nodeCount && valuesBefore(node) * kAssignParts < totalValues * p) ++node;
+    m_assignBounds[static_cast<std::size_t>(p)] = node;
+  }
+  m_assignBounds[kAssignParts] = nodeCount;
   m_neighbourEdge.assign(m_neighbourIndex.size(), -1);
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
     for (const std::size_t at : {neighbourSlot(edges(0, e), edges(1, e)), neighbourSlot(edges(1, e), edges(0, e))}) {
@@ -55,7 +63,8 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
   }
 }
 
-void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k) {
+void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
+                                          ForkJoinPool* pool) {
   if (k.cols() != edgeCount()) {
     throw std::invalid_argument("NodeBlockMatrix::assignEdgeStiffness: " + std::to_string(k.cols()) +
                                 " blocks for " + std::to_string(edgeCount()) + " edges");
@@ -65,10 +74,24 @@ void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::
     for (Eigen::Index e = 0; e < edgeCount(); ++e) addEdgeStiffness(e, k.col(e).data());
     return;
   }
+  // Each node's columns are written from its own edges' blocks only: node ranges are
+  // independent, and the values written do not depend on how the nodes are cut.
+  const auto part = [&](int p) {
+    assignNodeColumns(k, m_assignBounds[static_cast<std::size_t>(p)],
+                      m_assignBounds[static_cast<std::size_t>(p) + 1]);
+  };
+  if (pool != nullptr && pool->threadCount() > 1) {
+    pool->run(kAssignParts, part);
+  } else {
+    assignNodeColumns(k, 0, nodeCount());
+  }
+}
+
+void NodeBlockMatrix::assignNodeColumns(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
+                                        Eigen::Index begin, Eigen::Index end) {
   double* const values = m_matrix.valuePtr();
   const int* const outer = m_matrix.outerIndexPtr();
-  const Eigen::Index nodes = nodeCount();
-  for (Eigen::Index j = 0; j < nodes; ++j) {
+  for (Eigen::Index j = begin; j < end; ++j) {
     const int first = m_neighbourStart[static_cast<std::size_t>(j)];
     const int count = m_neighbourStart[static_cast<std::size_t>(j) + 1] - first;
     const Eigen::Index stride = 3 * static_cast<Eigen::Index>(count);

@@ -7,10 +7,13 @@
 // (sorted, j included), the three rows 3i .. 3i+2 contiguously; so block (i, j) starts at
 // outer[3j + c] + 3 * (position of i among j's neighbours).
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+
+#include "parallel/ForkJoinPool.h"
 
 namespace tissuesim {
 
@@ -46,8 +49,10 @@ class NodeBlockMatrix {
   /// Overwrites every stored value with the edges' stiffness (9 by #E, a column-major 3x3 K_e
   /// per edge of the constructor's list): the matrix setZero() and addEdgeStiffness() on every
   /// edge give (up to the order of the diagonal sums), written column by column, each value
-  /// once, with no clearing pass.
-  void assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k);
+  /// once, with no clearing pass. On `pool` (when given, with more than one thread) the nodes'
+  /// columns are written in kAssignParts ranges at once; the values are the same.
+  void assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
+                           ForkJoinPool* pool = nullptr);
 
   /// Adds `value` to the three diagonal entries of node i (a lumped mass, say).
   void addToDiagonal(int i, double value);
@@ -108,6 +113,10 @@ class NodeBlockMatrix {
   Eigen::Index edgeCount() const { return static_cast<Eigen::Index>(m_edgeSlots.size()); }
 
  private:
+  static constexpr int kAssignParts = 4;
+  /// assignEdgeStiffness() for the columns of nodes [begin, end).
+  void assignNodeColumns(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k, Eigen::Index begin,
+                         Eigen::Index end);
   /// Where node i stands in m_neighbourIndex among j's neighbours; throws if no edge joins them.
   std::size_t neighbourSlot(int i, int j) const;
   Eigen::Index blockStart(int i, int j) const;
@@ -133,6 +142,7 @@ class NodeBlockMatrix {
   std::vector<EdgeSlots> m_edgeSlots;          ///< per edge of the constructor's list
   /// Per entry of m_neighbourIndex, the edge joining the two nodes (-1 on the diagonal).
   std::vector<int> m_neighbourEdge;
+  std::array<Eigen::Index, kAssignParts + 1> m_assignBounds{};  ///< node ranges for the pool
   bool m_hasRepeatedEdges = false;  ///< an edge listed twice: assignEdgeStiffness() must add
   std::vector<char> m_fixedFlags;              ///< the flags m_fixedEntries were listed for
   std::vector<Eigen::Index> m_fixedEntries;    ///< values zeroed by applyFixedDofs

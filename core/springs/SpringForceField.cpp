@@ -151,14 +151,25 @@ double SpringForceField::frequencySquaredBound(const Eigen::Matrix3Xd& x) const 
 
 void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
   if (!m_law.isSoftening()) return;
-  for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
-    // The same expression as the force pass's, to the last bit: a peak recorded even one unit in
-    // the last place above the stretch the pass computes would put the spring on its softened
-    // branch just below lambda_max, where the tangent is all but vertical (StressSoftening).
-    const double lambda =
-        (x.col(m_mesh.springs(1, s)) - x.col(m_mesh.springs(0, s))).norm() * m_inverseRestLength[s];
-    SofteningPeak& peak = m_peaks[static_cast<std::size_t>(s)];
-    if (lambda > peak.lambdaMax) peak = m_law.peak(lambda);
+  const Eigen::Index count = m_mesh.springCount();
+  // Each spring's peak is its own: the ranges run on the pool with nothing to merge.
+  const auto part = [&](int p) {
+    const Eigen::Index end = count * (p + 1) / kSpringParts;
+    for (Eigen::Index s = count * p / kSpringParts; s < end; ++s) {
+      // The same expression as the force pass's, to the last bit: a peak recorded even one unit
+      // in the last place above the stretch the pass computes would put the spring on its
+      // softened branch just below lambda_max, where the tangent is all but vertical
+      // (StressSoftening).
+      const double lambda =
+          (x.col(m_mesh.springs(1, s)) - x.col(m_mesh.springs(0, s))).norm() * m_inverseRestLength[s];
+      SofteningPeak& peak = m_peaks[static_cast<std::size_t>(s)];
+      if (lambda > peak.lambdaMax) peak = m_law.peak(lambda);
+    }
+  };
+  if (m_pool != nullptr && m_pool->threadCount() > 1) {
+    m_pool->run(kSpringParts, part);
+  } else {
+    for (int p = 0; p < kSpringParts; ++p) part(p);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "numerics/NodeBlockMatrix.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -87,6 +88,30 @@ TEST(NodeBlockMatrix, AssignedStiffnessEqualsClearedAndAdded) {
   NodeBlockMatrix matrix(2, (Eigen::Matrix2Xi(2, 1) << 0, 1).finished());
   EXPECT_THROW(matrix.assignEdgeStiffness(Eigen::Matrix<double, 9, Eigen::Dynamic>(9, 2)),
                std::invalid_argument);
+}
+
+TEST(NodeBlockMatrix, ResultsDoNotDependOnTheThreadCount) {
+  // The assignment on a pool writes every node's columns once, whichever thread runs its range:
+  // the matrix is bit-identical to the serial one, stale values included.
+  constexpr int kNodes = 300;
+  Eigen::Matrix2Xi edges(2, 3 * (kNodes - 7));
+  for (int i = 0; i + 7 < kNodes; ++i) edges.middleCols<3>(3 * i) << i, i, i, i + 1, i + 3, i + 7;
+  Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, edges.cols());
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    for (int v = 0; v < 9; ++v) blocks(v, e) = std::sin(0.37 * static_cast<double>(e) + v) + 0.01 * v;
+  }
+  NodeBlockMatrix serial(kNodes, edges);
+  serial.assignEdgeStiffness(blocks);
+  for (const int threads : {2, 3}) {
+    ForkJoinPool pool(threads);
+    NodeBlockMatrix parallel(kNodes, edges);
+    for (int i = 0; i < kNodes; ++i) parallel.addToDiagonal(i, 1e3);  // stale values to overwrite
+    parallel.assignEdgeStiffness(blocks * 2.0, &pool);
+    parallel.assignEdgeStiffness(blocks, &pool);
+    const Eigen::Map<const Eigen::VectorXd> expected(serial.matrix().valuePtr(), serial.matrix().nonZeros());
+    const Eigen::Map<const Eigen::VectorXd> actual(parallel.matrix().valuePtr(), parallel.matrix().nonZeros());
+    EXPECT_EQ(actual, expected) << threads << " threads";
+  }
 }
 
 TEST(NodeBlockMatrix, FixedDofsFollowChangedFlags) {

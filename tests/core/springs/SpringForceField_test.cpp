@@ -214,6 +214,22 @@ TEST(SpringForceField, ResultsDoNotDependOnTheThreadCount) {
     expected.col(b) -= f;
   }
   EXPECT_LT((expected - std::get<0>(serial)).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+
+  // The stretch history committed on a pool: every spring's peak as the serial commit sets it.
+  const auto commitTwice = [&](ForkJoinPool* pool) {
+    block.springs.setThreadPool(pool);
+    block.springs.resetStretchHistory();
+    block.springs.commitStretchHistory(deformed(block.mesh, 0.2, 7));
+    block.springs.commitStretchHistory(deformed(block.mesh, 0.25, 13));
+    block.springs.setThreadPool(nullptr);
+    return block.springs.lambdaMax();
+  };
+  const Eigen::VectorXd serialPeaks = commitTwice(nullptr);
+  EXPECT_GT((serialPeaks.array() > 1.0).count(), serialPeaks.size() / 4);  // many peaks set
+  for (const int threads : {2, 3}) {
+    ForkJoinPool pool(threads);
+    EXPECT_EQ(commitTwice(&pool), serialPeaks) << threads << " threads";
+  }
 }
 
 }  // namespace
