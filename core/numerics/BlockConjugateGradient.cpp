@@ -11,15 +11,7 @@ void BlockConjugateGradient::resize(const NodeBlockMatrix& a) {
   m_nodeCount = nodes;
   for (Eigen::VectorXd* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(3 * nodes);
   m_inverseBlocks.resize(6 * nodes);
-  // Cut where the stored values (the product's work) reach p / kParts of the total.
-  const Eigen::Index total = a.valuesBefore(nodes);
-  m_bounds[0] = 0;
-  Eigen::Index j = 0;
-  for (int p = 1; p < kParts; ++p) {
-    while (j < nodes && a.valuesBefore(j) * kParts < total * p) ++j;
-    m_bounds[static_cast<std::size_t>(p)] = j;
-  }
-  m_bounds[kParts] = nodes;
+  m_bounds = a.balancedNodeRanges<kParts>();  // equal shares of the product's work
 }
 
 template <typename Pass>

@@ -46,14 +46,7 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
     m_edgeSlots.push_back({blockStart(a, a), blockStart(b, b), blockStart(a, b), blockStart(b, a),
                            blockStride(a), blockStride(b)});
   }
-  // Node ranges of about equal stored values (the assignment's work) for assignEdgeStiffness.
-  const Eigen::Index totalValues = valuesBefore(nodeCount);
-  Eigen::Index node = 0;
-  for (int p = 1; p < kAssignParts; ++p) {
-    while (node < nodeCount && valuesBefore(node) * kAssignParts < totalValues * p) ++node;
-    m_assignBounds[static_cast<std::size_t>(p)] = node;
-  }
-  m_assignBounds[kAssignParts] = nodeCount;
+  m_assignBounds = balancedNodeRanges<kAssignParts>();
   m_neighbourEdge.assign(m_neighbourIndex.size(), -1);
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
     for (const std::size_t at : {neighbourSlot(edges(0, e), edges(1, e)), neighbourSlot(edges(1, e), edges(0, e))}) {

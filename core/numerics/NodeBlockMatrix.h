@@ -87,11 +87,6 @@ class NodeBlockMatrix {
     }
   }
 
-  /// The diagonal entry of DOF 3j + c.
-  double diagonal(Eigen::Index j, int c) const {
-    return m_matrix.valuePtr()[m_diagonalStart[static_cast<std::size_t>(j)] + c * (blockStride(static_cast<int>(j)) + 1)];
-  }
-
   /// Block (j, j), 3x3.
   Eigen::Matrix3d diagonalBlock(Eigen::Index j) const {
     const double* start = m_matrix.valuePtr() + m_diagonalStart[static_cast<std::size_t>(j)];
@@ -107,6 +102,22 @@ class NodeBlockMatrix {
   Eigen::Index nodeCount() const { return static_cast<Eigen::Index>(m_neighbourStart.size()) - 1; }
   /// Stored values in the columns of nodes [0, j): a cost measure for cutting node ranges.
   Eigen::Index valuesBefore(Eigen::Index j) const { return m_matrix.outerIndexPtr()[3 * j]; }
+
+  /// Bounds of Parts consecutive node ranges holding about equal shares of the stored values
+  /// (the work of a product or an assignment): range p is [bounds[p], bounds[p + 1]).
+  template <int Parts>
+  std::array<Eigen::Index, Parts + 1> balancedNodeRanges() const {
+    std::array<Eigen::Index, Parts + 1> bounds{};
+    const Eigen::Index nodes = nodeCount();
+    const Eigen::Index total = valuesBefore(nodes);
+    Eigen::Index j = 0;
+    for (int p = 1; p < Parts; ++p) {
+      while (j < nodes && valuesBefore(j) * Parts < total * p) ++j;
+      bounds[static_cast<std::size_t>(p)] = j;
+    }
+    bounds[Parts] = nodes;
+    return bounds;
+  }
 
   const Eigen::SparseMatrix<double>& matrix() const { return m_matrix; }
   /// #E, the constructor's edge count.

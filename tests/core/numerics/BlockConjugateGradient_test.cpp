@@ -95,7 +95,10 @@ TEST(NodeBlockMatrix, BlockProductMatchesTheSparseProduct) {
   a.multiplyNodes(25, 60, x.data(), y.data());
   const Eigen::VectorXd expected = a.matrix() * x;
   EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
-  EXPECT_EQ(a.diagonal(7, 2), a.matrix().coeff(23, 23));
+  const Eigen::Matrix3d block = a.diagonalBlock(7);
+  const Eigen::Matrix3d expectedBlock = Eigen::MatrixXd(a.matrix()).block<3, 3>(21, 21);
+  EXPECT_EQ(block, expectedBlock);
+  EXPECT_NE(block(2, 1), 0.0);  // the off-diagonal entries are compared too
 }
 
 TEST(BlockConjugateGradient, SolvesLikeEigensConjugateGradientWithBlockJacobi) {
