@@ -49,6 +49,16 @@ struct BenchScene {
 const Eigen::Vector3i kPaperSize(9, 9, 8);
 const Eigen::Vector3i kLargeSize(24, 24, 24);
 
+/// Steps each step benchmark times, from the slab at rest. A fixed count, not a minimum time:
+/// the slab sags and stiffens as it runs, so the work per step (CG products, explicit
+/// substeps) depends on how far it has got: with a minimum time the 100k implicit step took 8
+/// CG products a step in a short run and 22 in a two-second one. Each count is about a second
+/// of this machine's time.
+int timedSteps(const Eigen::Vector3i& cells, bool isImplicit) {
+  if (cells == kLargeSize) return isImplicit ? 30 : 20;
+  return isImplicit ? 300 : 200;
+}
+
 void runSteps(benchmark::State& state, BenchScene& scene, TimeIntegrator& integrator, double dt) {
   int substeps = 0;
   int iterations = 0;
@@ -115,7 +125,7 @@ void registerAccuracyTrade(const TissueParameters& parameters) {
       ImplicitEulerSolver integrator(settings, LinearSolverKind::ConjugateGradient);
       runSteps(state, scene, integrator, 1e-3);
       state.counters["error_um"] = error * 1e6;
-    })->Unit(benchmark::kMicrosecond);
+    })->Unit(benchmark::kMicrosecond)->Iterations(timedSteps(kPaperSize, true));
   }
 }
 
@@ -153,7 +163,8 @@ void registerDynamicsBenchmarks(const std::string& tissuePath) {
                                    runSteps(state, scene, integrator, 0.99 * dt);
                                    state.counters["threads"] = threads;
                                  })
-        ->Unit(benchmark::kMicrosecond);
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(timedSteps(cells, false));
 
     for (const auto& [name, kind] : {std::pair{"Step/ImplicitCG", LinearSolverKind::ConjugateGradient},
                                      std::pair{"Step/ImplicitCholesky", LinearSolverKind::Cholesky}}) {
@@ -174,7 +185,9 @@ void registerDynamicsBenchmarks(const std::string& tissuePath) {
                                      runSteps(state, scene, integrator, 1e-3);
                                      state.counters["threads"] = threads;
                                    })
-          ->Unit(benchmark::kMicrosecond);
+          ->Unit(benchmark::kMicrosecond)
+          // Cholesky: 0.1 s a step, so ten of them.
+          ->Iterations(kind == LinearSolverKind::Cholesky ? 10 : timedSteps(cells, true));
     }
     }
 
@@ -189,7 +202,8 @@ void registerDynamicsBenchmarks(const std::string& tissuePath) {
                                    QuasiNewtonSolver integrator(settings);
                                    runSteps(state, scene, integrator, 1e-3);
                                  })
-        ->Unit(benchmark::kMicrosecond);
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(timedSteps(cells, true) / 3);  // about 5 ms a step
   }
 }
 
