@@ -70,7 +70,9 @@ void RealTimeLoop::run() {
     const auto now = Clock::now();
     if (now > due) {
       ++overruns;
-      due = now;  // fall behind rather than race to catch up
+      // Behind: the next step starts now. Within kMaxLagSteps periods the schedule is kept (the
+      // steps that follow catch up); beyond, the lag is dropped and the schedule restarts here.
+      if (now - due > kMaxLagSteps * period) due = now;
     } else {
       std::this_thread::sleep_until(due);
     }

@@ -4,10 +4,14 @@
 // ever blocking the physics (TripleBuffer). The instrument pose comes in the same way (a
 // LiveInstrument the GUI or a device adapter writes).
 //
-// Pacing: step n is due at start + n dt (steady clock). A step that finishes late is not made
-// up by running faster (no spiral of death): the loop simply continues, so simulated time falls
-// behind wall-clock time; each late step is counted (overruns) and the measured real-time
-// factor (simulated / wall seconds) says by how much. Nothing is dropped silently.
+// Pacing: step n is due at start + n dt (steady clock); a step done early sleeps until its
+// successor is due. A step that finishes late is made up by the next steps running back to back
+// while the loop is at most kMaxLagSteps periods behind (an occasional slow step: a new contact,
+// the scheduler): simulated time stays on wall-clock time, so the tissue moves at the speed of
+// the tool the trainee moves. Further behind than that, the lag is dropped (no spiral of
+// death) and simulated time falls behind wall-clock time for good. Each late step is counted
+// (overruns) and the measured real-time factor (simulated / wall seconds) says how much time
+// was dropped. Nothing is dropped silently.
 
 #include <atomic>
 #include <thread>
@@ -57,6 +61,9 @@ struct LoopStatistics {
 
 class RealTimeLoop {
  public:
+  /// The most periods the loop catches up after late steps (4 ms at 1 kHz).
+  static constexpr int kMaxLagSteps = 4;
+
   /// `simulation` must outlive the loop and is not touched by others while it runs.
   explicit RealTimeLoop(Simulation& simulation);
   ~RealTimeLoop();
