@@ -101,7 +101,7 @@ class SlowEveryNthQuery final : public ContactProvider {
 TEST(RealTimeLoop, AnOccasionalSlowStepIsMadeUp) {
   // Every tenth step takes 2.5 budgets more than its budget; the others (the free liver) take a
   // quarter of it at most. The loop catches up after each slow step, so simulated time keeps to
-  // wall time; a loop that let time fall behind at each late step would lose a quarter of it.
+  // wall time; a loop that let time fall behind at each late step would lose about a fifth.
   // The budget is 1 ms or four free steps, whichever is longer (sanitizer builds are slower).
   SceneDescription scene = loadSceneFile(bundledScene());
   Simulation timing(scene);
