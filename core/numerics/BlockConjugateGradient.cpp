@@ -20,11 +20,7 @@ void BlockConjugateGradient::forEachPart(Pass& pass) {
     pass(static_cast<std::size_t>(p), m_bounds[static_cast<std::size_t>(p)],
          m_bounds[static_cast<std::size_t>(p) + 1]);
   };
-  if (m_pool != nullptr && m_pool->threadCount() > 1) {
-    m_pool->run(kParts, runPart);
-  } else {
-    for (int p = 0; p < kParts; ++p) runPart(p);
-  }
+  runParts(m_pool, kParts, runPart);
 }
 
 namespace {

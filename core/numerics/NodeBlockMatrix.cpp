@@ -39,21 +39,24 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
   m_matrix.finalize();
   m_diagonalStart.reserve(static_cast<std::size_t>(nodeCount));
   for (Eigen::Index j = 0; j < nodeCount; ++j) m_diagonalStart.push_back(blockStart(static_cast<int>(j), static_cast<int>(j)));
+  // Per edge, one search for each end's slot: it gives both the blocks' offsets and the
+  // assignment's edge map.
   m_edgeSlots.reserve(static_cast<std::size_t>(edges.cols()));
+  m_neighbourEdge.assign(m_neighbourIndex.size(), -1);
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
     const int a = edges(0, e);
     const int b = edges(1, e);
-    m_edgeSlots.push_back({blockStart(a, a), blockStart(b, b), blockStart(a, b), blockStart(b, a),
-                           blockStride(a), blockStride(b)});
-  }
-  m_assignBounds = balancedNodeRanges<kAssignParts>();
-  m_neighbourEdge.assign(m_neighbourIndex.size(), -1);
-  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
-    for (const std::size_t at : {neighbourSlot(edges(0, e), edges(1, e)), neighbourSlot(edges(1, e), edges(0, e))}) {
+    const std::size_t aAmongB = neighbourSlot(a, b);
+    const std::size_t bAmongA = neighbourSlot(b, a);
+    m_edgeSlots.push_back({m_diagonalStart[static_cast<std::size_t>(a)],
+                           m_diagonalStart[static_cast<std::size_t>(b)], slotStart(aAmongB, b),
+                           slotStart(bAmongA, a), blockStride(a), blockStride(b)});
+    for (const std::size_t at : {aAmongB, bAmongA}) {
       if (m_neighbourEdge[at] != -1) m_hasRepeatedEdges = true;
       m_neighbourEdge[at] = static_cast<int>(e);
     }
   }
+  m_assignBounds = balancedNodeRanges<kAssignParts>();
 }
 
 void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
@@ -73,11 +76,7 @@ void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::
     assignNodeColumns(k, m_assignBounds[static_cast<std::size_t>(p)],
                       m_assignBounds[static_cast<std::size_t>(p) + 1]);
   };
-  if (pool != nullptr && pool->threadCount() > 1) {
-    pool->run(kAssignParts, part);
-  } else {
-    assignNodeColumns(k, 0, nodeCount());
-  }
+  runParts(pool, kAssignParts, part);
 }
 
 void NodeBlockMatrix::assignNodeColumns(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
@@ -124,10 +123,12 @@ std::size_t NodeBlockMatrix::neighbourSlot(int i, int j) const {
   return static_cast<std::size_t>(found - m_neighbourIndex.begin());
 }
 
-Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
-  const auto position = static_cast<Eigen::Index>(neighbourSlot(i, j)) - m_neighbourStart[static_cast<std::size_t>(j)];
+Eigen::Index NodeBlockMatrix::slotStart(std::size_t slot, int j) const {
+  const auto position = static_cast<Eigen::Index>(slot) - m_neighbourStart[static_cast<std::size_t>(j)];
   return m_matrix.outerIndexPtr()[3 * j] + 3 * position;
 }
+
+Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const { return slotStart(neighbourSlot(i, j), j); }
 
 void NodeBlockMatrix::addBlock(int i, int j, const Eigen::Matrix3d& block) {
   const Eigen::Index start = blockStart(i, j);

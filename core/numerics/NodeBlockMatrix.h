@@ -130,6 +130,8 @@ class NodeBlockMatrix {
                          Eigen::Index end);
   /// Where node i stands in m_neighbourIndex among j's neighbours; throws if no edge joins them.
   std::size_t neighbourSlot(int i, int j) const;
+  /// Where the block at `slot` (an entry of m_neighbourIndex among j's) starts in the values.
+  Eigen::Index slotStart(std::size_t slot, int j) const;
   Eigen::Index blockStart(int i, int j) const;
   /// Values between column c and c + 1 of a block in node j's columns: 3 x j's neighbour count.
   Eigen::Index blockStride(int j) const {

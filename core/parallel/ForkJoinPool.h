@@ -66,4 +66,16 @@ class ForkJoinPool {
   const void* m_context = nullptr;
 };
 
+/// Runs task(part) for each part in [0, parts): on `pool` when there is one (a one-thread pool
+/// runs them in order on the caller), else in order on the caller. What the passes that may or
+/// may not have a pool call.
+template <typename Task>
+void runParts(ForkJoinPool* pool, int parts, const Task& task) {
+  if (pool != nullptr) {
+    pool->run(parts, task);
+    return;
+  }
+  for (int part = 0; part < parts; ++part) task(part);
+}
+
 }  // namespace tissuesim

@@ -35,11 +35,10 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
                                                Eigen::VectorXd* nodeStiffness,
                                                bool isProjected) const {
   if constexpr (withNodeStiffness) nodeStiffness->setZero();
-  const Eigen::Index count = m_mesh.springCount();
   std::array<SpringFieldReport, kSpringParts> reports;
   auto part = [&](int p) {
-    const Eigen::Index begin = count * p / kSpringParts;
-    const Eigen::Index end = count * (p + 1) / kSpringParts;
+    const Eigen::Index begin = partStart(p);
+    const Eigen::Index end = partStart(p + 1);
     if (p == 0) {
       reports[0] = accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, forces, blocks,
                                                                   nodeStiffness, isProjected);
@@ -52,11 +51,7 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
     reports[static_cast<std::size_t>(p)] = accumulateRange<withBlocks, withNodeStiffness>(
         begin, end, x, partForces, blocks, &partStiffness, isProjected);
   };
-  if (m_pool != nullptr && m_pool->threadCount() > 1) {
-    m_pool->run(kSpringParts, part);
-  } else {
-    for (int p = 0; p < kSpringParts; ++p) part(p);
-  }
+  runParts(m_pool, kSpringParts, part);
   // Fixed order, whatever the thread count: the sums are bit-identical.
   SpringFieldReport report = reports[0];
   for (int p = 1; p < kSpringParts; ++p) {
@@ -151,11 +146,10 @@ double SpringForceField::frequencySquaredBound(const Eigen::Matrix3Xd& x) const 
 
 void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
   if (!m_law.isSoftening()) return;
-  const Eigen::Index count = m_mesh.springCount();
   // Each spring's peak is its own: the ranges run on the pool with nothing to merge.
   const auto part = [&](int p) {
-    const Eigen::Index end = count * (p + 1) / kSpringParts;
-    for (Eigen::Index s = count * p / kSpringParts; s < end; ++s) {
+    const Eigen::Index end = partStart(p + 1);
+    for (Eigen::Index s = partStart(p); s < end; ++s) {
       // The same expression as the force pass's, to the last bit: a peak recorded even one unit
       // in the last place above the stretch the pass computes would put the spring on its
       // softened branch just below lambda_max, where the tangent is all but vertical
@@ -166,11 +160,7 @@ void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
       if (lambda > peak.lambdaMax) peak = m_law.peak(lambda);
     }
   };
-  if (m_pool != nullptr && m_pool->threadCount() > 1) {
-    m_pool->run(kSpringParts, part);
-  } else {
-    for (int p = 0; p < kSpringParts; ++p) part(p);
-  }
+  runParts(m_pool, kSpringParts, part);
 }
 
 }  // namespace tissuesim

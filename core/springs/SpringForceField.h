@@ -87,6 +87,9 @@ class SpringForceField {
                                     Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
                                     Eigen::VectorXd* nodeStiffness, bool isProjected) const;
 
+  /// First spring of part p of the parallel passes (p = kSpringParts: the spring count).
+  Eigen::Index partStart(int p) const { return m_mesh.springCount() * p / kSpringParts; }
+
   const SpringMesh& m_mesh;
   const SpringForceLaw& m_law;
   Eigen::VectorXd m_inverseRestLength;  ///< #S, 1 / L0 (1/m)
