@@ -16,6 +16,7 @@ void NewtonSolver::prepare(const MechanicalSystem& system) {
   m_trialX.resize(3, nodes);
   m_rhs.resize(3 * nodes);
   m_step.resize(3 * nodes);
+  m_contactTerms.reserve(256);  // PenaltyContactSet's reserve: a step's contacts, no allocation
   m_preparedFor = &system;
 }
 
@@ -91,8 +92,10 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     } else {
       // Inexact Newton: the outer iteration tightens the rest.
       m_cg.setThreadPool(system.springs().threadPool());
+      // The contacts in the matrix (at x), for the preconditioner to invert exactly.
+      system.contacts.rankOneTerms(x, fixed, m_contactTerms);
       const ConjugateGradientReport cg = m_cg.solve(*m_matrix, m_rhs, m_step, m_linearTolerance,
-                                                    static_cast<int>(3 * x.cols()));
+                                                    static_cast<int>(3 * x.cols()), &m_contactTerms);
       report.linearIterations += cg.iterations;
       isSolved = cg.converged || cg.relativeResidual < std::max(1e-6, m_linearTolerance);
     }

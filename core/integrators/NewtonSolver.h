@@ -65,6 +65,7 @@ class NewtonSolver {
   bool m_isPatternAnalysed = false;
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;
   Eigen::VectorXd m_rhs, m_step;
+  std::vector<RankOneTerm> m_contactTerms;  ///< the contacts' stiffness, for CG's preconditioner
 };
 
 }  // namespace tissuesim

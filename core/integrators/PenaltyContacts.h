@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>  // cross products
 
 #include "numerics/NodeBlockMatrix.h"
+#include "numerics/RankOneTerm.h"
 
 namespace tissuesim {
 
@@ -70,6 +71,11 @@ class PenaltyContactSet {
                      const std::vector<char>& isFixed, double h, Eigen::Matrix3Xd& v) const;
   /// stiffness += the active contacts' blocks k w_i w_j n n^T at x.
   void addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix& stiffness) const;
+  /// The same stiffness as rank-one terms k u u^T, u = (w_0 n, w_1 n, w_2 n), for the CG
+  /// preconditioner (BlockConjugateGradient): terms is overwritten with the contacts active at
+  /// x, u zeroed on the DOFs flagged in isFixed (3#V), as applyFixedDofs zeroes the matrix's.
+  void rankOneTerms(const Eigen::Matrix3Xd& x, const std::vector<char>& isFixed,
+                    std::vector<RankOneTerm>& terms) const;
   /// The reaction on the instrument at x (force, torque about tip_m, deepest penetration,
   /// active contacts).
   ContactResult reaction(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m) const;

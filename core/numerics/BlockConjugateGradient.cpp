@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Cholesky>
+
 namespace tissuesim {
 
 void BlockConjugateGradient::resize(const NodeBlockMatrix& a) {
@@ -12,6 +14,37 @@ void BlockConjugateGradient::resize(const NodeBlockMatrix& a) {
   for (Eigen::VectorXd* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(3 * nodes);
   m_inverseBlocks.resize(6 * nodes);
   m_bounds = a.balancedNodeRanges<kParts>();  // equal shares of the product's work
+  m_termSlot.assign(static_cast<std::size_t>(nodes), -1);
+  m_termNodes.reserve(3 * kMaxExactTerms);
+  m_termDiagonal.reserve(3 * kMaxExactTerms);
+  m_termW.reserve(kMaxExactTerms);
+  m_capacitance.resize(kMaxExactTerms, kMaxExactTerms);
+  m_termT.resize(kMaxExactTerms);
+  m_termSolved.resize(kMaxExactTerms);
+}
+
+bool BlockConjugateGradient::listTerms(const std::vector<RankOneTerm>& terms) {
+  if (terms.empty() || terms.size() > static_cast<std::size_t>(kMaxExactTerms)) return false;
+  for (const RankOneTerm& term : terms) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      const Eigen::Vector3d& u = term.blocks[i];
+      if (u.isZero(0.0)) continue;
+      int& slot = m_termSlot[static_cast<std::size_t>(term.nodes[i])];
+      if (slot < 0) {
+        slot = static_cast<int>(m_termNodes.size());
+        m_termNodes.push_back(term.nodes[i]);
+        m_termDiagonal.push_back(Eigen::Matrix3d::Zero());
+      }
+      m_termDiagonal[static_cast<std::size_t>(slot)] += term.stiffness_N_m * u * u.transpose();
+    }
+  }
+  return true;
+}
+
+void BlockConjugateGradient::clearTerms() {
+  for (const int node : m_termNodes) m_termSlot[static_cast<std::size_t>(node)] = -1;
+  m_termNodes.clear();
+  m_termDiagonal.clear();
 }
 
 template <typename Pass>
@@ -68,11 +101,74 @@ double sumInOrder(const std::array<double, N>& partial) {
 }
 }  // namespace
 
+bool BlockConjugateGradient::factorCapacitance(const std::vector<RankOneTerm>& terms) {
+  const auto count = static_cast<Eigen::Index>(terms.size());
+  m_termW.resize(terms.size());  // within the reserved capacity
+  for (std::size_t c = 0; c < terms.size(); ++c) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      applyInverse(m_inverseBlocks.data() + 6 * terms[c].nodes[i], terms[c].blocks[i].data(),
+                   m_termW[c][i].data());
+    }
+  }
+  // S = K^-1 + U^T W: entry (c, d) sums u_c . w_d over the nodes the two terms share.
+  auto s = m_capacitance.topLeftCorner(count, count);
+  for (Eigen::Index c = 0; c < count; ++c) {
+    const RankOneTerm& tc = terms[static_cast<std::size_t>(c)];
+    for (Eigen::Index d = c; d < count; ++d) {
+      const RankOneTerm& td = terms[static_cast<std::size_t>(d)];
+      double sum = c == d ? 1.0 / tc.stiffness_N_m : 0.0;
+      for (std::size_t i = 0; i < 3; ++i) {
+        for (std::size_t j = 0; j < 3; ++j) {
+          if (tc.nodes[i] == td.nodes[j]) sum += tc.blocks[i].dot(m_termW[static_cast<std::size_t>(d)][j]);
+        }
+      }
+      s(c, d) = sum;
+      s(d, c) = sum;
+    }
+  }
+  // In place, in the preallocated corner: no allocation.
+  Eigen::Ref<Eigen::MatrixXd> corner(s);
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> factor(corner);
+  return factor.info() == Eigen::Success;
+}
+
+double BlockConjugateGradient::correctForTerms(const std::vector<RankOneTerm>& terms, double* z,
+                                               double* alsoP) {
+  const auto count = static_cast<Eigen::Index>(terms.size());
+  auto t = m_termT.head(count);
+  for (Eigen::Index c = 0; c < count; ++c) {
+    const RankOneTerm& term = terms[static_cast<std::size_t>(c)];
+    double sum = 0.0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      sum += term.blocks[i].dot(Eigen::Map<const Eigen::Vector3d>(z + 3 * term.nodes[i]));
+    }
+    t[c] = sum;
+  }
+  // S^-1 t from the factor in the corner's lower triangle; t stays for r . z's drop, t . S^-1 t.
+  auto solved = m_termSolved.head(count);
+  solved = t;
+  const auto factor = m_capacitance.topLeftCorner(count, count).triangularView<Eigen::Lower>();
+  factor.solveInPlace(solved);
+  factor.transpose().solveInPlace(solved);
+  const double drop = t.dot(solved);
+  for (Eigen::Index c = 0; c < count; ++c) {
+    const RankOneTerm& term = terms[static_cast<std::size_t>(c)];
+    for (std::size_t i = 0; i < 3; ++i) {
+      const Eigen::Vector3d delta = solved[c] * m_termW[static_cast<std::size_t>(c)][i];
+      Eigen::Map<Eigen::Vector3d>(z + 3 * term.nodes[i]) -= delta;
+      if (alsoP != nullptr) Eigen::Map<Eigen::Vector3d>(alsoP + 3 * term.nodes[i]) -= delta;
+    }
+  }
+  return drop;
+}
+
 ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
                                                       const Eigen::VectorXd& b,
                                                       Eigen::VectorXd& x, double tolerance,
-                                                      int maxIterations) {
+                                                      int maxIterations,
+                                                      const std::vector<RankOneTerm>* terms) {
   if (m_nodeCount != a.nodeCount()) resize(a);
+  bool isExactTerms = terms != nullptr && listTerms(*terms);
   if (x.size() != b.size()) x.resize(b.size());
   ConjugateGradientReport report;
   double* const xs = x.data();
@@ -88,7 +184,12 @@ ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
     double bb = 0.0, rz = 0.0;
     for (Eigen::Index j = first; j < last; ++j) {
       double* inverse = inverseBlocks + 6 * j;
-      invertDiagonalBlock(a.diagonalBlock(j), inverse);
+      const int slot = m_termSlot[static_cast<std::size_t>(j)];
+      if (slot < 0) {
+        invertDiagonalBlock(a.diagonalBlock(j), inverse);
+      } else {
+        invertDiagonalBlock(a.diagonalBlock(j) - m_termDiagonal[static_cast<std::size_t>(slot)], inverse);
+      }
       const double* bj = bs + 3 * j;
       double* zj = z + 3 * j;
       applyInverse(inverse, bj, zj);
@@ -106,12 +207,24 @@ ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
   forEachPart(start);
   const double bNorm2 = sumInOrder(m_dotA);
   if (bNorm2 == 0.0) {
+    clearTerms();
     report.converged = true;
     return report;
   }
+  double rz = sumInOrder(m_dotB);
+  if (isExactTerms) {
+    isExactTerms = factorCapacitance(*terms);
+    if (isExactTerms) {
+      rz -= correctForTerms(*terms, z, p);
+    } else {
+      // S not positive definite (B was not): back to plain block Jacobi, B = blockdiag(A).
+      clearTerms();
+      forEachPart(start);
+      rz = sumInOrder(m_dotB);
+    }
+  }
   const double threshold = std::max(tolerance * tolerance * bNorm2,
                                     std::numeric_limits<double>::min());
-  double rz = sumInOrder(m_dotB);
   double alpha = 0.0, beta = 0.0;
 
   // q = A p on the part's rows; partial p.q.
@@ -154,11 +267,13 @@ ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
     ++report.iterations;
     residualNorm2 = sumInOrder(m_dotA);
     if (!(residualNorm2 >= threshold)) break;  // converged, or NaN (reported below)
-    const double rzNext = sumInOrder(m_dotB);
+    double rzNext = sumInOrder(m_dotB);
+    if (isExactTerms) rzNext -= correctForTerms(*terms, z, nullptr);
     beta = rzNext / rz;
     rz = rzNext;
     forEachPart(direction);
   }
+  clearTerms();
   report.relativeResidual = std::sqrt(residualNorm2 / bNorm2);
   report.converged = residualNorm2 < threshold;
   return report;

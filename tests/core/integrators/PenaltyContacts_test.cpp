@@ -56,6 +56,27 @@ TEST(PenaltyContacts, ForcesAreTheEnergysNegativeGradientAndStiffnessItsHessian)
   EXPECT_DOUBLE_EQ(reaction.maxPenetration_m, t.set.contacts()[0].penetration(t.x));
 }
 
+TEST(PenaltyContacts, RankOneTermsAreTheStiffnessLessTheFixedDofs) {
+  Triangle t;
+  PenaltyContact below = t.set.contacts()[0];
+  below.offset_m = 1.0;  // inactive: left out of both
+  t.set.add(below);
+  std::vector<char> fixed(9, 0);
+  fixed[4] = 1;  // node 1's y
+  NodeBlockMatrix k(3, t.edges);
+  t.set.addStiffness(t.x, k);
+  k.applyFixedDofs(fixed);
+  std::vector<RankOneTerm> terms(5);  // stale entries are overwritten
+  t.set.rankOneTerms(t.x, fixed, terms);
+  ASSERT_EQ(terms.size(), 1u);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(9);
+  for (std::size_t i = 0; i < 3; ++i) u.segment<3>(3 * terms[0].nodes[i]) += terms[0].blocks[i];
+  EXPECT_EQ(u[4], 0.0);
+  Eigen::MatrixXd expected = terms[0].stiffness_N_m * u * u.transpose();
+  expected(4, 4) = 1.0;  // applyFixedDofs' identity
+  EXPECT_LT((Eigen::MatrixXd(k.matrix()) - expected).cwiseAbs().maxCoeff(), 1e-12 * 2e4);
+}
+
 TEST(PenaltyContacts, AnInactiveContactAddsNothing) {
   Triangle t;
   t.x.row(2).array() -= 0.002;  // the triangle below the plane
@@ -67,6 +88,9 @@ TEST(PenaltyContacts, AnInactiveContactAddsNothing) {
   EXPECT_EQ(f.cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(k.matrix().coeffs().cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(t.set.reaction(t.x, Eigen::Vector3d::Zero()).contactNodes, 0);
+  std::vector<RankOneTerm> terms;
+  t.set.rankOneTerms(t.x, std::vector<char>(9, 0), terms);
+  EXPECT_TRUE(terms.empty());
 }
 
 /// One free node (2 g) in one contact, moving into the tissue: the explicit integrator's impulse.
