@@ -1,6 +1,9 @@
 #include "SurfaceBvh.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -50,6 +53,55 @@ TEST(SurfaceBvh, RefitFollowsTheMovedSurface) {
   EXPECT_NEAR(bvh.distanceTo(verticalProbe(0.3)).distance_m, 0.2, 1e-6);
   bvh.refit(square(0.35));
   EXPECT_TRUE(bvh.distanceTo(verticalProbe(0.3)).isColliding);
+}
+
+// A 20 x 20 grid over [-1, 1]^2 at height(x, y), 800 triangles: a tree of many levels.
+Eigen::MatrixX3d grid(double amplitude, double phase) {
+  Eigen::MatrixX3d v(21 * 21, 3);
+  for (int j = 0; j <= 20; ++j)
+    for (int i = 0; i <= 20; ++i) {
+      const double x = -1.0 + 0.1 * i, y = -1.0 + 0.1 * j;
+      v.row(i + 21 * j) << x, y, amplitude * std::sin(3.0 * x + phase) * std::cos(2.0 * y - phase);
+    }
+  return v;
+}
+Eigen::MatrixX3i gridTriangles() {
+  Eigen::MatrixX3i f(800, 3);
+  int t = 0;
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) {
+      const int a = i + 21 * j;
+      f.row(t++) << a, a + 1, a + 22;
+      f.row(t++) << a, a + 22, a + 21;
+    }
+  return f;
+}
+
+// The refitted tree finds exactly the triangles a tree built afresh on the moved surface finds,
+// for probes all over it (a stale box would hide a triangle that moved into the probe).
+TEST(SurfaceBvh, RefittedTreeFindsWhatANewTreeFinds) {
+  SurfaceBvh refitted(grid(0.0, 0.0), gridTriangles());
+  for (const double phase : {0.4, 1.3}) {
+    const Eigen::MatrixX3d moved = grid(0.3, phase);
+    refitted.refit(moved);
+    const SurfaceBvh fresh(moved, gridTriangles());
+    int probesTouching = 0;
+    for (double x = -0.9; x < 0.95; x += 0.15) {
+      for (double y = -0.9; y < 0.95; y += 0.15) {
+        Capsule probe{0.04, 0.3, Eigen::Isometry3d::Identity()};
+        probe.pose.translation() = Eigen::Vector3d(x, y, 0.1 + 0.15 + 0.04);
+        std::vector<int> found, expected;
+        refitted.touchedTriangles(probe, found);
+        fresh.touchedTriangles(probe, expected);
+        std::sort(found.begin(), found.end());
+        std::sort(expected.begin(), expected.end());
+        EXPECT_EQ(found, expected) << "probe at " << x << ", " << y;
+        probesTouching += expected.empty() ? 0 : 1;
+      }
+    }
+    EXPECT_GT(probesTouching, 20);  // the surface's crests reach the probes
+    EXPECT_LT(probesTouching, 13 * 13);  // and its troughs do not
+  }
 }
 
 TEST(SurfaceBvh, RejectsBadInput) {
