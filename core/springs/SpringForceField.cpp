@@ -14,19 +14,15 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
       m_law(law),
       m_inverseRestLength(mesh.restLength_m.cwiseInverse()),
       m_areaOverLength(mesh.volume_m3.cwiseQuotient(mesh.restLength_m)),
-      m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)) {
+      m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)),
+      m_lambdaMax(Eigen::VectorXd::Constant(mesh.springCount(), law.peak(1.0).lambdaMax)) {
   for (auto& f : m_partForces) f.resize(3, mesh.nodeCount());
   for (auto& k : m_partNodeStiffness) k.resize(mesh.nodeCount());
 }
 
 void SpringForceField::resetStretchHistory() {
   std::fill(m_peaks.begin(), m_peaks.end(), m_law.peak(1.0));
-}
-
-Eigen::VectorXd SpringForceField::lambdaMax() const {
-  Eigen::VectorXd values(static_cast<Eigen::Index>(m_peaks.size()));
-  for (std::size_t s = 0; s < m_peaks.size(); ++s) values[static_cast<Eigen::Index>(s)] = m_peaks[s].lambdaMax;
-  return values;
+  m_lambdaMax.setConstant(m_law.peak(1.0).lambdaMax);
 }
 
 template <bool withBlocks, bool withNodeStiffness>
@@ -150,14 +146,24 @@ void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
   const auto part = [&](int p) {
     const Eigen::Index end = partStart(p + 1);
     for (Eigen::Index s = partStart(p); s < end; ++s) {
-      // The same expression as the force pass's, to the last bit: a peak recorded even one unit
-      // in the last place above the stretch the pass computes would put the spring on its
+      const Eigen::Vector3d d = x.col(m_mesh.springs(1, s)) - x.col(m_mesh.springs(0, s));
+      const double inverseRestLength = m_inverseRestLength[s];
+      const double lambdaMax = m_lambdaMax[s];
+      // Most springs, most steps, are clearly below their peak: decided on squares, without a
+      // square root, with a margin (1e-9) far above the rounding of either side.
+      if (d.squaredNorm() * inverseRestLength * inverseRestLength < lambdaMax * lambdaMax * (1.0 - 1e-9)) {
+        continue;
+      }
+      // The rest by the force pass's own expression, to the last bit: a peak recorded even one
+      // unit in the last place above the stretch the pass computes would put the spring on its
       // softened branch just below lambda_max, where the tangent is all but vertical
       // (StressSoftening).
-      const double lambda =
-          (x.col(m_mesh.springs(1, s)) - x.col(m_mesh.springs(0, s))).norm() * m_inverseRestLength[s];
-      SofteningPeak& peak = m_peaks[static_cast<std::size_t>(s)];
-      if (lambda > peak.lambdaMax) peak = m_law.peak(lambda);
+      const double lambda = d.norm() * inverseRestLength;
+      if (lambda > lambdaMax) {
+        SofteningPeak& peak = m_peaks[static_cast<std::size_t>(s)];
+        peak = m_law.peak(lambda);
+        m_lambdaMax[s] = peak.lambdaMax;
+      }
     }
   };
   runParts(m_pool, kSpringParts, part);

@@ -134,6 +134,27 @@ TEST(SpringForceField, StretchHistoryOnlyGrowsAndResets) {
   EXPECT_EQ(block.springs.lambdaMax().maxCoeff(), 1.0);
 }
 
+TEST(SpringForceField, AStretchJustAboveThePeakIsRecorded) {
+  // The commit screens springs on squared stretches; one a hair (1e-12) above its peak must still
+  // be recorded, at the force pass's exact stretch.
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2}, SpringLaw::Eesm, true);
+  const Eigen::Matrix3Xd x = deformed(block.mesh, 0.2, 4);
+  block.springs.commitStretchHistory(x);
+  const Eigen::VectorXd first = block.springs.lambdaMax();
+  const Eigen::Matrix3Xd hair = x * (1.0 + 1e-12);  // every length up by 1e-12
+  block.springs.commitStretchHistory(hair);
+  int raised = 0;
+  for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
+    const double exact = (hair.col(block.mesh.springs(1, s)) - hair.col(block.mesh.springs(0, s))).norm() *
+                         (1.0 / block.mesh.restLength_m[s]);
+    if (first[s] > 1.0) {
+      EXPECT_EQ(block.springs.lambdaMax()[s], std::max(first[s], exact)) << "spring " << s;
+      raised += block.springs.lambdaMax()[s] > first[s] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(raised, 10);
+}
+
 TEST(SpringForceField, RecordingTheStretchesChangesNothingAtTheSameState) {
   // Every stretched spring sets its peak here, and at the same positions it must stay on its
   // virgin curve: forces and stiffness bit-identical before and after the commit. A peak even one
