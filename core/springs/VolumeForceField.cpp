@@ -1,6 +1,7 @@
 #include "springs/VolumeForceField.h"
 
 #include <algorithm>
+#include <array>
 
 #include "mesh/TetMesh.h"
 
@@ -44,12 +45,24 @@ VolumeFieldReport VolumeForceField::addForces(
   return report;
 }
 
-VolumeFieldReport VolumeForceField::inspect(const SpringMesh& mesh, const Eigen::Matrix3Xd& x) {
+VolumeFieldReport VolumeForceField::inspect(const SpringMesh& mesh, const Eigen::Matrix3Xd& x,
+                                            ForkJoinPool* pool) {
+  std::array<VolumeFieldReport, kInspectParts> parts;
+  const Eigen::Index tets = mesh.tets.cols();
+  const auto part = [&](int p) {
+    VolumeFieldReport& report = parts[static_cast<std::size_t>(p)];
+    const Eigen::Index end = tets * (p + 1) / kInspectParts;
+    for (Eigen::Index t = tets * p / kInspectParts; t < end; ++t) {
+      const double ratio = signedTetVolume(x, mesh.tets, t) / mesh.tetRestVolume_m3[t];
+      report.minVolumeRatio = std::min(report.minVolumeRatio, ratio);
+      report.invertedTetCount += ratio <= 0.0 ? 1 : 0;
+    }
+  };
+  runParts(pool, kInspectParts, part);
   VolumeFieldReport report;
-  for (Eigen::Index t = 0; t < mesh.tets.cols(); ++t) {
-    const double ratio = signedTetVolume(x, mesh.tets, t) / mesh.tetRestVolume_m3[t];
-    report.minVolumeRatio = std::min(report.minVolumeRatio, ratio);
-    report.invertedTetCount += ratio <= 0.0 ? 1 : 0;
+  for (const VolumeFieldReport& r : parts) {
+    report.minVolumeRatio = std::min(report.minVolumeRatio, r.minVolumeRatio);
+    report.invertedTetCount += r.invertedTetCount;
   }
   return report;
 }

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "parallel/ForkJoinPool.h"
 #include "springs/SpringMesh.h"
 
 namespace tissuesim {
@@ -29,8 +30,11 @@ class VolumeForceField {
   VolumeFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
                               Eigen::Matrix<double, 144, Eigen::Dynamic>* blocks) const;
 
-  /// Counts tets with J <= 0 at x without computing forces.
-  static VolumeFieldReport inspect(const SpringMesh& mesh, const Eigen::Matrix3Xd& x);
+  /// Counts tets with J <= 0 at x without computing forces; in kInspectParts tet ranges on
+  /// `pool` when given (the report is the same: a count and a minimum).
+  static VolumeFieldReport inspect(const SpringMesh& mesh, const Eigen::Matrix3Xd& x,
+                                   ForkJoinPool* pool = nullptr);
+  static constexpr int kInspectParts = 4;
 
   double bulkModulus() const { return m_bulkModulus_Pa; }
   /// Upper bound of the term's contribution to ||K|| per node (N/m), for the explicit bound.

@@ -59,5 +59,23 @@ TEST(VolumeForceField, PushesAnInvertedTetBackOut) {
   EXPECT_GT(f(2, 3), 0.0);  // the apex is pushed back up
 }
 
+TEST(VolumeForceField, InspectionOnThePoolFindsWhatTheSerialOneDoes) {
+  const SpringMesh mesh = buildSpringMesh(makeBlockMesh({0.04, 0.04, 0.04}, {4, 4, 4}), 1000.0);
+  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  // Every eighth node pushed through its neighbours: inverted tets all along the tet list, so
+  // in each of the pool's ranges.
+  for (Eigen::Index node = 0; node < mesh.nodeCount(); node += 8) {
+    x.col(node) += Eigen::Vector3d(0.012, 0.011, 0.013);
+  }
+  const VolumeFieldReport serial = VolumeForceField::inspect(mesh, x);
+  ASSERT_GE(serial.invertedTetCount, 20);
+  for (const int threads : {1, 2, 3}) {
+    ForkJoinPool pool(threads);
+    const VolumeFieldReport pooled = VolumeForceField::inspect(mesh, x, &pool);
+    EXPECT_EQ(pooled.invertedTetCount, serial.invertedTetCount) << threads << " threads";
+    EXPECT_EQ(pooled.minVolumeRatio, serial.minVolumeRatio) << threads << " threads";
+  }
+}
+
 }  // namespace
 }  // namespace tissuesim
