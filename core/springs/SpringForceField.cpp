@@ -84,7 +84,9 @@ SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::I
     }
     report.minStretch = std::min(report.minStretch, lambda);
     report.maxStretch = std::max(report.maxStretch, lambda);
-    const SpringStress p = m_law.evaluate(lambda, m_peaks[static_cast<std::size_t>(s)]);
+    // The force-only pass asks the law for the stress alone (the same value to the bit).
+    const SpringStress p =
+        m_law.evaluate<withBlocks || withNodeStiffness>(lambda, m_peaks[static_cast<std::size_t>(s)]);
     report.beyondRangeCount += p.isBeyondRange ? 1 : 0;
     const double areaOverLength = m_areaOverLength[s];  // V_e / L0 (m^2)
     const double inverseLength = 1.0 / length;

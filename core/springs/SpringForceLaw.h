@@ -49,15 +49,21 @@ class SpringForceLaw {
   /// P and dP/dlambda at stretch lambda for a spring whose largest stretch so far is `peak`.
   /// Inline: it runs once per spring per force evaluation, and a call that cannot be inlined
   /// cost a third of the spring loop (perf, 5k-spring slab).
+  /// kWithSlope false: the stress alone (slope 0), the same to the bit, for force-only passes;
+  /// past the usable range the barrier needs the slope, so that case takes the full path.
+  template <bool kWithSlope = true>
   SpringStress evaluate(double lambda, const SofteningPeak& peak) const {
     if (m_law == SpringLaw::Smm) {
       return {m_linearModulus_Pa * (lambda - 1.0), m_linearModulus_Pa, false};
     }
     const double clamped = std::clamp(lambda, m_range.lower, m_range.upper);
-    HermiteNode p = virgin(clamped);
+    if constexpr (!kWithSlope) {
+      if (clamped != lambda) return evaluate<true>(lambda, peak);
+    }
+    HermiteNode p = virgin<kWithSlope>(clamped);
     // Softening changes nothing at or above lambda_max, nor on a spring never stretched.
     if (m_isSoftening && clamped < peak.lambdaMax && peak.lambdaMax > 1.0) {
-      p = softened(p, clamped, peak);
+      p = softened<kWithSlope>(p, clamped, peak);
     }
     if (clamped != lambda) {
       // Linear continuation past the usable range: the barrier (see the header).
@@ -77,20 +83,28 @@ class SpringForceLaw {
   StretchRange range() const { return m_range; }
 
  private:
+  template <bool kWithSlope>
   HermiteNode virgin(double lambda) const {
-    if (m_law == SpringLaw::Eesm) return m_table.stressAndSlope(lambda);
-    const HermiteNode k = m_table.springStiffnessAndSlope(lambda);  // eesm-paper
-    return {k.value * lambda * m_inverseArea, (k.slope * lambda + k.value) * m_inverseArea};
+    if constexpr (!kWithSlope) {
+      // The splines' value alone is the same expression as their value with slope.
+      if (m_law == SpringLaw::Eesm) return {m_table.stress(lambda), 0.0};
+      return {m_table.springStiffness(lambda) * lambda * m_inverseArea, 0.0};  // eesm-paper
+    } else {
+      if (m_law == SpringLaw::Eesm) return m_table.stressAndSlope(lambda);
+      const HermiteNode k = m_table.springStiffnessAndSlope(lambda);  // eesm-paper
+      return {k.value * lambda * m_inverseArea, (k.slope * lambda + k.value) * m_inverseArea};
+    }
   }
   /// The Mullins branch below lambda_max, with the n = 1 jump faded out (see the header).
+  template <bool kWithSlope>
   HermiteNode softened(HermiteNode virginStress, double lambda, const SofteningPeak& peak) const {
-    HermiteNode p = m_softening.softenWithSlope(virginStress, lambda, peak);
+    HermiteNode p = m_softening.softenWithSlope<kWithSlope>(virginStress, lambda, peak);
     const double below = peak.lambdaMax - lambda;
     if (below > 0.0 && below < kJumpBlendWidth && lambda >= 1.0) {
       // Fade the jump out: weight 1 at lambda_max, 0 at lambda_max - width, C1 at both ends.
       const double s = 1.0 - below / kJumpBlendWidth;
       p.value -= peak.jumpAtPeak * s * s * (3.0 - 2.0 * s);
-      p.slope -= peak.jumpAtPeak * 6.0 * s * (1.0 - s) / kJumpBlendWidth;
+      if constexpr (kWithSlope) p.slope -= peak.jumpAtPeak * 6.0 * s * (1.0 - s) / kJumpBlendWidth;
     }
     return p;
   }

@@ -177,6 +177,29 @@ TEST(SpringForceField, RecordingTheStretchesChangesNothingAtTheSameState) {
   }
 }
 
+TEST(SpringForceField, TheForceOnlyPassGivesTheSameForces) {
+  // It evaluates the law without slopes: the forces must still be those of the pass with
+  // stiffness, to the bit, on every branch (virgin, softened, compressed after stretching,
+  // past the usable range), for every law.
+  for (const SpringLaw law : {SpringLaw::Eesm, SpringLaw::EesmPaper, SpringLaw::Smm}) {
+    test::BlockSystem block({0.02, 0.02, 0.02}, {3, 3, 3}, law, true);
+    block.springs.commitStretchHistory(deformed(block.mesh, 0.25, 5));
+    Eigen::Matrix3Xd x = deformed(block.mesh, 0.2, 6);
+    x.col(0) -= Eigen::Vector3d(0.015, 0.0, 0.0);  // a few springs past the usable range
+    Eigen::Matrix3Xd withStiffness = Eigen::Matrix3Xd::Zero(3, x.cols());
+    Eigen::Matrix3Xd forceOnly = withStiffness;
+    Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, block.mesh.springCount());
+    const SpringFieldReport full = block.springs.addForcesAndStiffness(x, withStiffness, blocks);
+    const SpringFieldReport only = block.springs.addForces(x, forceOnly);
+    EXPECT_EQ(forceOnly, withStiffness) << static_cast<int>(law);
+    EXPECT_EQ(only.beyondRangeCount, full.beyondRangeCount);
+    if (law != SpringLaw::Smm) {
+      EXPECT_GT(full.beyondRangeCount, 0);
+    }
+    EXPECT_LT(full.minStretch, 1.0);
+  }
+}
+
 TEST(SpringForceField, CollapsedAndOverstretchedSpringsAreReported) {
   test::BlockSystem block({0.02, 0.02, 0.02}, {1, 1, 1});
   Eigen::Matrix3Xd x = block.mesh.restPositions_m;
