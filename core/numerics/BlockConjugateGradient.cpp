@@ -26,6 +26,13 @@ void BlockConjugateGradient::resize(const NodeBlockMatrix& a) {
 bool BlockConjugateGradient::listTerms(const std::vector<RankOneTerm>& terms) {
   if (terms.empty() || terms.size() > static_cast<std::size_t>(kMaxExactTerms)) return false;
   for (const RankOneTerm& term : terms) {
+    // S needs 1/k; a term it cannot take (k <= 0, NaN, an infinite u) leaves block Jacobi plain.
+    if (!(term.stiffness_N_m > 0.0) || !std::isfinite(1.0 / term.stiffness_N_m)) return false;
+    for (const Eigen::Vector3d& u : term.blocks) {
+      if (!u.allFinite()) return false;
+    }
+  }
+  for (const RankOneTerm& term : terms) {
     for (std::size_t i = 0; i < 3; ++i) {
       const Eigen::Vector3d& u = term.blocks[i];
       if (u.isZero(0.0)) continue;

@@ -1,5 +1,6 @@
 #include "numerics/BlockConjugateGradient.h"
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -194,6 +195,17 @@ TEST(BlockConjugateGradient, RankOneTermsAreInvertedExactly) {
   // The scratch is cleared after a solve: the plain solve above saw no terms, and a repeat
   // with them is exact again.
   EXPECT_EQ(cg.solve(a, b, x, 1e-10, 100, &terms).iterations, 1);
+
+  // A term the preconditioner cannot take (no stiffness, a NaN) leaves it plain block Jacobi:
+  // the same iterations and solution as without terms.
+  for (const double bad : {0.0, std::nan("")}) {
+    std::vector<RankOneTerm> unusable = terms;
+    unusable[1].stiffness_N_m = bad;
+    Eigen::VectorXd y;
+    const ConjugateGradientReport report = cg.solve(a, b, y, 1e-10, 100, &unusable);
+    EXPECT_EQ(report.iterations, blockJacobi.iterations) << bad;
+    EXPECT_EQ(y, plain) << bad;
+  }
 }
 
 // On a spring-like matrix with stiff contacts the terms save products and change nothing else.
