@@ -16,7 +16,7 @@ namespace tissuesim {
 struct SurfaceBvh::Impl {
   // AABBs: refitting them is a min/max pass, where OBBRSS refits need an eigen-decomposition per
   // node (4 ms a step on the liver's 1,408 triangles against 0.1 ms). FCL's mesh distance
-  // needs OBBRSS, so distanceTo() builds one from the current points when asked.
+  // needs OBBRSS, so distanceTo() builds one from the model's current vertices when asked.
   std::shared_ptr<fcl::BVHModel<fcl::AABBd>> model;
   std::vector<fcl::Triangle> faces;
   // Kept between steps so a query allocates nothing: the capsule, the solver, the result.
@@ -25,7 +25,6 @@ struct SurfaceBvh::Impl {
   std::unique_ptr<fcl::Capsuled> capsule;
   fcl::detail::GJKSolver_indep<double> solver;
   fcl::CollisionResultd result;
-  std::vector<fcl::Vector3d> points;
   /// The tree's nodes, children before parents (post-order from the root): the refit's order.
   std::vector<int> refitOrder;
   /// The triangles' corners as plain ints: fcl::Triangle's operator[] is an out-of-line call.
@@ -56,7 +55,8 @@ SurfaceBvh::SurfaceBvh(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
   }
   m_impl->vertexCount = static_cast<int>(vertices.rows());
   m_impl->triangleCount = static_cast<int>(triangles.rows());
-  copyVertices(vertices, m_impl->points);
+  std::vector<fcl::Vector3d> points;
+  copyVertices(vertices, points);
   std::vector<fcl::Triangle> faces;
   faces.reserve(static_cast<std::size_t>(triangles.rows()));
   for (Eigen::Index i = 0; i < triangles.rows(); ++i) {
@@ -65,8 +65,8 @@ SurfaceBvh::SurfaceBvh(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
                        static_cast<std::size_t>(triangles(i, 2)));
   }
   m_impl->model = std::make_shared<fcl::BVHModel<fcl::AABBd>>();
-  m_impl->model->beginModel(static_cast<int>(faces.size()), static_cast<int>(m_impl->points.size()));
-  m_impl->model->addSubModel(m_impl->points, faces);
+  m_impl->model->beginModel(static_cast<int>(faces.size()), static_cast<int>(points.size()));
+  m_impl->model->addSubModel(points, faces);
   m_impl->model->endModel();
   m_impl->faces = std::move(faces);
   for (Eigen::Index i = 0; i < triangles.rows(); ++i) {
@@ -96,7 +96,6 @@ void SurfaceBvh::refit(const Eigen::Ref<const Eigen::MatrixX3d>& vertices) {
     throw std::invalid_argument("refit needs " + std::to_string(m_impl->vertexCount) +
                                 " vertices, got " + std::to_string(vertices.rows()));
   }
-  copyVertices(vertices, m_impl->points);
   // FCL's own refit (beginReplaceModel .. endReplaceModel(refit, bottom-up)) took 0.1 ms a step
   // on the liver's 1,408 triangles, most of the contact query: a recursion through out-of-line
   // calls per node (isLeaf, Triangle's [], AABB's +=). The same boxes are computed here in one
@@ -105,7 +104,7 @@ void SurfaceBvh::refit(const Eigen::Ref<const Eigen::MatrixX3d>& vertices) {
   // bit). Only the current vertices are kept (no previous frame: FCL's continuous queries,
   // which need it, are not made), and the narrow phase reads them from the model.
   fcl::BVHModel<fcl::AABBd>& model = *m_impl->model;
-  std::copy(m_impl->points.begin(), m_impl->points.end(), model.vertices);
+  for (Eigen::Index i = 0; i < vertices.rows(); ++i) model.vertices[i] = vertices.row(i).transpose();
   for (const int id : m_impl->refitOrder) {
     fcl::BVNode<fcl::AABBd>& node = model.getBV(id);
     if (node.first_child < 0) {
@@ -128,8 +127,10 @@ CapsuleSurfaceDistance SurfaceBvh::distanceTo(const Capsule& capsule) const {
   auto shape = std::make_shared<fcl::Capsuled>(capsule.radius_m, capsule.length_m);
   const fcl::CollisionObjectd tool(shape, capsule.pose);
   auto distanceModel = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-  distanceModel->beginModel(static_cast<int>(m_impl->faces.size()), static_cast<int>(m_impl->points.size()));
-  distanceModel->addSubModel(m_impl->points, m_impl->faces);
+  const fcl::BVHModel<fcl::AABBd>& model = *m_impl->model;
+  const std::vector<fcl::Vector3d> points(model.vertices, model.vertices + m_impl->vertexCount);
+  distanceModel->beginModel(static_cast<int>(m_impl->faces.size()), m_impl->vertexCount);
+  distanceModel->addSubModel(points, m_impl->faces);
   distanceModel->endModel();
   const fcl::CollisionObjectd surface(distanceModel, fcl::Transform3d::Identity());
   fcl::DistanceRequestd request(/*enable_nearest_points=*/true);
