@@ -18,14 +18,15 @@
 // Rank-one terms (instrument contacts): A may hold terms k u u^T whose u spans up to three
 // nodes (RankOneTerm). Block Jacobi sees only their diagonal blocks, not the coupling between
 // a contact triangle's corners, and a contact's penalty (10^4 N/m) is several times a surface
-// node's own mass-and-spring block: on the held probe CG took twice the products of the free
-// tissue. Told of the terms, the preconditioner becomes
+// node's own mass-and-spring block. Told of the terms, the preconditioner becomes
 //   M = B + U K U^T,   B = blockdiag(A) - blockdiag(U K U^T)   (U: 3#V by C, K = diag(k_c))
 // applied with the Woodbury identity
 //   M^-1 r = B^-1 r - W S^-1 W^T r,   W = B^-1 U,   S = K^-1 + U^T B^-1 U   (C by C, SPD)
 // so the contacts are inverted exactly at the cost of a C by C Cholesky factorisation a solve
 // and O(C^2) a iteration, on the calling thread. Above kMaxExactTerms terms (a probe pressed flat
-// into the surface) it falls back to plain block Jacobi.
+// into the surface), or with a term it cannot take (k <= 0, not finite), it falls back to plain
+// block Jacobi. On the held probe (1-3 contacts) it takes 8.7 products a step against 9.7; the
+// rest of the gap to the free slab's 4.7 is the liver mesh's, not the contacts'.
 // No allocation once the scratch is sized for a matrix (the first solve, or a new size).
 
 #include <array>
