@@ -18,7 +18,6 @@ struct SurfaceBvh::Impl {
   // node (4 ms a step on the liver's 1,408 triangles against 0.1 ms). FCL's mesh distance
   // needs OBBRSS, so distanceTo() builds one from the model's current vertices when asked.
   std::shared_ptr<fcl::BVHModel<fcl::AABBd>> model;
-  std::vector<fcl::Triangle> faces;
   // Kept between steps so a query allocates nothing: the capsule, the solver, the result.
   // FCL's own GJK (GST_INDEP), not libccd's: libccd's MPR test loops forever on some touching
   // configurations (FCL issue #243, libccd #7); it hung here on a quasi-Newton poke of the liver.
@@ -68,7 +67,6 @@ SurfaceBvh::SurfaceBvh(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
   m_impl->model->beginModel(static_cast<int>(faces.size()), static_cast<int>(points.size()));
   m_impl->model->addSubModel(points, faces);
   m_impl->model->endModel();
-  m_impl->faces = std::move(faces);
   for (Eigen::Index i = 0; i < triangles.rows(); ++i) {
     m_impl->corners.push_back({triangles(i, 0), triangles(i, 1), triangles(i, 2)});
   }
@@ -128,9 +126,11 @@ CapsuleSurfaceDistance SurfaceBvh::distanceTo(const Capsule& capsule) const {
   const fcl::CollisionObjectd tool(shape, capsule.pose);
   auto distanceModel = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
   const fcl::BVHModel<fcl::AABBd>& model = *m_impl->model;
+  // The model's own vertices and triangles (FCL keeps the triangles in the order given).
   const std::vector<fcl::Vector3d> points(model.vertices, model.vertices + m_impl->vertexCount);
-  distanceModel->beginModel(static_cast<int>(m_impl->faces.size()), m_impl->vertexCount);
-  distanceModel->addSubModel(points, m_impl->faces);
+  const std::vector<fcl::Triangle> faces(model.tri_indices, model.tri_indices + m_impl->triangleCount);
+  distanceModel->beginModel(m_impl->triangleCount, m_impl->vertexCount);
+  distanceModel->addSubModel(points, faces);
   distanceModel->endModel();
   const fcl::CollisionObjectd surface(distanceModel, fcl::Transform3d::Identity());
   fcl::DistanceRequestd request(/*enable_nearest_points=*/true);
