@@ -52,6 +52,8 @@ class StiffnessTable {
 
   /// The nodes of the grid (for tests and reports).
   std::size_t nodeCount() const { return m_stress.size(); }
+  /// The spline behind stress() (for kernels that evaluate it several springs at a time).
+  const UniformHermiteSpline& stressSpline() const { return m_stress; }
   double spacing() const { return m_stress.spacing(); }
 
   /// k_s and dk_s/dlambda from the closed form, stable through lambda = 1 (N, N).

@@ -127,6 +127,10 @@ class StressSoftening {
   }
 
   bool isEnabled() const { return m_b > 0.0 || m_residualScale_Pa > 0.0; }
+  /// b of F (Eq. 20) and (mu / 2C) * 1 kPa of R (Eq. 17), for kernels that evaluate
+  /// softenWithSlope several springs at a time.
+  double b() const { return m_b; }
+  double residualScale_Pa() const { return m_residualScale_Pa; }
 
  private:
   double m_b;

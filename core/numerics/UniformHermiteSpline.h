@@ -62,6 +62,7 @@ class UniformHermiteSpline {
 
   double origin() const { return m_origin; }
   double spacing() const { return m_spacing; }
+  double inverseSpacing() const { return m_inverseSpacing; }
   std::size_t size() const { return m_nodes.size(); }
   double back() const { return m_origin + m_spacing * static_cast<double>(m_nodes.size() - 1); }
   const std::vector<HermiteNode>& nodes() const { return m_nodes; }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "springs/SpringStressBatch.h"
+
 namespace tissuesim {
 namespace {
 /// Below this fraction of its rest length a spring has no usable direction.
@@ -18,6 +20,24 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
       m_lambdaMax(Eigen::VectorXd::Constant(mesh.springCount(), law.peak(1.0).lambdaMax)) {
   for (auto& f : m_partForces) f.resize(3, mesh.nodeCount());
   for (auto& k : m_partNodeStiffness) k.resize(mesh.nodeCount());
+  setBatched(true);
+}
+
+bool hasSpringStressBatch() {
+#if defined(__x86_64__)
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx") && __builtin_cpu_supports("fma");
+  }();
+  return has;
+#else
+  return false;
+#endif
+}
+
+bool SpringForceField::setBatched(bool isBatched) {
+  m_isBatched = isBatched && hasSpringStressBatch() && m_law.law() == SpringLaw::Eesm;
+  return m_isBatched;
 }
 
 void SpringForceField::resetStretchHistory() {
@@ -35,17 +55,21 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
   auto part = [&](int p) {
     const Eigen::Index begin = partStart(p);
     const Eigen::Index end = partStart(p + 1);
+    const auto range = [&](Eigen::Matrix3Xd& rangeForces, Eigen::VectorXd* rangeStiffness) {
+      return m_isBatched ? accumulateRangeBatched<withBlocks, withNodeStiffness>(begin, end, x, rangeForces, blocks,
+                                                                                rangeStiffness, isProjected)
+                         : accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, rangeForces, blocks,
+                                                                         rangeStiffness, isProjected);
+    };
     if (p == 0) {
-      reports[0] = accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, forces, blocks,
-                                                                  nodeStiffness, isProjected);
+      reports[0] = range(forces, nodeStiffness);
       return;
     }
     Eigen::Matrix3Xd& partForces = m_partForces[static_cast<std::size_t>(p - 1)];
     Eigen::VectorXd& partStiffness = m_partNodeStiffness[static_cast<std::size_t>(p - 1)];
     partForces.setZero();
     if constexpr (withNodeStiffness) partStiffness.setZero();
-    reports[static_cast<std::size_t>(p)] = accumulateRange<withBlocks, withNodeStiffness>(
-        begin, end, x, partForces, blocks, &partStiffness, isProjected);
+    reports[static_cast<std::size_t>(p)] = range(partForces, &partStiffness);
   };
   runParts(m_pool, kSpringParts, part);
   // Fixed order, whatever the thread count: the sums are bit-identical.
@@ -88,34 +112,108 @@ SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::I
     const SpringStress p =
         m_law.evaluate<withBlocks || withNodeStiffness>(lambda, m_peaks[static_cast<std::size_t>(s)]);
     report.beyondRangeCount += p.isBeyondRange ? 1 : 0;
-    const double areaOverLength = m_areaOverLength[s];  // V_e / L0 (m^2)
-    const double inverseLength = 1.0 / length;
-    const Eigen::Vector3d n = d * inverseLength;
-    const Eigen::Vector3d f = (areaOverLength * p.stress) * n;
-    forces.col(a) += f;
-    forces.col(b) -= f;
-    if constexpr (withBlocks || withNodeStiffness) {
-      double axial = areaOverLength * p.slope * inverseRestLength;
-      double lateral = areaOverLength * p.stress * inverseLength;
-      if (isProjected) {
-        axial = std::max(0.0, axial);
-        lateral = std::max(0.0, lateral);
-      }
-      if constexpr (withBlocks) {
-        Eigen::Map<Eigen::Matrix3d> k(blocks->col(s).data());
-        k.noalias() = (axial - lateral) * (n * n.transpose());
-        k.diagonal().array() += lateral;
-      }
-      if constexpr (withNodeStiffness) {
-        // ||K_e||_2 of the unprojected block: the larger of its two eigenvalues' magnitudes.
-        const double norm = std::max(std::abs(areaOverLength * p.slope * inverseRestLength),
-                                     std::abs(areaOverLength * p.stress * inverseLength));
-        (*nodeStiffness)[a] += norm;
-        (*nodeStiffness)[b] += norm;
-      }
-    }
+    applyStress<withBlocks, withNodeStiffness>(s, a, b, d, length, p.stress, p.slope, forces, blocks,
+                                               nodeStiffness, isProjected);
   }
   return report;
+}
+
+template <bool withBlocks, bool withNodeStiffness>
+inline void SpringForceField::applyStress(Eigen::Index s, int a, int b, const Eigen::Vector3d& d,
+                                          double length, double stress, double slope,
+                                          Eigen::Matrix3Xd& forces,
+                                          Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                          Eigen::VectorXd* nodeStiffness, bool isProjected) const {
+  const double inverseRestLength = m_inverseRestLength[s];
+  const double areaOverLength = m_areaOverLength[s];  // V_e / L0 (m^2)
+  const double inverseLength = 1.0 / length;
+  const Eigen::Vector3d n = d * inverseLength;
+  const Eigen::Vector3d f = (areaOverLength * stress) * n;
+  forces.col(a) += f;
+  forces.col(b) -= f;
+  if constexpr (withBlocks || withNodeStiffness) {
+    double axial = areaOverLength * slope * inverseRestLength;
+    double lateral = areaOverLength * stress * inverseLength;
+    if (isProjected) {
+      axial = std::max(0.0, axial);
+      lateral = std::max(0.0, lateral);
+    }
+    if constexpr (withBlocks) {
+      Eigen::Map<Eigen::Matrix3d> k(blocks->col(s).data());
+      k.noalias() = (axial - lateral) * (n * n.transpose());
+      k.diagonal().array() += lateral;
+    }
+    if constexpr (withNodeStiffness) {
+      // ||K_e||_2 of the unprojected block: the larger of its two eigenvalues' magnitudes.
+      const double norm = std::max(std::abs(areaOverLength * slope * inverseRestLength),
+                                   std::abs(areaOverLength * stress * inverseLength));
+      (*nodeStiffness)[a] += norm;
+      (*nodeStiffness)[b] += norm;
+    }
+  }
+}
+
+template <bool withBlocks, bool withNodeStiffness>
+#if defined(__x86_64__)
+__attribute__((target("avx,fma")))
+#endif
+SpringFieldReport SpringForceField::accumulateRangeBatched(Eigen::Index begin, Eigen::Index end,
+                                                           const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                                           Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                                           Eigen::VectorXd* nodeStiffness,
+                                                           bool isProjected) const {
+#if defined(__x86_64__)
+  constexpr bool kWithSlope = withBlocks || withNodeStiffness;
+  const SpringStressBatchCoefficients coefficients(m_law);
+  const StretchRange range = m_law.range();
+  SpringFieldReport report;
+  Eigen::Index s = begin;
+  // Groups of four: the geometry per spring (the same expressions as the scalar pass, so the
+  // same stretches to the bit), the law for the four at once, then each spring's force.
+  for (; s + 4 <= end; s += 4) {
+    std::array<int, 4> a{}, b{};
+    std::array<Eigen::Vector3d, 4> d;
+    alignas(32) std::array<double, 4> length{}, lambda{}, stress{}, slope{};
+    bool isInside = true;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Eigen::Index spring = s + static_cast<Eigen::Index>(k);
+      a[k] = m_mesh.springs(0, spring);
+      b[k] = m_mesh.springs(1, spring);
+      d[k] = x.col(b[k]) - x.col(a[k]);
+      length[k] = d[k].norm();
+      lambda[k] = length[k] * m_inverseRestLength[spring];
+      isInside = isInside && lambda[k] > kCollapsedLengthFraction && lambda[k] >= range.lower &&
+                 lambda[k] <= range.upper;
+    }
+    if (isInside) {
+      evaluateStressBatch<kWithSlope>(coefficients, lambda.data(), m_lambdaMax.data() + s, m_peaks.data() + s,
+                                      stress.data(), slope.data());
+      for (std::size_t k = 0; k < 4; ++k) {
+        report.minStretch = std::min(report.minStretch, lambda[k]);
+        report.maxStretch = std::max(report.maxStretch, lambda[k]);
+        applyStress<withBlocks, withNodeStiffness>(s + static_cast<Eigen::Index>(k), a[k], b[k], d[k], length[k],
+                                                   stress[k], slope[k], forces, blocks, nodeStiffness, isProjected);
+      }
+      continue;
+    }
+    // A spring outside what the batch handles: the scalar pass for the four.
+    const SpringFieldReport scalar = accumulateRange<withBlocks, withNodeStiffness>(
+        s, s + 4, x, forces, blocks, nodeStiffness, isProjected);
+    report.beyondRangeCount += scalar.beyondRangeCount;
+    report.collapsedCount += scalar.collapsedCount;
+    report.minStretch = std::min(report.minStretch, scalar.minStretch);
+    report.maxStretch = std::max(report.maxStretch, scalar.maxStretch);
+  }
+  const SpringFieldReport tail = accumulateRange<withBlocks, withNodeStiffness>(s, end, x, forces, blocks,
+                                                                               nodeStiffness, isProjected);
+  report.beyondRangeCount += tail.beyondRangeCount;
+  report.collapsedCount += tail.collapsedCount;
+  report.minStretch = std::min(report.minStretch, tail.minStretch);
+  report.maxStretch = std::max(report.maxStretch, tail.maxStretch);
+  return report;
+#else
+  return accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, forces, blocks, nodeStiffness, isProjected);
+#endif
 }
 
 SpringFieldReport SpringForceField::addForces(const Eigen::Matrix3Xd& x,

@@ -79,6 +79,8 @@ class SpringForceLaw {
   SofteningPeak peak(double lambdaMax) const;
 
   SpringLaw law() const { return m_law; }
+  const StiffnessTable& table() const { return m_table; }
+  const StressSoftening& softening() const { return m_softening; }
   bool isSoftening() const { return m_isSoftening; }
   StretchRange range() const { return m_range; }
 

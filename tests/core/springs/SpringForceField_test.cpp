@@ -1,4 +1,5 @@
 #include "springs/SpringForceField.h"
+#include "springs/SpringStressBatch.h"
 
 #include <random>
 #include <tuple>
@@ -197,6 +198,48 @@ TEST(SpringForceField, TheForceOnlyPassGivesTheSameForces) {
       EXPECT_GT(full.beyondRangeCount, 0);
     }
     EXPECT_LT(full.minStretch, 1.0);
+  }
+}
+
+TEST(SpringForceField, TheBatchedLawAgreesWithTheScalarOne) {
+  // Four springs at a time in AVX (SpringStressBatch.h) against the scalar law, on every branch:
+  // virgin, softened, compressed after stretching, within the jump's fade below the peak (the
+  // state just short of the one that set the peaks), and past the usable range (the scalar
+  // law for that group). Not to the bit (its own exp and FMAs), to 1e-12 of the largest value.
+  if (!hasSpringStressBatch()) GTEST_SKIP() << "this CPU has no AVX with FMA: the batched law is never used";
+  test::BlockSystem block({0.02, 0.02, 0.02}, {3, 3, 3}, SpringLaw::Eesm, true);
+  const Eigen::Matrix3Xd peaks = deformed(block.mesh, 0.25, 5);
+  block.springs.commitStretchHistory(peaks);
+  Eigen::Matrix3Xd past = deformed(block.mesh, 0.2, 6);
+  past.col(0) -= Eigen::Vector3d(0.015, 0.0, 0.0);  // a few springs past the usable range
+  const Eigen::Matrix3Xd rest = block.mesh.restPositions_m;
+  const Eigen::Matrix3Xd justShort = rest + (1.0 - 2e-4) * (peaks - rest);
+  int fading = 0;
+  for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
+    const double lambda = (justShort.col(block.mesh.springs(1, s)) - justShort.col(block.mesh.springs(0, s))).norm() /
+                          block.mesh.restLength_m[s];
+    const double below = block.springs.lambdaMax()[s] - lambda;
+    fading += lambda > 1.0 && below > 0.0 && below < SpringForceLaw::kJumpBlendWidth ? 1 : 0;
+  }
+  ASSERT_GT(fading, 10) << "springs within the jump's fade";
+  for (const Eigen::Matrix3Xd& x : {past, justShort}) {
+    Eigen::Matrix3Xd forces[2];
+    Eigen::Matrix<double, 9, Eigen::Dynamic> blocks[2];
+    Eigen::VectorXd nodeStiffness[2];
+    for (const bool isBatched : {true, false}) {
+      ASSERT_EQ(block.springs.setBatched(isBatched), isBatched);
+      const int i = isBatched ? 0 : 1;
+      forces[i] = Eigen::Matrix3Xd::Zero(3, x.cols());
+      blocks[i].resize(9, block.mesh.springCount());
+      block.springs.addForcesAndStiffness(x, forces[i], blocks[i]);
+      Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, x.cols());
+      nodeStiffness[i].resize(x.cols());
+      block.springs.addForcesAndNodeStiffness(x, scratch, nodeStiffness[i]);
+    }
+    EXPECT_LT((forces[0] - forces[1]).cwiseAbs().maxCoeff(), 1e-12 * forces[1].cwiseAbs().maxCoeff());
+    EXPECT_LT((blocks[0] - blocks[1]).cwiseAbs().maxCoeff(), 1e-12 * blocks[1].cwiseAbs().maxCoeff());
+    EXPECT_LT((nodeStiffness[0] - nodeStiffness[1]).cwiseAbs().maxCoeff(), 1e-12 * nodeStiffness[1].cwiseAbs().maxCoeff());
+    EXPECT_NE(forces[0], forces[1]) << "the batched law ran (it rounds differently)";
   }
 }
 
