@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "numerics/NodeBlockProduct.h"
 #include "parallel/ForkJoinPool.h"
 
 namespace tissuesim {
@@ -62,29 +63,15 @@ class NodeBlockMatrix {
   /// first call, and whenever the flags change), so repeated calls visit only those entries.
   void applyFixedDofs(const std::vector<char>& isFixed);
 
-  /// Rows 3j .. 3j+2 of y = A x for the nodes j in [begin, end) only, block by block: by
-  /// symmetry row 3j+c is column 3j+c, whose neighbour blocks are contiguous, so the loop reads
-  /// one neighbour index per 3x3 block. Disjoint node ranges can run on different threads.
+  /// Rows 3j .. 3j+2 of y = A x for the nodes j in [begin, end) only: by symmetry row 3j+c is
+  /// column 3j+c, so each is one dot product of a stored column with j's neighbours' x
+  /// (numerics/NodeBlockProduct.h, SIMD). Disjoint node ranges can run on different threads.
   void multiplyNodes(Eigen::Index begin, Eigen::Index end, const double* x, double* y) const {
-    const double* values = m_matrix.valuePtr();
-    const int* outer = m_matrix.outerIndexPtr();
-    for (Eigen::Index j = begin; j < end; ++j) {
-      const int first = m_neighbourStart[static_cast<std::size_t>(j)];
-      const int count = m_neighbourStart[static_cast<std::size_t>(j) + 1] - first;
-      const double* column = values + outer[3 * j];
-      const Eigen::Index stride = 3 * static_cast<Eigen::Index>(count);
-      double y0 = 0.0, y1 = 0.0, y2 = 0.0;
-      for (int p = 0; p < count; ++p) {
-        const double* xi = x + 3 * static_cast<Eigen::Index>(m_neighbourIndex[static_cast<std::size_t>(first + p)]);
-        const double* block = column + 3 * p;
-        y0 += block[0] * xi[0] + block[1] * xi[1] + block[2] * xi[2];
-        y1 += block[stride] * xi[0] + block[stride + 1] * xi[1] + block[stride + 2] * xi[2];
-        y2 += block[2 * stride] * xi[0] + block[2 * stride + 1] * xi[1] + block[2 * stride + 2] * xi[2];
-      }
-      y[3 * j] = y0;
-      y[3 * j + 1] = y1;
-      y[3 * j + 2] = y2;
-    }
+    multiplyNodeRows(rows(), begin, end, x, y);
+  }
+  /// What the product kernels read (pointers into this matrix).
+  NodeBlockRows rows() const {
+    return {m_matrix.valuePtr(), m_matrix.outerIndexPtr(), m_neighbourStart.data(), m_neighbourIndex.data()};
   }
 
   /// Block (j, j), 3x3.

@@ -1,6 +1,8 @@
 #include "numerics/NodeBlockMatrix.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <vector>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -41,6 +43,43 @@ TEST(NodeBlockMatrix, AssemblesLikeADenseMatrix) {
     EXPECT_EQ(applied(j, 4), j == 4 ? 1.0 : 0.0);
   }
   EXPECT_EQ(applied(0, 0), dense(0, 0));
+}
+
+TEST(NodeBlockMatrix, BothProductKernelsMatchTheSparseProduct) {
+  // A chain of 40 nodes (rows of 2 and 3 neighbours: odd and even 3 n_j, so every tail of the
+  // SIMD loops is taken) and a hub joined to 100 of 120 nodes (past the gather buffer: the
+  // plain loop). Off-diagonal blocks are general, (i, j) = B and (j, i) = B^T, so a kernel that
+  // read a block the wrong way round would fail.
+  const int nodes = 121;
+  std::vector<int> pairs;
+  for (int i = 0; i + 1 < 40; ++i) pairs.insert(pairs.end(), {i, i + 1});
+  for (int i = 0; i < 100; ++i) pairs.insert(pairs.end(), {120, i + 20});
+  const Eigen::Matrix2Xi edges = Eigen::Map<Eigen::Matrix2Xi>(pairs.data(), 2, static_cast<Eigen::Index>(pairs.size() / 2));
+  NodeBlockMatrix matrix(nodes, edges);
+  std::srand(3);
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    const Eigen::Matrix3d b = Eigen::Matrix3d::Random();
+    matrix.addBlock(edges(0, e), edges(1, e), b);
+    matrix.addBlock(edges(1, e), edges(0, e), b.transpose());
+  }
+  for (int i = 0; i < nodes; ++i) {
+    const Eigen::Matrix3d d = Eigen::Matrix3d::Random();
+    matrix.addBlock(i, i, d + d.transpose());
+  }
+  const Eigen::VectorXd x = Eigen::VectorXd::Random(3 * nodes);
+  const Eigen::VectorXd expected = matrix.matrix() * x;
+  const double tolerance = 1e-13 * expected.cwiseAbs().maxCoeff();
+  const auto check = [&](auto kernel, const char* name) {
+    Eigen::VectorXd y = Eigen::VectorXd::Constant(3 * nodes, 7.0);
+    kernel(matrix.rows(), 0, 57, x.data(), y.data());
+    kernel(matrix.rows(), 57, nodes, x.data(), y.data());
+    EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), tolerance) << name;
+  };
+  check(multiplyNodeRowsSse2, "SSE2");
+  if (hasAvxFmaProduct()) check(multiplyNodeRowsAvxFma, "AVX+FMA");
+  Eigen::VectorXd y(3 * nodes);
+  matrix.multiplyNodes(0, nodes, x.data(), y.data());
+  EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), tolerance);
 }
 
 TEST(NodeBlockMatrix, EdgeIndexedAssemblyMatchesTheSearchedOne) {
