@@ -6,6 +6,8 @@
 
 #include <cstring>
 
+#include "numerics/CpuFeatures.h"
+
 namespace tissuesim {
 namespace {
 
@@ -47,18 +49,6 @@ bool isGathered(const NodeBlockRows& rows, Eigen::Index j) {
 }
 
 }  // namespace
-
-bool hasAvxFmaProduct() {
-#if defined(__x86_64__)
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx") && __builtin_cpu_supports("fma");
-  }();
-  return has;
-#else
-  return false;
-#endif
-}
 
 #if defined(__x86_64__)
 
@@ -153,7 +143,7 @@ void multiplyNodeRowsAvxFma(const NodeBlockRows& rows, Eigen::Index begin, Eigen
 
 void multiplyNodeRows(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end,
                       const double* x, double* y) {
-  if (hasAvxFmaProduct()) {
+  if (hasAvxAndFma()) {
     multiplyNodeRowsAvxFma(rows, begin, end, x, y);
   } else {
     multiplyNodeRowsSse2(rows, begin, end, x, y);

@@ -29,12 +29,10 @@ struct NodeBlockRows {
 void multiplyNodeRows(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end,
                       const double* x, double* y);
 
-/// The two kernels, for tests; the AVX one only where hasAvxFmaProduct().
+/// The two kernels, for tests; the AVX one only where hasAvxAndFma() (numerics/CpuFeatures.h).
 void multiplyNodeRowsSse2(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end,
                           const double* x, double* y);
 void multiplyNodeRowsAvxFma(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end,
                             const double* x, double* y);
-/// Whether this CPU has AVX and FMA (and so multiplyNodeRows() takes that kernel).
-bool hasAvxFmaProduct();
 
 }  // namespace tissuesim

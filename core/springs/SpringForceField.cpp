@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "numerics/CpuFeatures.h"
 #include "springs/SpringStressBatch.h"
 
 namespace tissuesim {
@@ -23,20 +24,8 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
   setBatched(true);
 }
 
-bool hasSpringStressBatch() {
-#if defined(__x86_64__)
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx") && __builtin_cpu_supports("fma");
-  }();
-  return has;
-#else
-  return false;
-#endif
-}
-
 bool SpringForceField::setBatched(bool isBatched) {
-  m_isBatched = isBatched && hasSpringStressBatch() && m_law.law() == SpringLaw::Eesm;
+  m_isBatched = isBatched && hasAvxAndFma() && m_law.law() == SpringLaw::Eesm;
   return m_isBatched;
 }
 

@@ -14,7 +14,8 @@
 // the force-only and the force-and-stiffness passes use this one, so they agree to the bit.
 //
 // Not handled here (the caller takes the scalar law for the whole group of four): any stretch
-// outside the usable range or at zero length. Units: Pa, as SpringForceLaw.
+// outside the usable range or at zero length. Units: Pa, as SpringForceLaw. Only where the CPU
+// has AVX and FMA (numerics/CpuFeatures.h); SpringForceField decides.
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -23,9 +24,6 @@
 #include "springs/SpringForceLaw.h"
 
 namespace tissuesim {
-
-/// Whether this CPU runs the batched law (AVX and FMA); decided once.
-bool hasSpringStressBatch();
 
 #if defined(__x86_64__)
 

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "numerics/CpuFeatures.h"
+
 namespace tissuesim {
 namespace {
 
@@ -76,7 +78,7 @@ TEST(NodeBlockMatrix, BothProductKernelsMatchTheSparseProduct) {
     EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), tolerance) << name;
   };
   check(multiplyNodeRowsSse2, "SSE2");
-  if (hasAvxFmaProduct()) check(multiplyNodeRowsAvxFma, "AVX+FMA");
+  if (hasAvxAndFma()) check(multiplyNodeRowsAvxFma, "AVX+FMA");
   Eigen::VectorXd y(3 * nodes);
   matrix.multiplyNodes(0, nodes, x.data(), y.data());
   EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), tolerance);

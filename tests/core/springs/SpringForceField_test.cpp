@@ -1,5 +1,5 @@
 #include "springs/SpringForceField.h"
-#include "springs/SpringStressBatch.h"
+#include "numerics/CpuFeatures.h"
 
 #include <random>
 #include <tuple>
@@ -206,7 +206,7 @@ TEST(SpringForceField, TheBatchedLawAgreesWithTheScalarOne) {
   // virgin, softened, compressed after stretching, within the jump's fade below the peak (the
   // state just short of the one that set the peaks), and past the usable range (the scalar
   // law for that group). Not to the bit (its own exp and FMAs), to 1e-12 of the largest value.
-  if (!hasSpringStressBatch()) GTEST_SKIP() << "this CPU has no AVX with FMA: the batched law is never used";
+  if (!hasAvxAndFma()) GTEST_SKIP() << "this CPU has no AVX with FMA: the batched law is never used";
   test::BlockSystem block({0.02, 0.02, 0.02}, {3, 3, 3}, SpringLaw::Eesm, true);
   const Eigen::Matrix3Xd peaks = deformed(block.mesh, 0.25, 5);
   block.springs.commitStretchHistory(peaks);
