@@ -64,13 +64,9 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
   // Fixed order, whatever the thread count: the sums are bit-identical.
   SpringFieldReport report = reports[0];
   for (int p = 1; p < kSpringParts; ++p) {
-    const SpringFieldReport& r = reports[static_cast<std::size_t>(p)];
     forces += m_partForces[static_cast<std::size_t>(p - 1)];
     if constexpr (withNodeStiffness) *nodeStiffness += m_partNodeStiffness[static_cast<std::size_t>(p - 1)];
-    report.beyondRangeCount += r.beyondRangeCount;
-    report.collapsedCount += r.collapsedCount;
-    report.minStretch = std::min(report.minStretch, r.minStretch);
-    report.maxStretch = std::max(report.maxStretch, r.maxStretch);
+    report.include(reports[static_cast<std::size_t>(p)]);
   }
   return report;
 }
@@ -186,19 +182,11 @@ SpringFieldReport SpringForceField::accumulateRangeBatched(Eigen::Index begin, E
       continue;
     }
     // A spring outside what the batch handles: the scalar pass for the four.
-    const SpringFieldReport scalar = accumulateRange<withBlocks, withNodeStiffness>(
-        s, s + 4, x, forces, blocks, nodeStiffness, isProjected);
-    report.beyondRangeCount += scalar.beyondRangeCount;
-    report.collapsedCount += scalar.collapsedCount;
-    report.minStretch = std::min(report.minStretch, scalar.minStretch);
-    report.maxStretch = std::max(report.maxStretch, scalar.maxStretch);
+    report.include(accumulateRange<withBlocks, withNodeStiffness>(s, s + 4, x, forces, blocks, nodeStiffness,
+                                                                  isProjected));
   }
-  const SpringFieldReport tail = accumulateRange<withBlocks, withNodeStiffness>(s, end, x, forces, blocks,
-                                                                               nodeStiffness, isProjected);
-  report.beyondRangeCount += tail.beyondRangeCount;
-  report.collapsedCount += tail.collapsedCount;
-  report.minStretch = std::min(report.minStretch, tail.minStretch);
-  report.maxStretch = std::max(report.maxStretch, tail.maxStretch);
+  report.include(accumulateRange<withBlocks, withNodeStiffness>(s, end, x, forces, blocks, nodeStiffness,
+                                                                isProjected));
   return report;
 #else
   return accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, forces, blocks, nodeStiffness, isProjected);

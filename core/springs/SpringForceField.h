@@ -10,6 +10,7 @@
 // clamped at zero (the PSD projection of a spring's Hessian), so assembled matrices stay
 // positive semi-definite in compression and on softening branches.
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -28,6 +29,14 @@ struct SpringFieldReport {
   int collapsedCount = 0;    ///< springs of (near) zero length: no direction, no force
   double minStretch = 1.0;
   double maxStretch = 1.0;
+
+  /// Adds another range's counts and widens the stretch range to its.
+  void include(const SpringFieldReport& other) {
+    beyondRangeCount += other.beyondRangeCount;
+    collapsedCount += other.collapsedCount;
+    minStretch = std::min(minStretch, other.minStretch);
+    maxStretch = std::max(maxStretch, other.maxStretch);
+  }
 };
 
 /// Parallel passes: the springs are cut into kSpringParts contiguous ranges, each summed into
