@@ -52,80 +52,92 @@ bool isGathered(const NodeBlockRows& rows, Eigen::Index j) {
 
 #if defined(__x86_64__)
 
-void multiplyNodeRowsSse2(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end,
-                          const double* x, double* y) {
-  alignas(16) double g[3 * kMaxGatheredNeighbours + 4];
+namespace {
+
+/// The walk both kernels share: per row, the plain loop past the gather buffer, else the
+/// neighbours' x gathered and dotColumns(first column, 3 n_j, g, y_j) for the three rows.
+template <void (*dotColumns)(const double*, Eigen::Index, const double*, double*)>
+void multiplyRows(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end, const double* x, double* y) {
+  alignas(32) double g[3 * kMaxGatheredNeighbours + 4];
   for (Eigen::Index j = begin; j < end; ++j) {
     if (!isGathered(rows, j)) {
       multiplyRowScalar(rows, j, x, y);
       continue;
     }
     const Eigen::Index n = gather(rows, j, x, g);
-    const double* c0 = rows.values + rows.outer[3 * j];
-    const double* c1 = c0 + n;
-    const double* c2 = c1 + n;
-    __m128d a0 = _mm_setzero_pd(), a1 = _mm_setzero_pd(), a2 = _mm_setzero_pd();
-    Eigen::Index k = 0;
-    for (; k + 2 <= n; k += 2) {
-      const __m128d gk = _mm_load_pd(g + k);
-      a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_loadu_pd(c0 + k), gk));
-      a1 = _mm_add_pd(a1, _mm_mul_pd(_mm_loadu_pd(c1 + k), gk));
-      a2 = _mm_add_pd(a2, _mm_mul_pd(_mm_loadu_pd(c2 + k), gk));
-    }
-    if (k < n) {  // n odd: the last product alone (the column's next value is another's)
-      const __m128d gk = _mm_load_sd(g + k);
-      a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_load_sd(c0 + k), gk));
-      a1 = _mm_add_pd(a1, _mm_mul_pd(_mm_load_sd(c1 + k), gk));
-      a2 = _mm_add_pd(a2, _mm_mul_pd(_mm_load_sd(c2 + k), gk));
-    }
-    y[3 * j] = _mm_cvtsd_f64(_mm_add_sd(a0, _mm_unpackhi_pd(a0, a0)));
-    y[3 * j + 1] = _mm_cvtsd_f64(_mm_add_sd(a1, _mm_unpackhi_pd(a1, a1)));
-    y[3 * j + 2] = _mm_cvtsd_f64(_mm_add_sd(a2, _mm_unpackhi_pd(a2, a2)));
+    dotColumns(rows.values + rows.outer[3 * j], n, g, y + 3 * j);
   }
 }
 
-namespace {
+/// y[c] = column c . g for the three consecutive columns of length n at `column`, two at a time.
+void dotColumnsSse2(const double* column, Eigen::Index n, const double* g, double* y) {
+  const double* c0 = column;
+  const double* c1 = c0 + n;
+  const double* c2 = c1 + n;
+  __m128d a0 = _mm_setzero_pd(), a1 = _mm_setzero_pd(), a2 = _mm_setzero_pd();
+  Eigen::Index k = 0;
+  for (; k + 2 <= n; k += 2) {
+    const __m128d gk = _mm_load_pd(g + k);
+    a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_loadu_pd(c0 + k), gk));
+    a1 = _mm_add_pd(a1, _mm_mul_pd(_mm_loadu_pd(c1 + k), gk));
+    a2 = _mm_add_pd(a2, _mm_mul_pd(_mm_loadu_pd(c2 + k), gk));
+  }
+  if (k < n) {  // n odd: the last product alone (the column's next value is another's)
+    const __m128d gk = _mm_load_sd(g + k);
+    a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_load_sd(c0 + k), gk));
+    a1 = _mm_add_pd(a1, _mm_mul_pd(_mm_load_sd(c1 + k), gk));
+    a2 = _mm_add_pd(a2, _mm_mul_pd(_mm_load_sd(c2 + k), gk));
+  }
+  y[0] = _mm_cvtsd_f64(_mm_add_sd(a0, _mm_unpackhi_pd(a0, a0)));
+  y[1] = _mm_cvtsd_f64(_mm_add_sd(a1, _mm_unpackhi_pd(a1, a1)));
+  y[2] = _mm_cvtsd_f64(_mm_add_sd(a2, _mm_unpackhi_pd(a2, a2)));
+}
+
 __attribute__((target("avx,fma"))) inline double sum4(__m256d v) {
   const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
   return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
 }
-}  // namespace
 
-__attribute__((target("avx,fma"))) void multiplyNodeRowsAvxFma(const NodeBlockRows& rows, Eigen::Index begin,
-                                                               Eigen::Index end, const double* x, double* y) {
-  alignas(32) double g[3 * kMaxGatheredNeighbours + 4];
+/// The same four at a time with FMA (g is 32-byte aligned and zero past n).
+__attribute__((target("avx,fma"))) void dotColumnsAvxFma(const double* column, Eigen::Index n, const double* g,
+                                                         double* y) {
   // Lane masks for the last 1 to 3 values of a column.
   alignas(32) static constexpr long long kFirstLanes[4][4] = {
       {0, 0, 0, 0}, {-1, 0, 0, 0}, {-1, -1, 0, 0}, {-1, -1, -1, 0}};
-  for (Eigen::Index j = begin; j < end; ++j) {
-    if (!isGathered(rows, j)) {
-      multiplyRowScalar(rows, j, x, y);
-      continue;
-    }
-    const Eigen::Index n = gather(rows, j, x, g);
-    const double* c0 = rows.values + rows.outer[3 * j];
-    const double* c1 = c0 + n;
-    const double* c2 = c1 + n;
-    __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd();
-    Eigen::Index k = 0;
-    for (; k + 4 <= n; k += 4) {
-      const __m256d gk = _mm256_load_pd(g + k);
-      a0 = _mm256_fmadd_pd(_mm256_loadu_pd(c0 + k), gk, a0);
-      a1 = _mm256_fmadd_pd(_mm256_loadu_pd(c1 + k), gk, a1);
-      a2 = _mm256_fmadd_pd(_mm256_loadu_pd(c2 + k), gk, a2);
-    }
-    if (k < n) {
-      // Masked loads: nothing past the column is read (it may be the end of the array).
-      const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFirstLanes[n - k]));
-      const __m256d gk = _mm256_load_pd(g + k);  // zero past n
-      a0 = _mm256_fmadd_pd(_mm256_maskload_pd(c0 + k, mask), gk, a0);
-      a1 = _mm256_fmadd_pd(_mm256_maskload_pd(c1 + k, mask), gk, a1);
-      a2 = _mm256_fmadd_pd(_mm256_maskload_pd(c2 + k, mask), gk, a2);
-    }
-    y[3 * j] = sum4(a0);
-    y[3 * j + 1] = sum4(a1);
-    y[3 * j + 2] = sum4(a2);
+  const double* c0 = column;
+  const double* c1 = c0 + n;
+  const double* c2 = c1 + n;
+  __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd();
+  Eigen::Index k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const __m256d gk = _mm256_load_pd(g + k);
+    a0 = _mm256_fmadd_pd(_mm256_loadu_pd(c0 + k), gk, a0);
+    a1 = _mm256_fmadd_pd(_mm256_loadu_pd(c1 + k), gk, a1);
+    a2 = _mm256_fmadd_pd(_mm256_loadu_pd(c2 + k), gk, a2);
   }
+  if (k < n) {
+    // Masked loads: nothing past the column is read (it may be the end of the array).
+    const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFirstLanes[n - k]));
+    const __m256d gk = _mm256_load_pd(g + k);  // zero past n
+    a0 = _mm256_fmadd_pd(_mm256_maskload_pd(c0 + k, mask), gk, a0);
+    a1 = _mm256_fmadd_pd(_mm256_maskload_pd(c1 + k, mask), gk, a1);
+    a2 = _mm256_fmadd_pd(_mm256_maskload_pd(c2 + k, mask), gk, a2);
+  }
+  y[0] = sum4(a0);
+  y[1] = sum4(a1);
+  y[2] = sum4(a2);
+}
+
+}  // namespace
+
+void multiplyNodeRowsSse2(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end,
+                          const double* x, double* y) {
+  multiplyRows<dotColumnsSse2>(rows, begin, end, x, y);
+}
+
+void multiplyNodeRowsAvxFma(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end,
+                            const double* x, double* y) {
+  multiplyRows<dotColumnsAvxFma>(rows, begin, end, x, y);
 }
 
 #else  // not x86-64: the plain loop for both

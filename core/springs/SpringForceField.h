@@ -86,9 +86,8 @@ class SpringForceField {
 
   /// Whether the passes evaluate the law four springs at a time (SpringStressBatch.h): on by
   /// default for the eesm law where the CPU has AVX and FMA. Off, or unavailable, the scalar
-  /// law; the two agree to about 1e-15 relative, not to the bit. Returns what it is now.
+  /// law; the two agree to about 1e-15 relative, not to the bit. Returns whether it is on now.
   bool setBatched(bool isBatched);
-  bool isBatched() const { return m_isBatched; }
 
  private:
   template <bool withBlocks, bool withNodeStiffness>
