@@ -10,7 +10,7 @@ MechanicalSystem::MechanicalSystem(SpringForceField& springs, const VolumeForceF
       m_springs(springs),
       m_volume(volume),
       m_isFixed(static_cast<std::size_t>(3 * springs.mesh().nodeCount()), 0),
-      m_springBlocks(9, springs.mesh().springCount()),
+      m_springBlocks(5, springs.mesh().springCount()),
       m_tetBlocks(144, volume != nullptr ? springs.mesh().tets.cols() : 0) {}
 
 MechanicalState MechanicalSystem::restState() const {
@@ -80,7 +80,7 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
     throw std::logic_error("MechanicalSystem::forcesAndStiffness: the matrix is not makeMatrix()'s");
   }
   // Every value, no clearing first; on the springs' pool.
-  stiffness.assignEdgeStiffness(m_springBlocks, m_springs.threadPool());
+  stiffness.assignAxialEdgeStiffness(m_springBlocks, m_springs.threadPool());
   if (m_volume != nullptr) {
     report.volume = m_volume->addForces(x, f, &m_tetBlocks);
     for (Eigen::Index t = 0; t < mesh().tets.cols(); ++t) {
@@ -93,6 +93,18 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
     }
   }
   contacts.addStiffness(x, stiffness);
+  addExternalAndZeroFixed(&x, f);
+  return report;
+}
+
+ForceReport MechanicalSystem::forcesAndSpringBlocks(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                                   AxialBlocks& springBlocks, bool isProjected) const {
+  if (m_volume != nullptr) {
+    throw std::logic_error("MechanicalSystem::forcesAndSpringBlocks: the volume term's stiffness is assembled only");
+  }
+  f.setZero();
+  ForceReport report;
+  report.springs = m_springs.addForcesAndStiffness(x, f, springBlocks, isProjected);
   addExternalAndZeroFixed(&x, f);
   return report;
 }

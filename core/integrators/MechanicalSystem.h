@@ -69,6 +69,12 @@ class MechanicalSystem {
   /// PSD-projected per spring when `isProjected`, else the springs' exact Hessian.
   ForceReport forcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                  NodeBlockMatrix& stiffness, bool isProjected = true) const;
+  /// f, and the springs' stiffness blocks (5 by #S, numerics/AxialBlocks.h) overwritten, in one
+  /// pass: what the matrix-free SpringSystemOperator reads. The contacts' stiffness is left to
+  /// the caller (contacts.rankOneTerms); the volume term's is not computed (its blocks exist
+  /// only assembled), so this throws when the system has one.
+  ForceReport forcesAndSpringBlocks(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                    AxialBlocks& springBlocks, bool isProjected = true) const;
 
   /// A matrix with this system's pattern (springs' edges plus diagonal).
   NodeBlockMatrix makeMatrix() const { return NodeBlockMatrix(mesh().nodeCount(), mesh().springs); }
@@ -84,7 +90,7 @@ class MechanicalSystem {
   const VolumeForceField* m_volume;
   std::vector<char> m_isFixed;
   int m_constraintRevision = 0;
-  mutable Eigen::Matrix<double, 9, Eigen::Dynamic> m_springBlocks;
+  mutable AxialBlocks m_springBlocks;
   mutable Eigen::Matrix<double, 144, Eigen::Dynamic> m_tetBlocks;
 };
 

@@ -5,10 +5,20 @@
 namespace tissuesim {
 
 void NewtonSolver::prepare(const MechanicalSystem& system) {
-  if (m_preparedFor == &system && m_matrix) return;
+  if (m_preparedFor == &system) return;
   const Eigen::Index nodes = system.mesh().nodeCount();
-  m_matrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
-  m_trialMatrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
+  m_isMatrixFree = m_kind == LinearSolverKind::ConjugateGradient && system.volume() == nullptr;
+  if (m_isMatrixFree) {
+    m_matrix.reset();
+    m_trialMatrix.reset();
+    m_operator = std::make_unique<SpringSystemOperator>(system.mesh());
+    m_springBlocks.resize(5, system.mesh().springCount());
+    m_trialSpringBlocks.resize(5, system.mesh().springCount());
+  } else {
+    m_operator.reset();
+    m_matrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
+    m_trialMatrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
+  }
   m_isPatternAnalysed = false;
   m_force.resize(3, nodes);
   m_r.resize(3, nodes);
@@ -18,6 +28,14 @@ void NewtonSolver::prepare(const MechanicalSystem& system) {
   m_step.resize(3 * nodes);
   m_contactTerms.reserve(256);  // PenaltyContactSet's reserve: a step's contacts, no allocation
   m_preparedFor = &system;
+}
+
+ForceReport NewtonSolver::forcesAndStiffness(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                                             bool isTrial, bool isProjected) {
+  if (m_isMatrixFree) {
+    return system.forcesAndSpringBlocks(x, m_force, isTrial ? m_trialSpringBlocks : m_springBlocks, isProjected);
+  }
+  return system.forcesAndStiffness(x, m_force, isTrial ? *m_trialMatrix : *m_matrix, isProjected);
 }
 
 double NewtonSolver::residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
@@ -51,7 +69,8 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
   // Raises the shift tenfold from 1e-10 of K's largest diagonal entry; false once it reaches
   // 1e6 of it, where the step is a vanishing gradient step and nothing more can be gained.
   const auto raiseShift = [&](double& value) {
-    const double scale = m_matrix->matrix().coeffs().cwiseAbs().maxCoeff();
+    const double scale = m_isMatrixFree ? m_operator->largestDiagonalEntry()
+                                        : m_matrix->matrix().coeffs().cwiseAbs().maxCoeff();
     value = value > 0.0 ? 10.0 * value : 1e-10 * scale;
     return value < 1e6 * scale;
   };
@@ -63,7 +82,7 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
   // The first iteration's stiffness comes with the initial residual's forces, in one pass.
   bool isMatrixCurrent = maxIterations > 0;
   if (isMatrixCurrent) {
-    report.forces = system.forcesAndStiffness(x, m_force, *m_matrix, /*isProjected=*/!isExact);
+    report.forces = forcesAndStiffness(system, x, /*isTrial=*/false, /*isProjected=*/!isExact);
     report.residual_N = residualFromForce(system, x, xHat, inertiaWeight, m_r);
   } else {
     report.residual_N = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
@@ -71,12 +90,18 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
   while (report.residual_N > tolerance_N && report.iterations < maxIterations &&
          std::isfinite(report.residual_N)) {
     ++report.iterations;
-    if (!isMatrixCurrent) system.forcesAndStiffness(x, m_force, *m_matrix, /*isProjected=*/!isExact);
+    if (!isMatrixCurrent) forcesAndStiffness(system, x, /*isTrial=*/false, /*isProjected=*/!isExact);
     isMatrixCurrent = false;  // the shift and constraints below change it in place
-    for (Eigen::Index i = 0; i < x.cols(); ++i) {
-      m_matrix->addToDiagonal(static_cast<int>(i), (inertiaWeight + rho) * mass[i] + shift);
+    if (m_isMatrixFree) {
+      m_operator->setSpringBlocks(m_springBlocks);
+      m_operator->setDiagonal(inertiaWeight + rho, shift);
+      m_operator->setFixedDofs(fixed);
+    } else {
+      for (Eigen::Index i = 0; i < x.cols(); ++i) {
+        m_matrix->addToDiagonal(static_cast<int>(i), (inertiaWeight + rho) * mass[i] + shift);
+      }
+      m_matrix->applyFixedDofs(fixed);
     }
-    m_matrix->applyFixedDofs(fixed);
     m_rhs = -Eigen::Map<const Eigen::VectorXd>(m_r.data(), m_r.size());
 
     bool isSolved = false;
@@ -92,9 +117,13 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     } else {
       // Inexact Newton: the outer iteration tightens the rest.
       m_cg.setThreadPool(system.springs().threadPool());
-      // The contacts in the matrix (at x), for the preconditioner to invert exactly.
+      // The contacts at x: in the matrix already when assembled, the operator's terms when
+      // matrix-free; and for the preconditioner to invert exactly.
       system.contacts.rankOneTerms(x, fixed, m_contactTerms);
-      const ConjugateGradientReport cg = m_cg.solve(*m_matrix, m_rhs, m_step, m_linearTolerance,
+      if (m_isMatrixFree) m_operator->setTerms(&m_contactTerms);
+      const BlockLinearOperator& a = m_isMatrixFree ? static_cast<const BlockLinearOperator&>(*m_operator)
+                                                    : *m_matrix;
+      const ConjugateGradientReport cg = m_cg.solve(a, m_rhs, m_step, m_linearTolerance,
                                                     static_cast<int>(3 * x.cols()), &m_contactTerms);
       report.linearIterations += cg.iterations;
       isSolved = cg.converged || cg.relativeResidual < std::max(1e-6, m_linearTolerance);
@@ -120,8 +149,8 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     for (int halving = 0; halving < 12; ++halving) {
       m_trialX = x + stepLength * Eigen::Map<const Eigen::Matrix3Xd>(m_step.data(), 3, x.cols());
       if (isTrialStiffnessWanted) {
-        trialForces = system.forcesAndStiffness(m_trialX, m_force, *m_trialMatrix,
-                                                /*isProjected=*/m_kind != LinearSolverKind::Cholesky);
+        trialForces = forcesAndStiffness(system, m_trialX, /*isTrial=*/true,
+                                         /*isProjected=*/m_kind != LinearSolverKind::Cholesky);
         residualFromForce(system, m_trialX, xHat, inertiaWeight, m_trialR);
       } else {
         residual(system, m_trialX, xHat, inertiaWeight, m_trialR, &trialForces);
@@ -144,7 +173,11 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     x.swap(m_trialX);
     m_r.swap(m_trialR);
     if (isTrialStiffnessWanted) {
-      m_matrix.swap(m_trialMatrix);
+      if (m_isMatrixFree) {
+        m_springBlocks.swap(m_trialSpringBlocks);
+      } else {
+        m_matrix.swap(m_trialMatrix);
+      }
       isMatrixCurrent = true;
     }
     report.forces = trialForces;

@@ -13,13 +13,17 @@
 // (raised tenfold each time, relaxed after a good step); the solve stops, unconverged, when even
 // a vanishing gradient step gives no descent (a kink in the force, say) and reports it. Linear solves: sparse Cholesky (Eigen
 // SimplicialLDLT, symbolic analysis once per pattern) or conjugate gradients (3x3 block-Jacobi
-// preconditioner, BlockConjugateGradient: on the springs' thread pool when they have one).
+// preconditioner, BlockConjugateGradient: on the springs' thread pool when they have one). CG
+// runs matrix-free (SpringSystemOperator, on the spring pass's blocks) unless the system has the
+// volume term, whose blocks exist only assembled; Cholesky needs the assembled matrix.
 
 #include <memory>
 
 #include <Eigen/SparseCholesky>
 
 #include "numerics/BlockConjugateGradient.h"
+
+#include "integrators/SpringSystemOperator.h"
 
 #include "integrators/TimeIntegrator.h"
 
@@ -54,12 +58,21 @@ class NewtonSolver {
                            const Eigen::Matrix3Xd& xHat, double inertiaWeight,
                            Eigen::Matrix3Xd& r) const;
   void prepare(const MechanicalSystem& system);
+  /// Forces at x into m_force and the stiffness there into the matrix or the spring blocks
+  /// (the trial's when `isTrial`).
+  ForceReport forcesAndStiffness(const MechanicalSystem& system, const Eigen::Matrix3Xd& x, bool isTrial,
+                                 bool isProjected);
 
   LinearSolverKind m_kind;
   double m_linearTolerance;  ///< CG's relative residual (inexact Newton)
   const MechanicalSystem* m_preparedFor = nullptr;
+  bool m_isMatrixFree = false;  ///< CG on SpringSystemOperator; else on the assembled matrix
+  // Assembled (Cholesky, or CG with the volume term):
   std::unique_ptr<NodeBlockMatrix> m_matrix;
   std::unique_ptr<NodeBlockMatrix> m_trialMatrix;  ///< the line search's trials' stiffness
+  // Matrix-free: the springs' blocks at the iterate and at the line search's trials.
+  std::unique_ptr<SpringSystemOperator> m_operator;
+  AxialBlocks m_springBlocks, m_trialSpringBlocks;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
   BlockConjugateGradient m_cg;
   bool m_isPatternAnalysed = false;

@@ -8,12 +8,11 @@
 
 namespace tissuesim {
 
-void BlockConjugateGradient::resize(const NodeBlockMatrix& a) {
+void BlockConjugateGradient::resize(const BlockLinearOperator& a) {
   const Eigen::Index nodes = a.nodeCount();
   m_nodeCount = nodes;
   for (Eigen::VectorXd* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(3 * nodes);
   m_inverseBlocks.resize(6 * nodes);
-  m_bounds = a.balancedNodeRanges<kParts>();  // equal shares of the product's work
   m_termSlot.assign(static_cast<std::size_t>(nodes), -1);
   m_termNodes.reserve(3 * kMaxExactTerms);
   m_termDiagonal.reserve(3 * kMaxExactTerms);
@@ -169,12 +168,13 @@ double BlockConjugateGradient::correctForTerms(const std::vector<RankOneTerm>& t
   return drop;
 }
 
-ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
+ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator& a,
                                                       const Eigen::VectorXd& b,
                                                       Eigen::VectorXd& x, double tolerance,
                                                       int maxIterations,
                                                       const std::vector<RankOneTerm>* terms) {
   if (m_nodeCount != a.nodeCount()) resize(a);
+  m_bounds = a.partBounds();
   bool isExactTerms = terms != nullptr && listTerms(*terms);
   if (x.size() != b.size()) x.resize(b.size());
   ConjugateGradientReport report;
@@ -236,7 +236,7 @@ ConjugateGradientReport BlockConjugateGradient::solve(const NodeBlockMatrix& a,
 
   // q = A p on the part's rows; partial p.q.
   auto product = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
-    a.multiplyNodes(first, last, p, q);
+    a.multiplyPart(static_cast<int>(part), p, q);
     double pq = 0.0;
     for (Eigen::Index d = 3 * first; d < 3 * last; ++d) pq += p[d] * q[d];
     m_dotA[part] = pq;

@@ -1,14 +1,14 @@
 #pragma once
 // Block-Jacobi-preconditioned conjugate gradients on a symmetric positive definite
-// NodeBlockMatrix:
+// BlockLinearOperator (the assembled NodeBlockMatrix, or the springs' matrix-free operator):
 //
 //   A x = b,   A: 3#V by 3#V (N/m),  b: 3#V (N),  x: 3#V (m), started from x = 0
 //
 // stopping when ||b - A x||_2 <= tolerance ||b||_2 (Eigen's ConjugateGradient criterion) or
 // after maxIterations. Why not Eigen's: its product is a serial scalar CSC loop that reads one
-// row index per value; here the product reads one neighbour index per 3x3 block, and every pass
-// (product, updates, dot products) runs over kParts fixed node ranges, on a ForkJoinPool when
-// one is set. The ranges and the order in which their partial dot products are summed do not
+// row index per value; here the product is the operator's own (one neighbour index per 3x3
+// block, or none at all), and every pass (product, updates, dot products) runs over the
+// operator's kParts fixed node ranges, on a ForkJoinPool when one is set. The ranges and the order in which their partial dot products are summed do not
 // depend on the thread count, so the result is bit-identical with 1, 2 or 4 threads.
 // The preconditioner is the inverse of each node's 3x3 diagonal block, not of its diagonal
 // entries: an instrument contact adds k w^2 n n^T there, along a normal that is rarely an axis,
@@ -34,7 +34,7 @@
 
 #include <Eigen/Core>
 
-#include "numerics/NodeBlockMatrix.h"
+#include "numerics/BlockLinearOperator.h"
 #include "numerics/RankOneTerm.h"
 #include "parallel/ForkJoinPool.h"
 
@@ -48,7 +48,7 @@ struct ConjugateGradientReport {
 
 class BlockConjugateGradient {
  public:
-  static constexpr int kParts = 4;
+  static constexpr int kParts = BlockLinearOperator::kParts;
   /// The most rank-one terms the preconditioner inverts exactly (a 64 by 64 factorisation).
   static constexpr int kMaxExactTerms = 64;
 
@@ -58,12 +58,12 @@ class BlockConjugateGradient {
   /// Solves A x = b; x is resized to b's size if needed and overwritten. `terms` (optional):
   /// rank-one terms that A contains, for the preconditioner (see above); each u must be zero on
   /// the DOFs whose rows and columns A has replaced by the identity (fixed DOFs).
-  ConjugateGradientReport solve(const NodeBlockMatrix& a, const Eigen::VectorXd& b,
+  ConjugateGradientReport solve(const BlockLinearOperator& a, const Eigen::VectorXd& b,
                                 Eigen::VectorXd& x, double tolerance, int maxIterations,
                                 const std::vector<RankOneTerm>* terms = nullptr);
 
  private:
-  void resize(const NodeBlockMatrix& a);
+  void resize(const BlockLinearOperator& a);
   /// Lists the terms' nodes and the diagonal blocks they add (m_termDiagonal), for B; false
   /// (no exact terms this solve) when there are none or more than kMaxExactTerms.
   bool listTerms(const std::vector<RankOneTerm>& terms);
@@ -80,7 +80,7 @@ class BlockConjugateGradient {
 
   ForkJoinPool* m_pool = nullptr;
   Eigen::Index m_nodeCount = -1;
-  std::array<Eigen::Index, kParts + 1> m_bounds{};  ///< node ranges of about equal stored values
+  BlockLinearOperator::PartBounds m_bounds{};  ///< the operator's node ranges
   Eigen::VectorXd m_inverseBlocks;  ///< 6#V: per node, the upper triangle of its block's inverse
   Eigen::VectorXd m_r, m_z, m_p, m_q;
   std::array<double, kParts> m_dotA{}, m_dotB{};  ///< per-part partial dot products

@@ -56,31 +56,44 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
       m_neighbourEdge[at] = static_cast<int>(e);
     }
   }
-  m_assignBounds = balancedNodeRanges<kAssignParts>();
+  m_partBounds = balancedNodeRanges<kParts>();
 }
 
 void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
                                           ForkJoinPool* pool) {
-  if (k.cols() != edgeCount()) {
-    throw std::invalid_argument("NodeBlockMatrix::assignEdgeStiffness: " + std::to_string(k.cols()) +
+  assignEdges(k.cols(), [&](Eigen::Index e) { return Eigen::Map<const Eigen::Matrix3d>(k.col(e).data()); },
+              pool);
+}
+
+void NodeBlockMatrix::assignAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* pool) {
+  assignEdges(k.cols(), [&](Eigen::Index e) { return axialBlock(k.col(e).data()); }, pool);
+}
+
+template <typename BlockOf>
+void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockOf, ForkJoinPool* pool) {
+  if (blockCount != edgeCount()) {
+    throw std::invalid_argument("NodeBlockMatrix::assignEdgeStiffness: " + std::to_string(blockCount) +
                                 " blocks for " + std::to_string(edgeCount()) + " edges");
   }
   if (m_hasRepeatedEdges) {  // two edges share a block: they must be summed
     setZero();
-    for (Eigen::Index e = 0; e < edgeCount(); ++e) addEdgeStiffness(e, k.col(e).data());
+    for (Eigen::Index e = 0; e < edgeCount(); ++e) {
+      const Eigen::Matrix3d block = blockOf(e);
+      addEdgeStiffness(e, block.data());
+    }
     return;
   }
   // Each node's columns are written from its own edges' blocks only: node ranges are
   // independent, and the values written do not depend on how the nodes are cut.
   const auto part = [&](int p) {
-    assignNodeColumns(k, m_assignBounds[static_cast<std::size_t>(p)],
-                      m_assignBounds[static_cast<std::size_t>(p) + 1]);
+    assignNodeColumns(blockOf, m_partBounds[static_cast<std::size_t>(p)],
+                      m_partBounds[static_cast<std::size_t>(p) + 1]);
   };
-  runParts(pool, kAssignParts, part);
+  runParts(pool, kParts, part);
 }
 
-void NodeBlockMatrix::assignNodeColumns(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
-                                        Eigen::Index begin, Eigen::Index end) {
+template <typename BlockOf>
+void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin, Eigen::Index end) {
   double* const values = m_matrix.valuePtr();
   const int* const outer = m_matrix.outerIndexPtr();
   for (Eigen::Index j = begin; j < end; ++j) {
@@ -98,11 +111,11 @@ void NodeBlockMatrix::assignNodeColumns(const Eigen::Matrix<double, 9, Eigen::Dy
         diagonalBlock = block;
         continue;
       }
-      const double* const ke = k.col(e).data();
+      const Eigen::Matrix3d ke = blockOf(e);
       for (int c = 0; c < 3; ++c) {
         for (int r = 0; r < 3; ++r) {
-          block[c * stride + r] = -ke[3 * c + r];
-          diagonal[3 * c + r] += ke[3 * c + r];
+          block[c * stride + r] = -ke(r, c);
+          diagonal[3 * c + r] += ke(r, c);
         }
       }
     }

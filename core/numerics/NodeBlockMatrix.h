@@ -13,12 +13,14 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "numerics/AxialBlocks.h"
+#include "numerics/BlockLinearOperator.h"
 #include "numerics/NodeBlockProduct.h"
 #include "parallel/ForkJoinPool.h"
 
 namespace tissuesim {
 
-class NodeBlockMatrix {
+class NodeBlockMatrix final : public BlockLinearOperator {
  public:
   /// @param nodeCount #V; @param edges 2 by #E node pairs (each pair once, either order).
   NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi& edges);
@@ -51,9 +53,12 @@ class NodeBlockMatrix {
   /// per edge of the constructor's list): the matrix setZero() and addEdgeStiffness() on every
   /// edge give (up to the order of the diagonal sums), written column by column, each value
   /// once, with no clearing pass. On `pool` (when given, with more than one thread) the nodes'
-  /// columns are written in kAssignParts ranges at once; the values are the same.
+  /// columns are written in kParts ranges at once; the values are the same.
   void assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
                            ForkJoinPool* pool = nullptr);
+  /// The same from blocks in the axial form c n n^T + l I (numerics/AxialBlocks.h), each
+  /// expanded as it is written.
+  void assignAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* pool = nullptr);
 
   /// Adds `value` to the three diagonal entries of node i (a lumped mass, say).
   void addToDiagonal(int i, double value);
@@ -74,8 +79,15 @@ class NodeBlockMatrix {
     return {m_matrix.valuePtr(), m_matrix.outerIndexPtr(), m_neighbourStart.data(), m_neighbourIndex.data()};
   }
 
+  /// BlockLinearOperator: node ranges of about equal stored values, each part's rows by
+  /// multiplyNodes().
+  const PartBounds& partBounds() const override { return m_partBounds; }
+  void multiplyPart(int part, const double* x, double* y) const override {
+    multiplyNodes(m_partBounds[static_cast<std::size_t>(part)], m_partBounds[static_cast<std::size_t>(part) + 1], x, y);
+  }
+
   /// Block (j, j), 3x3.
-  Eigen::Matrix3d diagonalBlock(Eigen::Index j) const {
+  Eigen::Matrix3d diagonalBlock(Eigen::Index j) const override {
     const double* start = m_matrix.valuePtr() + m_diagonalStart[static_cast<std::size_t>(j)];
     const Eigen::Index stride = blockStride(static_cast<int>(j));
     Eigen::Matrix3d block;
@@ -86,7 +98,7 @@ class NodeBlockMatrix {
   }
 
   /// #V.
-  Eigen::Index nodeCount() const { return static_cast<Eigen::Index>(m_neighbourStart.size()) - 1; }
+  Eigen::Index nodeCount() const override { return static_cast<Eigen::Index>(m_neighbourStart.size()) - 1; }
   /// Stored values in the columns of nodes [0, j): a cost measure for cutting node ranges.
   Eigen::Index valuesBefore(Eigen::Index j) const { return m_matrix.outerIndexPtr()[3 * j]; }
 
@@ -111,10 +123,12 @@ class NodeBlockMatrix {
   Eigen::Index edgeCount() const { return static_cast<Eigen::Index>(m_edgeSlots.size()); }
 
  private:
-  static constexpr int kAssignParts = 4;
-  /// assignEdgeStiffness() for the columns of nodes [begin, end).
-  void assignNodeColumns(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k, Eigen::Index begin,
-                         Eigen::Index end);
+  /// assignEdgeStiffness() from blockOf(e) (a column-major 3x3 block, Eigen::Matrix3d).
+  template <typename BlockOf>
+  void assignEdges(Eigen::Index blockCount, const BlockOf& blockOf, ForkJoinPool* pool);
+  /// The same for the columns of nodes [begin, end).
+  template <typename BlockOf>
+  void assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin, Eigen::Index end);
   /// Where node i stands in m_neighbourIndex among j's neighbours; throws if no edge joins them.
   std::size_t neighbourSlot(int i, int j) const;
   /// Where the block at `slot` (an entry of m_neighbourIndex among j's) starts in the values.
@@ -142,7 +156,8 @@ class NodeBlockMatrix {
   std::vector<EdgeSlots> m_edgeSlots;          ///< per edge of the constructor's list
   /// Per entry of m_neighbourIndex, the edge joining the two nodes (-1 on the diagonal).
   std::vector<int> m_neighbourEdge;
-  std::array<Eigen::Index, kAssignParts + 1> m_assignBounds{};  ///< node ranges for the pool
+  /// Node ranges of equal shares of the stored values: the product's parts and the assignment's.
+  PartBounds m_partBounds{};
   bool m_hasRepeatedEdges = false;  ///< an edge listed twice: assignEdgeStiffness() must add
   std::vector<char> m_fixedFlags;              ///< the flags m_fixedEntries were listed for
   std::vector<Eigen::Index> m_fixedEntries;    ///< values zeroed by applyFixedDofs

@@ -36,7 +36,7 @@ void SpringForceField::resetStretchHistory() {
 
 template <bool withBlocks, bool withNodeStiffness>
 SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                                               Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                               AxialBlocks* blocks,
                                                Eigen::VectorXd* nodeStiffness,
                                                bool isProjected) const {
   if constexpr (withNodeStiffness) nodeStiffness->setZero();
@@ -75,7 +75,7 @@ template <bool withBlocks, bool withNodeStiffness>
 SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::Index end,
                                                     const Eigen::Matrix3Xd& x,
                                                     Eigen::Matrix3Xd& forces,
-                                                    Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                                    AxialBlocks* blocks,
                                                     Eigen::VectorXd* nodeStiffness,
                                                     bool isProjected) const {
   SpringFieldReport report;
@@ -107,7 +107,7 @@ template <bool withBlocks, bool withNodeStiffness>
 inline void SpringForceField::applyStress(Eigen::Index s, int a, int b, const Eigen::Vector3d& d,
                                           double length, double stress, double slope,
                                           Eigen::Matrix3Xd& forces,
-                                          Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                          AxialBlocks* blocks,
                                           Eigen::VectorXd* nodeStiffness, bool isProjected) const {
   const double inverseRestLength = m_inverseRestLength[s];
   const double areaOverLength = m_areaOverLength[s];  // V_e / L0 (m^2)
@@ -124,9 +124,12 @@ inline void SpringForceField::applyStress(Eigen::Index s, int a, int b, const Ei
       lateral = std::max(0.0, lateral);
     }
     if constexpr (withBlocks) {
-      Eigen::Map<Eigen::Matrix3d> k(blocks->col(s).data());
-      k.noalias() = (axial - lateral) * (n * n.transpose());
-      k.diagonal().array() += lateral;
+      double* const k = blocks->col(s).data();
+      k[0] = n[0];
+      k[1] = n[1];
+      k[2] = n[2];
+      k[3] = axial - lateral;
+      k[4] = lateral;
     }
     if constexpr (withNodeStiffness) {
       // ||K_e||_2 of the unprojected block: the larger of its two eigenvalues' magnitudes.
@@ -144,7 +147,7 @@ __attribute__((target("avx,fma")))
 #endif
 SpringFieldReport SpringForceField::accumulateRangeBatched(Eigen::Index begin, Eigen::Index end,
                                                            const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                                                           Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                                           AxialBlocks* blocks,
                                                            Eigen::VectorXd* nodeStiffness,
                                                            bool isProjected) const {
 #if defined(__x86_64__)
@@ -200,7 +203,7 @@ SpringFieldReport SpringForceField::addForces(const Eigen::Matrix3Xd& x,
 
 SpringFieldReport SpringForceField::addForcesAndStiffness(
     const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-    Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks, bool isProjected) const {
+    AxialBlocks& blocks, bool isProjected) const {
   return accumulate<true, false>(x, forces, &blocks, nullptr, isProjected);
 }
 

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "numerics/AxialBlocks.h"
 #include "parallel/ForkJoinPool.h"
 
 #include "springs/SpringForceLaw.h"
@@ -58,11 +59,11 @@ class SpringForceField {
   /// forces (3 by #V, N) += spring forces at positions x (3 by #V, m).
   SpringFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces) const;
 
-  /// The same, and blocks (9 by #S, column-major 3x3 K_e per spring, N/m) overwritten: the
-  /// PSD projection when `isProjected`, else the exact Hessian (which may be indefinite).
+  /// The same, and blocks (5 by #S: K_e per spring as (n, axial - lateral, lateral), N/m;
+  /// numerics/AxialBlocks.h) overwritten: the PSD projection when `isProjected`, else the exact
+  /// Hessian (which may be indefinite). A collapsed spring's block is zero.
   SpringFieldReport addForcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                                          Eigen::Matrix<double, 9, Eigen::Dynamic>& blocks,
-                                          bool isProjected = true) const;
+                                          AxialBlocks& blocks, bool isProjected = true) const;
 
   /// The same, and nodeStiffness (#V, N/m) overwritten with sum_e ||K_e|| over each node's
   /// springs: what the explicit integrator's stability bound needs, in the same pass.
@@ -92,27 +93,27 @@ class SpringForceField {
  private:
   template <bool withBlocks, bool withNodeStiffness>
   SpringFieldReport accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                               Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                               AxialBlocks* blocks,
                                Eigen::VectorXd* nodeStiffness, bool isProjected) const;
   /// Springs [begin, end) into forces and nodeStiffness (both added to).
   template <bool withBlocks, bool withNodeStiffness>
   SpringFieldReport accumulateRange(Eigen::Index begin, Eigen::Index end, const Eigen::Matrix3Xd& x,
                                     Eigen::Matrix3Xd& forces,
-                                    Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                    AxialBlocks* blocks,
                                     Eigen::VectorXd* nodeStiffness, bool isProjected) const;
 
   /// The same, the law taken four springs at a time where it can be (SpringStressBatch.h).
   template <bool withBlocks, bool withNodeStiffness>
   SpringFieldReport accumulateRangeBatched(Eigen::Index begin, Eigen::Index end, const Eigen::Matrix3Xd& x,
                                            Eigen::Matrix3Xd& forces,
-                                           Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks,
+                                           AxialBlocks* blocks,
                                            Eigen::VectorXd* nodeStiffness, bool isProjected) const;
   /// Spring s's force (and stiffness) from its stress P and slope (Pa) at the stretch
   /// lambda = length / L0 of d = x_b - x_a: what every pass does after the law.
   template <bool withBlocks, bool withNodeStiffness>
   void applyStress(Eigen::Index s, int a, int b, const Eigen::Vector3d& d, double length,
                    double stress, double slope, Eigen::Matrix3Xd& forces,
-                   Eigen::Matrix<double, 9, Eigen::Dynamic>* blocks, Eigen::VectorXd* nodeStiffness,
+                   AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,
                    bool isProjected) const;
 
   /// First spring of part p of the parallel passes (p = kSpringParts: the spring count).

@@ -76,6 +76,30 @@ TEST(Simulation, APokeTouchesPushesAndIsDeterministic) {
   EXPECT_EQ(first.finalPositions, second.finalPositions);
 }
 
+TEST(Simulation, APokeIsBitIdenticalOnOneAndTwoThreads) {
+  // The scene's implicit step on the springs' pool: spring passes, CG's matrix-free products
+  // and its dot products all in fixed parts, so the thread count changes nothing.
+  const auto run = [](int threads) {
+    SceneDescription scene = pokeScene("");
+    scene.threads = threads;
+    Simulation simulation(scene);
+    const SceneInstrument& tool = *simulation.scene().instrument;
+    InstrumentScript script = InstrumentScript::poke({tool.tipStart_m, tool.direction}, 0.04, 1.0);
+    CapsuleContact contact{simulation.geometry().mesh, {tool.shaftRadius_m, tool.shaftLength_m}};
+    simulation.setContactProvider(&contact);
+    simulation.setInstrumentSource(&script);
+    PokeRun result;
+    for (int n = 0; n < 520; ++n) result.forces.push_back(simulation.step().contact.toolForce_N.norm());
+    result.finalPositions = simulation.state().x;
+    return result;
+  };
+  const PokeRun one = run(1);
+  const PokeRun two = run(2);
+  ASSERT_GT(one.forces.back(), 0.0) << "the tool touched";
+  EXPECT_EQ(one.forces, two.forces);
+  EXPECT_EQ(one.finalPositions, two.finalPositions);
+}
+
 TEST(Simulation, NonFiniteContactIsReportedAndTheStateKept) {
   Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
   struct BrokenContact final : ContactProvider {

@@ -1,4 +1,5 @@
 #include "numerics/BlockConjugateGradient.h"
+#include "numerics/NodeBlockMatrix.h"
 
 #include <cmath>
 #include <random>

@@ -1,0 +1,228 @@
+#include "integrators/SpringSystemOperator.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace tissuesim {
+
+SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
+    : m_mesh(mesh),
+      m_incidentStart(static_cast<std::size_t>(mesh.nodeCount()) + 1, 0),
+      m_isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0),
+      m_termSlot(static_cast<std::size_t>(mesh.nodeCount()), -1) {
+  const Eigen::Index nodes = mesh.nodeCount();
+  const Eigen::Index springs = mesh.springCount();
+  if (springs >= (Eigen::Index{1} << 30)) {
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(springs) + " springs (at most 2^30)");
+  }
+  // Incidence, each node's springs in spring order.
+  for (Eigen::Index s = 0; s < springs; ++s) {
+    for (int end = 0; end < 2; ++end) ++m_incidentStart[static_cast<std::size_t>(mesh.springs(end, s)) + 1];
+  }
+  for (std::size_t j = 0; j < static_cast<std::size_t>(nodes); ++j) m_incidentStart[j + 1] += m_incidentStart[j];
+  m_incident.resize(static_cast<std::size_t>(m_incidentStart.back()));
+  std::vector<int> fill(m_incidentStart.begin(), m_incidentStart.end() - 1);
+  for (Eigen::Index s = 0; s < springs; ++s) {
+    for (int end = 0; end < 2; ++end) {
+      m_incident[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.springs(end, s))]++)] = static_cast<int>(s);
+    }
+  }
+  // Parts of about equal incident springs (each part's work: one entry per spring it touches).
+  const auto total = static_cast<Eigen::Index>(m_incident.size());
+  Eigen::Index j = 0;
+  for (int p = 1; p < kParts; ++p) {
+    while (j < nodes && m_incidentStart[static_cast<std::size_t>(j)] * kParts < total * p) ++j;
+    m_bounds[static_cast<std::size_t>(p)] = j;
+  }
+  m_bounds[kParts] = nodes;
+  const auto partOf = [&](int node) {
+    int p = 0;
+    while (node >= m_bounds[static_cast<std::size_t>(p) + 1]) ++p;
+    return p;
+  };
+  // Each part's entries in spring order: both ends when both are its, else its own end.
+  std::array<std::vector<std::uint32_t>, kParts> parts;
+  for (Eigen::Index s = 0; s < springs; ++s) {
+    const int pa = partOf(mesh.springs(0, s));
+    const int pb = partOf(mesh.springs(1, s));
+    const auto index = static_cast<std::uint32_t>(s) << 2;
+    if (pa == pb) {
+      parts[static_cast<std::size_t>(pa)].push_back(index | kOwnsA | kOwnsB);
+    } else {
+      parts[static_cast<std::size_t>(pa)].push_back(index | kOwnsA);
+      parts[static_cast<std::size_t>(pb)].push_back(index | kOwnsB);
+    }
+  }
+  for (std::size_t p = 0; p < kParts; ++p) {
+    m_entryStart[p] = m_entries.size();
+    m_entries.insert(m_entries.end(), parts[p].begin(), parts[p].end());
+  }
+  m_entryStart[kParts] = m_entries.size();
+  m_fixedStart.fill(0);
+  m_termNodes.reserve(3 * kReservedTerms);
+  m_termDiagonal.reserve(3 * kReservedTerms);
+}
+
+void SpringSystemOperator::setSpringBlocks(const AxialBlocks& blocks) {
+  if (blocks.cols() != m_mesh.springCount()) {
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(blocks.cols()) + " blocks for " +
+                                std::to_string(m_mesh.springCount()) + " springs");
+  }
+  m_blocks = &blocks;
+}
+
+void SpringSystemOperator::setFixedDofs(const std::vector<char>& isFixed) {
+  if (isFixed.size() != m_isFixed.size()) {
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(isFixed.size()) + " DOF flags for " +
+                                std::to_string(m_isFixed.size()) + " DOFs");
+  }
+  if (isFixed == m_isFixed) return;
+  m_isFixed = isFixed;
+  m_fixedDofs.clear();
+  for (std::size_t p = 0; p < kParts; ++p) {
+    m_fixedStart[p] = m_fixedDofs.size();
+    for (Eigen::Index d = 3 * m_bounds[p]; d < 3 * m_bounds[p + 1]; ++d) {
+      if (m_isFixed[static_cast<std::size_t>(d)] != 0) m_fixedDofs.push_back(d);
+    }
+  }
+  m_fixedStart[kParts] = m_fixedDofs.size();
+}
+
+void SpringSystemOperator::setTerms(const std::vector<RankOneTerm>* terms) {
+  for (const int node : m_termNodes) m_termSlot[static_cast<std::size_t>(node)] = -1;
+  m_termNodes.clear();
+  m_termDiagonal.clear();
+  m_terms = terms != nullptr && !terms->empty() ? terms : nullptr;
+  if (m_terms == nullptr) return;
+  for (const RankOneTerm& term : *m_terms) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      const Eigen::Vector3d& u = term.blocks[i];
+      if (u.isZero(0.0)) continue;
+      int& slot = m_termSlot[static_cast<std::size_t>(term.nodes[i])];
+      if (slot < 0) {
+        slot = static_cast<int>(m_termNodes.size());
+        m_termNodes.push_back(term.nodes[i]);
+        m_termDiagonal.push_back(Eigen::Matrix3d::Zero());
+      }
+      m_termDiagonal[static_cast<std::size_t>(slot)] += term.stiffness_N_m * u * u.transpose();
+    }
+  }
+}
+
+void SpringSystemOperator::multiplyPart(int part, const double* x, double* y) const {
+  const auto p = static_cast<std::size_t>(part);
+  const Eigen::Index first = m_bounds[p];
+  const Eigen::Index last = m_bounds[p + 1];
+  const double* const mass = m_mesh.nodeMass_kg.data();
+  for (Eigen::Index j = first; j < last; ++j) {
+    const double weight = m_massWeight * mass[j] + m_shift_N_m;  // as Newton adds it to a matrix
+    for (Eigen::Index d = 3 * j; d < 3 * j + 3; ++d) y[d] = weight * x[d];
+  }
+  // f = K_e (x_b - x_a) = c n (n . d) + l d: +f on b's row, -f on a's. The springs come sorted
+  // by their a (buildSpringMesh), so a's row takes a run of consecutive springs: their sum is
+  // kept in registers and written once per run, not read back and stored once per spring
+  // (a chain through store-to-load forwarding that made the loop half as fast).
+  const double* const k = m_blocks->data();
+  const int* const ends = m_mesh.springs.data();
+  int runA = -1;
+  double run0 = 0.0, run1 = 0.0, run2 = 0.0;
+  const auto flushRun = [&] {
+    if (runA < 0) return;
+    double* const ya = y + 3 * static_cast<std::ptrdiff_t>(runA);
+    ya[0] -= run0;
+    ya[1] -= run1;
+    ya[2] -= run2;
+  };
+  for (std::size_t i = m_entryStart[p]; i < m_entryStart[p + 1]; ++i) {
+    const std::uint32_t entry = m_entries[i];
+    const std::size_t s = entry >> 2;
+    const double* const ks = k + 5 * s;
+    const int a = ends[2 * s];
+    const int b = ends[2 * s + 1];
+    const double* const xa = x + 3 * static_cast<std::ptrdiff_t>(a);
+    const double* const xb = x + 3 * static_cast<std::ptrdiff_t>(b);
+    const double d0 = xb[0] - xa[0];
+    const double d1 = xb[1] - xa[1];
+    const double d2 = xb[2] - xa[2];
+    const double t = ks[3] * (ks[0] * d0 + ks[1] * d1 + ks[2] * d2);
+    const double f0 = t * ks[0] + ks[4] * d0;
+    const double f1 = t * ks[1] + ks[4] * d1;
+    const double f2 = t * ks[2] + ks[4] * d2;
+    if ((entry & kOwnsA) != 0) {
+      if (a != runA) {
+        flushRun();
+        runA = a;
+        run0 = run1 = run2 = 0.0;
+      }
+      run0 += f0;
+      run1 += f1;
+      run2 += f2;
+    }
+    if ((entry & kOwnsB) != 0) {
+      double* const yb = y + 3 * static_cast<std::ptrdiff_t>(b);
+      yb[0] += f0;
+      yb[1] += f1;
+      yb[2] += f2;
+    }
+  }
+  flushRun();
+  if (m_terms != nullptr) {
+    // k u (u . x) on this part's nodes of each term.
+    for (const RankOneTerm& term : *m_terms) {
+      double ux = 0.0;
+      bool touchesPart = false;
+      for (std::size_t i = 0; i < 3; ++i) {
+        ux += term.blocks[i].dot(Eigen::Map<const Eigen::Vector3d>(x + 3 * term.nodes[i]));
+        touchesPart = touchesPart || (term.nodes[i] >= first && term.nodes[i] < last);
+      }
+      if (!touchesPart) continue;
+      const double scale = term.stiffness_N_m * ux;
+      for (std::size_t i = 0; i < 3; ++i) {
+        if (term.nodes[i] < first || term.nodes[i] >= last) continue;
+        Eigen::Map<Eigen::Vector3d>(y + 3 * term.nodes[i]) += scale * term.blocks[i];
+      }
+    }
+  }
+  for (std::size_t i = m_fixedStart[p]; i < m_fixedStart[p + 1]; ++i) y[m_fixedDofs[i]] = x[m_fixedDofs[i]];
+}
+
+Eigen::Matrix3d SpringSystemOperator::diagonalBlock(Eigen::Index j) const {
+  const auto node = static_cast<std::size_t>(j);
+  // The upper triangle of sum_e (c n n^T + l I), in scalars: an Eigen 3x3 temporary a spring
+  // made this pass several times slower than a product.
+  double b00 = 0.0, b01 = 0.0, b02 = 0.0, b11 = 0.0, b12 = 0.0, b22 = 0.0;
+  const double* const k = m_blocks->data();
+  for (int i = m_incidentStart[node]; i < m_incidentStart[node + 1]; ++i) {
+    const double* const ks = k + 5 * static_cast<std::ptrdiff_t>(m_incident[static_cast<std::size_t>(i)]);
+    const double c0 = ks[3] * ks[0];
+    const double c1 = ks[3] * ks[1];
+    const double c2 = ks[3] * ks[2];
+    b00 += c0 * ks[0] + ks[4];
+    b01 += c0 * ks[1];
+    b02 += c0 * ks[2];
+    b11 += c1 * ks[1] + ks[4];
+    b12 += c1 * ks[2];
+    b22 += c2 * ks[2] + ks[4];
+  }
+  const double weight = m_massWeight * m_mesh.nodeMass_kg[j] + m_shift_N_m;
+  Eigen::Matrix3d block;
+  block << b00 + weight, b01, b02, b01, b11 + weight, b12, b02, b12, b22 + weight;
+  const int slot = m_termSlot[node];
+  if (slot >= 0) block += m_termDiagonal[static_cast<std::size_t>(slot)];
+  for (int c = 0; c < 3; ++c) {
+    if (m_isFixed[3 * node + static_cast<std::size_t>(c)] == 0) continue;
+    block.row(c).setZero();
+    block.col(c).setZero();
+    block(c, c) = 1.0;
+  }
+  return block;
+}
+
+double SpringSystemOperator::largestDiagonalEntry() const {
+  double largest = 0.0;
+  for (Eigen::Index j = 0; j < nodeCount(); ++j) largest = std::max(largest, diagonalBlock(j).diagonal().maxCoeff());
+  return largest;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,95 @@
+#pragma once
+// Newton's linear system for the spring network, applied without assembling it (matrix-free):
+//
+//   A = sum_e S_e^T [K_e, -K_e; -K_e, K_e] S_e + diag(d_j I) + sum_c k_c u_c u_c^T      (N/m)
+//
+// with K_e = c_e n_e n_e^T + l_e I spring e's stiffness block on its ends (a, b) (AxialBlocks,
+// from the spring pass), d_j = w m_j + s node j's inertia weight and shift, and the
+// instrument's contacts as rank-one terms (RankOneTerm); the fixed DOFs' rows and columns are
+// the identity's. A: 3#V by 3#V; x, y: 3#V.
+//
+// Why matrix-free: the assembled NodeBlockMatrix stores two 72-byte blocks a spring plus the
+// diagonal, and filling it is a pass of its own after the spring pass; this reads the spring
+// pass's 40 bytes a spring, and K_e (x_b - x_a) = c n (n . d) + l d costs about what a block
+// row costs. Measured (one thread): a product on the liver (5.3k springs, 0.8 MB assembled,
+// in cache) 29-34 us against 27-38, no gain; at 102k springs (a 16 MB matrix, read from
+// memory each product) 0.50-0.60 ms against 0.56-1.4. The whole implicit step at 102k springs
+// 33 -> 22 ms (one thread) and 22 -> 15 ms (two); the held probe's step at 5.3k within the
+// noise, 2-4 % faster (no assignment pass, but the preconditioner's blocks gathered per solve).
+//
+// Parallel parts: kParts node ranges of about equal incident springs. Part p evaluates every
+// spring with an end among its nodes and adds its force to those ends only; a spring joining
+// two parts is evaluated by both, each adding to its own end. No two parts write the same row,
+// and each row's sum runs in a fixed order, so products are bit-identical for any thread count.
+//
+// The product's precondition: x is zero on the fixed DOFs (CG's directions are, since its
+// right-hand side and preconditioner are), so the fixed columns need no masking; the fixed rows
+// of y are x's. No allocation once constructed, up to kReservedTerms contact terms.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "numerics/AxialBlocks.h"
+#include "numerics/BlockLinearOperator.h"
+#include "numerics/RankOneTerm.h"
+#include "springs/SpringMesh.h"
+
+namespace tissuesim {
+
+class SpringSystemOperator final : public BlockLinearOperator {
+ public:
+  static constexpr int kReservedTerms = 256;
+
+  /// The pattern: `mesh`'s springs and nodes (the mesh must outlive this object).
+  explicit SpringSystemOperator(const SpringMesh& mesh);
+
+  /// K_e per spring (5 by #S; must outlive its use here, and is read, not copied).
+  void setSpringBlocks(const AxialBlocks& blocks);
+  /// d_j = massWeight m_j + shift (N/m): massWeight (1/s^2), shift (N/m).
+  void setDiagonal(double massWeight, double shift_N_m) {
+    m_massWeight = massWeight;
+    m_shift_N_m = shift_N_m;
+  }
+  /// 3#V flags; the per-part lists are rebuilt only when the flags change.
+  void setFixedDofs(const std::vector<char>& isFixed);
+  /// The contacts' terms (each u zero on the fixed DOFs; the vector must outlive its use here,
+  /// and is read, not copied: call again after changing it). Null or empty: none.
+  void setTerms(const std::vector<RankOneTerm>* terms);
+
+  Eigen::Index nodeCount() const override { return m_mesh.nodeCount(); }
+  const PartBounds& partBounds() const override { return m_bounds; }
+  void multiplyPart(int part, const double* x, double* y) const override;
+  Eigen::Matrix3d diagonalBlock(Eigen::Index j) const override;
+
+  /// The largest diagonal entry of A (N/m; a scale for Levenberg-Marquardt shifts). A pass
+  /// over the springs: not for every iteration.
+  double largestDiagonalEntry() const;
+
+ private:
+  // A part's entry: spring index << 2 | which of its ends the part owns.
+  static constexpr std::uint32_t kOwnsA = 1;
+  static constexpr std::uint32_t kOwnsB = 2;
+
+  const SpringMesh& m_mesh;
+  PartBounds m_bounds{};
+  std::vector<std::uint32_t> m_entries;  ///< the parts' entries, part after part
+  std::array<std::size_t, kParts + 1> m_entryStart{};
+  // Per node j, its springs are m_incident[m_incidentStart[j] .. m_incidentStart[j + 1]).
+  std::vector<int> m_incidentStart;
+  std::vector<int> m_incident;
+  const AxialBlocks* m_blocks = nullptr;
+  double m_massWeight = 0.0;
+  double m_shift_N_m = 0.0;
+  std::vector<char> m_isFixed;                       ///< 3#V, as last set
+  std::vector<Eigen::Index> m_fixedDofs;              ///< the fixed DOFs, part after part
+  std::array<std::size_t, kParts + 1> m_fixedStart{};
+  const std::vector<RankOneTerm>* m_terms = nullptr;
+  std::vector<int> m_termSlot;                     ///< #V: index into m_termDiagonal, or -1
+  std::vector<int> m_termNodes;                    ///< the nodes the terms touch
+  std::vector<Eigen::Matrix3d> m_termDiagonal;     ///< per such node, sum of k u_i u_i^T
+};
+
+}  // namespace tissuesim
