@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "numerics/CpuFeatures.h"
 #include "springs/SpringStressBatch.h"
@@ -19,6 +20,9 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
       m_areaOverLength(mesh.volume_m3.cwiseQuotient(mesh.restLength_m)),
       m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)),
       m_lambdaMax(Eigen::VectorXd::Constant(mesh.springCount(), law.peak(1.0).lambdaMax)) {
+  // NaN: no pass has run yet, so no positions equal these.
+  m_passPositions.setConstant(3, mesh.nodeCount(), std::numeric_limits<double>::quiet_NaN());
+  m_passStretch.setZero(mesh.springCount());
   for (auto& f : m_partForces) f.resize(3, mesh.nodeCount());
   for (auto& k : m_partNodeStiffness) k.resize(mesh.nodeCount());
   setBatched(true);
@@ -40,6 +44,7 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
                                                Eigen::VectorXd* nodeStiffness,
                                                bool isProjected) const {
   if constexpr (withNodeStiffness) nodeStiffness->setZero();
+  m_passPositions = x;  // the stretches the parts record below are at these positions
   std::array<SpringFieldReport, kSpringParts> reports;
   auto part = [&](int p) {
     const Eigen::Index begin = partStart(p);
@@ -86,6 +91,7 @@ SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::I
     const double length = d.norm();
     const double inverseRestLength = m_inverseRestLength[s];
     const double lambda = length * inverseRestLength;
+    m_passStretch[s] = lambda;
     if (!(lambda > kCollapsedLengthFraction)) {
       ++report.collapsedCount;
       if constexpr (withBlocks) blocks->col(s).setZero();
@@ -177,6 +183,7 @@ SpringFieldReport SpringForceField::accumulateRangeBatched(Eigen::Index begin, E
       evaluateStressBatch<kWithSlope>(coefficients, lambda.data(), m_lambdaMax.data() + s, m_peaks.data() + s,
                                       stress.data(), slope.data());
       for (std::size_t k = 0; k < 4; ++k) {
+        m_passStretch[s + static_cast<Eigen::Index>(k)] = lambda[k];
         report.minStretch = std::min(report.minStretch, lambda[k]);
         report.maxStretch = std::max(report.maxStretch, lambda[k]);
         applyStress<withBlocks, withNodeStiffness>(s + static_cast<Eigen::Index>(k), a[k], b[k], d[k], length[k],
@@ -222,6 +229,22 @@ double SpringForceField::frequencySquaredBound(const Eigen::Matrix3Xd& x) const 
 
 void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
   if (!m_law.isSoftening()) return;
+  if (x == m_passPositions) {
+    // The last pass's stretches, computed by the same expression at the same positions.
+    const auto part = [&](int p) {
+      const Eigen::Index end = partStart(p + 1);
+      for (Eigen::Index s = partStart(p); s < end; ++s) {
+        const double lambda = m_passStretch[s];
+        if (lambda > m_lambdaMax[s]) {
+          SofteningPeak& peak = m_peaks[static_cast<std::size_t>(s)];
+          peak = m_law.peak(lambda);
+          m_lambdaMax[s] = peak.lambdaMax;
+        }
+      }
+    };
+    runParts(m_pool, kSpringParts, part);
+    return;
+  }
   // Each spring's peak is its own: the ranges run on the pool with nothing to merge.
   const auto part = [&](int p) {
     const Eigen::Index end = partStart(p + 1);

@@ -76,7 +76,9 @@ class SpringForceField {
   double frequencySquaredBound(const Eigen::Matrix3Xd& x) const;
 
   /// Records the current stretches in the Mullins state (lambda_max only grows). Call once per
-  /// converged step, not inside solver iterations.
+  /// converged step, not inside solver iterations. When the last pass (of any kind) ran at
+  /// these very positions (bit for bit; a solver's last pass usually did), its stretches are
+  /// taken instead of computed again: the same numbers, one scan instead of a spring pass.
   void commitStretchHistory(const Eigen::Matrix3Xd& x);
   void resetStretchHistory();
   /// lambda_max per spring (#S), 1 when never stretched.
@@ -129,6 +131,11 @@ class SpringForceField {
   Eigen::VectorXd m_lambdaMax;
   ForkJoinPool* m_pool = nullptr;
   bool m_isBatched = false;
+  // What the last pass saw: its positions and every spring's stretch, for the commit. Mutable:
+  // a record of the const passes, sized at construction (assigning x of the same size does not
+  // allocate).
+  mutable Eigen::Matrix3Xd m_passPositions;
+  mutable Eigen::VectorXd m_passStretch;  ///< #S
   // Per-part scratch of the parallel passes (part 0 adds into the caller's arrays). Mutable:
   // scratch only, sized at construction, so the const passes never allocate.
   mutable std::array<Eigen::Matrix3Xd, kSpringParts - 1> m_partForces;

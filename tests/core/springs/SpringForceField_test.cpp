@@ -178,6 +178,31 @@ TEST(SpringForceField, RecordingTheStretchesChangesNothingAtTheSameState) {
   }
 }
 
+TEST(SpringForceField, TheCommitFromThePassEqualsTheOneComputed) {
+  // After a pass at x the commit takes that pass's stretches (batched groups, scalar springs
+  // past the usable range, a collapsed spring); after a pass elsewhere it computes them. Both
+  // must set the same peaks, to the bit, with or without the batched law.
+  for (const bool isBatched : {true, false}) {
+    test::BlockSystem recorded({0.02, 0.02, 0.02}, {3, 3, 3}, SpringLaw::Eesm, true);
+    test::BlockSystem computed({0.02, 0.02, 0.02}, {3, 3, 3}, SpringLaw::Eesm, true);
+    recorded.springs.setBatched(isBatched);
+    computed.springs.setBatched(isBatched);
+    for (const unsigned seed : {1u, 2u}) {
+      Eigen::Matrix3Xd x = deformed(recorded.mesh, 0.2, seed);
+      x.col(0) -= Eigen::Vector3d(0.015, 0.0, 0.0);  // springs past the usable range
+      x.col(5) = x.col(4);                           // and a collapsed one
+      Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+      recorded.springs.addForces(x, f);
+      recorded.springs.commitStretchHistory(x);
+      const Eigen::Matrix3Xd elsewhere = x * 1.01;
+      computed.springs.addForces(elsewhere, f);
+      computed.springs.commitStretchHistory(x);
+      ASSERT_GT(recorded.springs.lambdaMax().maxCoeff(), 1.05) << "the state stretches springs";
+      EXPECT_EQ(recorded.springs.lambdaMax(), computed.springs.lambdaMax()) << seed << " " << isBatched;
+    }
+  }
+}
+
 TEST(SpringForceField, TheForceOnlyPassGivesTheSameForces) {
   // It evaluates the law without slopes: the forces must still be those of the pass with
   // stiffness, to the bit, on every branch (virgin, softened, compressed after stretching,
