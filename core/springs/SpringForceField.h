@@ -76,9 +76,10 @@ class SpringForceField {
   double frequencySquaredBound(const Eigen::Matrix3Xd& x) const;
 
   /// Records the current stretches in the Mullins state (lambda_max only grows). Call once per
-  /// converged step, not inside solver iterations. When the last pass (of any kind) ran at
-  /// these very positions (bit for bit; a solver's last pass usually did), its stretches are
-  /// taken instead of computed again: the same numbers, one scan instead of a spring pass.
+  /// converged step, not inside solver iterations. When the last addForces() or
+  /// addForcesAndStiffness() pass ran at these very positions (bit for bit; an implicit
+  /// solver's last pass did), its stretches are taken instead of computed again: the same
+  /// numbers, one scan instead of a spring pass.
   void commitStretchHistory(const Eigen::Matrix3Xd& x);
   void resetStretchHistory();
   /// lambda_max per spring (#S), 1 when never stretched.
