@@ -10,8 +10,7 @@ namespace tissuesim {
 SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
     : m_mesh(mesh),
       m_incidentStart(static_cast<std::size_t>(mesh.nodeCount()) + 1, 0),
-      m_isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0),
-      m_termSlot(static_cast<std::size_t>(mesh.nodeCount()), -1) {
+      m_isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0) {
   const Eigen::Index nodes = mesh.nodeCount();
   const Eigen::Index springs = mesh.springCount();
   if (3 * nodes > std::numeric_limits<int>::max()) {
@@ -65,8 +64,7 @@ SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
     m_listStart[p][3] = m_entries.size();
   }
   m_fixedStart.fill(0);
-  m_termNodes.reserve(3 * kReservedTerms);
-  m_termDiagonal.reserve(3 * kReservedTerms);
+  m_termDiagonals.resize(nodes, kReservedTerms);
 }
 
 void SpringSystemOperator::setSpringBlocks(const AxialBlocks& blocks) {
@@ -95,23 +93,11 @@ void SpringSystemOperator::setFixedDofs(const std::vector<char>& isFixed) {
 }
 
 void SpringSystemOperator::setTerms(const std::vector<RankOneTerm>* terms) {
-  for (const int node : m_termNodes) m_termSlot[static_cast<std::size_t>(node)] = -1;
-  m_termNodes.clear();
-  m_termDiagonal.clear();
   m_terms = terms != nullptr && !terms->empty() ? terms : nullptr;
-  if (m_terms == nullptr) return;
-  for (const RankOneTerm& term : *m_terms) {
-    for (std::size_t i = 0; i < 3; ++i) {
-      const Eigen::Vector3d& u = term.blocks[i];
-      if (u.isZero(0.0)) continue;
-      int& slot = m_termSlot[static_cast<std::size_t>(term.nodes[i])];
-      if (slot < 0) {
-        slot = static_cast<int>(m_termNodes.size());
-        m_termNodes.push_back(term.nodes[i]);
-        m_termDiagonal.push_back(Eigen::Matrix3d::Zero());
-      }
-      m_termDiagonal[static_cast<std::size_t>(slot)] += term.stiffness_N_m * u * u.transpose();
-    }
+  if (m_terms != nullptr) {
+    m_termDiagonals.set(*m_terms);
+  } else {
+    m_termDiagonals.clear();
   }
 }
 
@@ -221,8 +207,7 @@ Eigen::Matrix3d SpringSystemOperator::diagonalBlock(Eigen::Index j) const {
   const double weight = m_massWeight * m_mesh.nodeMass_kg[j] + m_shift_N_m;
   Eigen::Matrix3d block;
   block << b00 + weight, b01, b02, b01, b11 + weight, b12, b02, b12, b22 + weight;
-  const int slot = m_termSlot[node];
-  if (slot >= 0) block += m_termDiagonal[static_cast<std::size_t>(slot)];
+  if (const Eigen::Matrix3d* termDiagonal = m_termDiagonals.at(j)) block += *termDiagonal;
   for (int c = 0; c < 3; ++c) {
     if (m_isFixed[3 * node + static_cast<std::size_t>(c)] == 0) continue;
     block.row(c).setZero();

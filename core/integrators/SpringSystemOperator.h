@@ -11,11 +11,12 @@
 // Why matrix-free: the assembled NodeBlockMatrix stores two 72-byte blocks a spring plus the
 // diagonal, and filling it is a pass of its own after the spring pass; this reads the spring
 // pass's 40 bytes a spring, and K_e (x_b - x_a) = c n (n . d) + l d costs about what a block
-// row costs. Measured (one thread): a product on the liver (5.3k springs, 0.8 MB assembled,
-// in cache) 29-34 us against 27-38, no gain; at 102k springs (a 16 MB matrix, read from
-// memory each product) 0.50-0.60 ms against 0.56-1.4. The whole implicit step at 102k springs
-// 33 -> 22 ms (one thread) and 22 -> 15 ms (two); the held probe's step at 5.3k within the
-// noise, 2-4 % faster (no assignment pass, but the preconditioner's blocks gathered per solve).
+// row costs. Measured (one thread, micro-benchmark): a product on the liver (5.3k springs, the
+// assembled matrix 0.8 MB, in cache) 26-28 us against 27-38; at 102k springs (a 16 MB matrix
+// read from memory every product) 0.47-0.78 ms against 0.56-1.4. In the solver: the implicit
+// step at 102k springs 33 -> 22 ms on one thread, 22 -> 15 ms on two; the held probe's step
+// at 5.3k about 5 % faster (no assignment pass, less the preconditioner's blocks gathered per
+// solve). README, "Measured", has the interleaved figures.
 //
 // Parallel parts: kParts node ranges of about equal incident springs. Part p evaluates every
 // spring with an end among its nodes and adds its force to those ends only; a spring joining
@@ -34,6 +35,7 @@
 #include "numerics/AxialBlocks.h"
 #include "numerics/BlockLinearOperator.h"
 #include "numerics/RankOneTerm.h"
+#include "numerics/RankOneTermDiagonals.h"
 #include "springs/SpringMesh.h"
 
 namespace tissuesim {
@@ -96,9 +98,7 @@ class SpringSystemOperator final : public BlockLinearOperator {
   std::vector<Eigen::Index> m_fixedDofs;              ///< the fixed DOFs, part after part
   std::array<std::size_t, kParts + 1> m_fixedStart{};
   const std::vector<RankOneTerm>* m_terms = nullptr;
-  std::vector<int> m_termSlot;                     ///< #V: index into m_termDiagonal, or -1
-  std::vector<int> m_termNodes;                    ///< the nodes the terms touch
-  std::vector<Eigen::Matrix3d> m_termDiagonal;     ///< per such node, sum of k u_i u_i^T
+  RankOneTermDiagonals m_termDiagonals;
 };
 
 }  // namespace tissuesim

@@ -13,9 +13,7 @@ void BlockConjugateGradient::resize(const BlockLinearOperator& a) {
   m_nodeCount = nodes;
   for (Eigen::VectorXd* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(3 * nodes);
   m_inverseBlocks.resize(6 * nodes);
-  m_termSlot.assign(static_cast<std::size_t>(nodes), -1);
-  m_termNodes.reserve(3 * kMaxExactTerms);
-  m_termDiagonal.reserve(3 * kMaxExactTerms);
+  m_termDiagonals.resize(nodes, kMaxExactTerms);
   m_termW.reserve(kMaxExactTerms);
   m_capacitance.resize(kMaxExactTerms, kMaxExactTerms);
   m_termT.resize(kMaxExactTerms);
@@ -31,27 +29,11 @@ bool BlockConjugateGradient::listTerms(const std::vector<RankOneTerm>& terms) {
       if (!u.allFinite()) return false;
     }
   }
-  for (const RankOneTerm& term : terms) {
-    for (std::size_t i = 0; i < 3; ++i) {
-      const Eigen::Vector3d& u = term.blocks[i];
-      if (u.isZero(0.0)) continue;
-      int& slot = m_termSlot[static_cast<std::size_t>(term.nodes[i])];
-      if (slot < 0) {
-        slot = static_cast<int>(m_termNodes.size());
-        m_termNodes.push_back(term.nodes[i]);
-        m_termDiagonal.push_back(Eigen::Matrix3d::Zero());
-      }
-      m_termDiagonal[static_cast<std::size_t>(slot)] += term.stiffness_N_m * u * u.transpose();
-    }
-  }
+  m_termDiagonals.set(terms);
   return true;
 }
 
-void BlockConjugateGradient::clearTerms() {
-  for (const int node : m_termNodes) m_termSlot[static_cast<std::size_t>(node)] = -1;
-  m_termNodes.clear();
-  m_termDiagonal.clear();
-}
+void BlockConjugateGradient::clearTerms() { m_termDiagonals.clear(); }
 
 template <typename Pass>
 void BlockConjugateGradient::forEachPart(Pass& pass) {
@@ -191,11 +173,10 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
     double bb = 0.0, rz = 0.0;
     for (Eigen::Index j = first; j < last; ++j) {
       double* inverse = inverseBlocks + 6 * j;
-      const int slot = m_termSlot[static_cast<std::size_t>(j)];
-      if (slot < 0) {
-        invertDiagonalBlock(a.diagonalBlock(j), inverse);
+      if (const Eigen::Matrix3d* termDiagonal = m_termDiagonals.at(j)) {
+        invertDiagonalBlock(a.diagonalBlock(j) - *termDiagonal, inverse);
       } else {
-        invertDiagonalBlock(a.diagonalBlock(j) - m_termDiagonal[static_cast<std::size_t>(slot)], inverse);
+        invertDiagonalBlock(a.diagonalBlock(j), inverse);
       }
       const double* bj = bs + 3 * j;
       double* zj = z + 3 * j;

@@ -36,6 +36,7 @@
 
 #include "numerics/BlockLinearOperator.h"
 #include "numerics/RankOneTerm.h"
+#include "numerics/RankOneTermDiagonals.h"
 #include "parallel/ForkJoinPool.h"
 
 namespace tissuesim {
@@ -64,7 +65,7 @@ class BlockConjugateGradient {
 
  private:
   void resize(const BlockLinearOperator& a);
-  /// Lists the terms' nodes and the diagonal blocks they add (m_termDiagonal), for B; false
+  /// Lists the terms' nodes and the diagonal blocks they add (m_termDiagonals), for B; false
   /// (no exact terms this solve) when there are none or more than kMaxExactTerms.
   bool listTerms(const std::vector<RankOneTerm>& terms);
   /// W = B^-1 U and the factor of S, once B's inverse blocks are stored; false when S is not
@@ -85,9 +86,7 @@ class BlockConjugateGradient {
   Eigen::VectorXd m_r, m_z, m_p, m_q;
   std::array<double, kParts> m_dotA{}, m_dotB{};  ///< per-part partial dot products
   // The rank-one terms' scratch (sized once, in resize()).
-  std::vector<int> m_termSlot;    ///< #V: index into m_termNodes, or -1
-  std::vector<int> m_termNodes;   ///< the distinct nodes the terms touch
-  std::vector<Eigen::Matrix3d> m_termDiagonal;  ///< per such node, sum of k u_i u_i^T
+  RankOneTermDiagonals m_termDiagonals;  ///< the terms' diagonal blocks, for B
   std::vector<std::array<Eigen::Vector3d, 3>> m_termW;  ///< per term, W's blocks at its nodes
   Eigen::MatrixXd m_capacitance;  ///< kMaxExactTerms square; S's Cholesky factor in its corner
   Eigen::VectorXd m_termT, m_termSolved;  ///< kMaxExactTerms each: U^T z and S^-1 U^T z
