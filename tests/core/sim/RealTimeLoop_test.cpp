@@ -98,17 +98,23 @@ class SlowEveryNthQuery final : public ContactProvider {
   int m_calls = 0;
 };
 
-TEST(RealTimeLoop, AnOccasionalSlowStepIsMadeUp) {
-  // Every tenth step takes 2.5 budgets more than its budget; the others (the free liver) take a
-  // quarter of it at most. The loop catches up after each slow step, so simulated time keeps to
-  // wall time; a loop that let time fall behind at each late step would lose about a fifth.
-  // The budget is 1 ms or four free steps, whichever is longer (sanitizer builds are slower).
+/// The bundled scene with its time step (the loop's budget) set to 1 ms or four free steps,
+/// whichever is longer (sanitizer builds are slower): free steps take a quarter of it at most.
+SceneDescription sceneWithRoomyBudget() {
   SceneDescription scene = loadSceneFile(bundledScene());
   Simulation timing(scene);
   const auto start = std::chrono::steady_clock::now();
   for (int n = 0; n < 20; ++n) timing.step();
   const double freeStep_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 20;
   scene.timeStep_s = std::max(1e-3, 4.0 * freeStep_s);
+  return scene;
+}
+
+TEST(RealTimeLoop, AnOccasionalSlowStepIsMadeUp) {
+  // Every tenth step takes 2.5 budgets more than its budget; the others (the free liver) take a
+  // quarter of it at most. The loop catches up after each slow step, so simulated time keeps to
+  // wall time; a loop that let time fall behind at each late step would lose about a fifth.
+  const SceneDescription scene = sceneWithRoomyBudget();
   Simulation simulation(scene);
   const auto budget = std::chrono::microseconds(static_cast<long>(scene.timeStep_s * 1e6));
   SlowEveryNthQuery slow(10, 5 * budget / 2);
@@ -126,12 +132,7 @@ TEST(RealTimeLoop, AStallOfTenStepsIsMadeUp) {
   // thread now and then): within kMaxLagSteps the loop makes it up by running the following
   // steps back to back. With a window of four budgets each stall would lose six, a tenth of
   // the time.
-  SceneDescription scene = loadSceneFile(bundledScene());
-  Simulation timing(scene);
-  const auto start = std::chrono::steady_clock::now();
-  for (int n = 0; n < 20; ++n) timing.step();
-  const double freeStep_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 20;
-  scene.timeStep_s = std::max(1e-3, 4.0 * freeStep_s);
+  const SceneDescription scene = sceneWithRoomyBudget();
   Simulation simulation(scene);
   const auto budget = std::chrono::microseconds(static_cast<long>(scene.timeStep_s * 1e6));
   SlowEveryNthQuery slow(60, 10 * budget);
