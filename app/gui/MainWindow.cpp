@@ -25,6 +25,7 @@
 #include "analysis/UniaxialTest.h"
 #include "gui/ForcePlotWidget.h"
 #include "gui/InstrumentInteractorStyle.h"
+#include "gui/SoftwareOpenGL.h"
 #include "material/TissueFile.h"
 
 namespace tissuesim::app {
@@ -46,6 +47,7 @@ MainWindow::MainWindow(const QString& scenePath, QWidget* parent) : QMainWindow(
   resize(1280, 800);
   m_vtkWidget = new QVTKOpenGLNativeWidget(this);
   m_renderWindow = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  if (isSoftwareOpenGL()) m_renderWindow->SetMultiSamples(0);  // SoftwareOpenGL.h: why
   m_vtkWidget->setRenderWindow(m_renderWindow);
   m_vtkWidget->setObjectName("sceneView");
   setCentralWidget(m_vtkWidget);
@@ -82,6 +84,7 @@ void MainWindow::buildDocks() {
 
   m_chartWidget = new QVTKOpenGLNativeWidget(this);
   m_chartWindow = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  if (isSoftwareOpenGL()) m_chartWindow->SetMultiSamples(0);
   m_chartWidget->setRenderWindow(m_chartWindow);
   m_chartWidget->setMinimumSize(320, 260);
   m_materialChart = std::make_unique<CurveChart>("Tissue: uniaxial stress-stretch", "stretch",

@@ -14,9 +14,11 @@
 #include <QVTKOpenGLNativeWidget.h>
 #include <QWheelEvent>
 #include <QtTest/QtTest>
+#include <vtkRenderWindow.h>
 
 #include "HeadlessDisplay.h"
 #include "gui/MainWindow.h"
+#include "gui/SoftwareOpenGL.h"
 
 namespace tissuesim::app {
 
@@ -48,6 +50,17 @@ class GuiSmokeTest : public QObject {
     QVERIFY(m_window->simulation() != nullptr);
     QTRY_VERIFY_WITH_TIMEOUT(steps() > 20, 10000);  // the physics runs on its own
     QVERIFY(errorDialog() == nullptr);
+  }
+
+  void softwareOpenGLDrawsWithoutMultisampling() {
+    // Under Xvfb this is Mesa's llvmpipe, where VTK's default multisampling made every frame
+    // about four times dearer; on a GPU it stays as VTK sets it.
+    const QString renderer = openGLRendererName();
+    QVERIFY2(!renderer.isEmpty(), "no OpenGL renderer found");
+    if (!isSoftwareOpenGL()) QSKIP(qPrintable("a GPU (" + renderer + "): multisampling stays on"));
+    auto* widget = qobject_cast<QVTKOpenGLNativeWidget*>(view());
+    QVERIFY(widget != nullptr);
+    QCOMPARE(widget->renderWindow()->GetMultiSamples(), 0);
   }
 
   void hoverMovesTheTool() {
