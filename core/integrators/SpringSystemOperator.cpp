@@ -29,13 +29,8 @@ SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
     }
   }
   // Parts of about equal incident springs (each part's work: one entry per spring it touches).
-  const auto total = static_cast<Eigen::Index>(m_incident.size());
-  Eigen::Index j = 0;
-  for (int p = 1; p < kParts; ++p) {
-    while (j < nodes && m_incidentStart[static_cast<std::size_t>(j)] * kParts < total * p) ++j;
-    m_bounds[static_cast<std::size_t>(p)] = j;
-  }
-  m_bounds[kParts] = nodes;
+  m_bounds = balancedPartBounds(
+      nodes, [this](Eigen::Index j) { return static_cast<Eigen::Index>(m_incidentStart[static_cast<std::size_t>(j)]); });
   const auto partOf = [&](int node) {
     int p = 0;
     while (node >= m_bounds[static_cast<std::size_t>(p) + 1]) ++p;

@@ -28,6 +28,21 @@ class BlockLinearOperator {
   /// Block (j, j) of A.
   virtual Eigen::Matrix3d diagonalBlock(Eigen::Index j) const = 0;
 
+  /// Bounds of kParts consecutive node ranges holding about equal shares of a product's work,
+  /// from workBefore(j): the work of nodes [0, j) (non-decreasing, 0 at j = 0).
+  template <typename WorkBefore>
+  static PartBounds balancedPartBounds(Eigen::Index nodeCount, const WorkBefore& workBefore) {
+    PartBounds bounds{};
+    const Eigen::Index total = workBefore(nodeCount);
+    Eigen::Index j = 0;
+    for (int p = 1; p < kParts; ++p) {
+      while (j < nodeCount && workBefore(j) * kParts < total * p) ++j;
+      bounds[static_cast<std::size_t>(p)] = j;
+    }
+    bounds[kParts] = nodeCount;
+    return bounds;
+  }
+
  protected:
   BlockLinearOperator() = default;
   BlockLinearOperator(const BlockLinearOperator&) = default;

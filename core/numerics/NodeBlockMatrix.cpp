@@ -56,7 +56,7 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
       m_neighbourEdge[at] = static_cast<int>(e);
     }
   }
-  m_partBounds = balancedNodeRanges<kParts>();
+  m_partBounds = balancedPartBounds(this->nodeCount(), [this](Eigen::Index j) { return valuesBefore(j); });
 }
 
 void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,

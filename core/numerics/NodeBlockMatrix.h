@@ -102,22 +102,6 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   /// Stored values in the columns of nodes [0, j): a cost measure for cutting node ranges.
   Eigen::Index valuesBefore(Eigen::Index j) const { return m_matrix.outerIndexPtr()[3 * j]; }
 
-  /// Bounds of Parts consecutive node ranges holding about equal shares of the stored values
-  /// (the work of a product or an assignment): range p is [bounds[p], bounds[p + 1]).
-  template <int Parts>
-  std::array<Eigen::Index, Parts + 1> balancedNodeRanges() const {
-    std::array<Eigen::Index, Parts + 1> bounds{};
-    const Eigen::Index nodes = nodeCount();
-    const Eigen::Index total = valuesBefore(nodes);
-    Eigen::Index j = 0;
-    for (int p = 1; p < Parts; ++p) {
-      while (j < nodes && valuesBefore(j) * Parts < total * p) ++j;
-      bounds[static_cast<std::size_t>(p)] = j;
-    }
-    bounds[Parts] = nodes;
-    return bounds;
-  }
-
   const Eigen::SparseMatrix<double>& matrix() const { return m_matrix; }
   /// #E, the constructor's edge count.
   Eigen::Index edgeCount() const { return static_cast<Eigen::Index>(m_edgeSlots.size()); }
