@@ -22,7 +22,7 @@ class ImplicitEulerSolver final : public TimeIntegrator {
  private:
   IntegratorSettings m_settings;
   NewtonSolver m_newton;
-  Eigen::Matrix3Xd m_xHat, m_x;
+  Eigen::Matrix3Xd m_xHat, m_x, m_v;
 };
 
 }  // namespace tissuesim

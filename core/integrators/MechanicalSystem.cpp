@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "parallel/NodeRanges.h"
+
 namespace tissuesim {
 
 MechanicalSystem::MechanicalSystem(SpringForceField& springs, const VolumeForceField* volume)
@@ -34,14 +36,16 @@ void MechanicalSystem::releaseAll() {
 
 // x: where the contacts are evaluated; null leaves them out.
 void MechanicalSystem::addExternalAndZeroFixed(const Eigen::Matrix3Xd* x, Eigen::Matrix3Xd& f) const {
-  const Eigen::VectorXd& mass = mesh().nodeMass_kg;
-  for (Eigen::Index i = 0; i < f.cols(); ++i) f.col(i) += mass[i] * gravity_m_s2;
-  f += externalForces_N;
+  // The contacts (a few nodes) first, then one node-wise pass for the rest.
   if (x != nullptr) contacts.addForces(*x, f);
-  double* flat = f.data();
-  for (std::size_t d = 0; d < m_isFixed.size(); ++d) {
-    if (m_isFixed[d] != 0) flat[d] = 0.0;
-  }
+  const Eigen::VectorXd& mass = mesh().nodeMass_kg;
+  forEachNodeRange(m_springs.threadPool(), f.cols(), [&](int, Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index i = begin; i < end; ++i) f.col(i) += mass[i] * gravity_m_s2 + externalForces_N.col(i);
+    double* flat = f.data();
+    for (Eigen::Index d = 3 * begin; d < 3 * end; ++d) {
+      if (m_isFixed[static_cast<std::size_t>(d)] != 0) flat[d] = 0.0;
+    }
+  });
 }
 
 ForceReport MechanicalSystem::forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {

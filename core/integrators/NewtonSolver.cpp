@@ -1,6 +1,9 @@
 #include "integrators/NewtonSolver.h"
 
 #include <cmath>
+#include <limits>
+
+#include "parallel/NodeRanges.h"
 
 namespace tissuesim {
 
@@ -38,27 +41,43 @@ ForceReport NewtonSolver::forcesAndStiffness(const MechanicalSystem& system, con
   return system.forcesAndStiffness(x, m_force, isTrial ? *m_trialMatrix : *m_matrix, isProjected);
 }
 
-double NewtonSolver::residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
-                              const Eigen::Matrix3Xd& xHat, double inertiaWeight,
-                              Eigen::Matrix3Xd& r, ForceReport* report) {
+ResidualNorms NewtonSolver::residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                                     const Eigen::Matrix3Xd& xHat, double inertiaWeight,
+                                     Eigen::Matrix3Xd& r, ForceReport* report) {
   const ForceReport forces = system.forces(x, m_force);
   if (report != nullptr) *report = forces;
   return residualFromForce(system, x, xHat, inertiaWeight, r);
 }
 
-double NewtonSolver::residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
-                                       const Eigen::Matrix3Xd& xHat, double inertiaWeight,
-                                       Eigen::Matrix3Xd& r) const {
+ResidualNorms NewtonSolver::residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                                              const Eigen::Matrix3Xd& xHat, double inertiaWeight,
+                                              Eigen::Matrix3Xd& r) {
   const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
   const std::vector<char>& fixed = system.fixedDofs();
-  for (Eigen::Index i = 0; i < x.cols(); ++i) {
-    r.col(i) = inertiaWeight * mass[i] * (x.col(i) - xHat.col(i)) - m_force.col(i);
+  const auto pass = [&](int range, Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index i = begin; i < end; ++i) {
+      r.col(i) = inertiaWeight * mass[i] * (x.col(i) - xHat.col(i)) - m_force.col(i);
+    }
+    double* flat = r.data();
+    double largest = 0.0;
+    double squares = 0.0;
+    for (Eigen::Index d = 3 * begin; d < 3 * end; ++d) {
+      if (fixed[static_cast<std::size_t>(d)] != 0) flat[d] = 0.0;
+      largest = std::max(largest, std::abs(flat[d]));
+      squares += flat[d] * flat[d];
+    }
+    m_rangeLargest[static_cast<std::size_t>(range)] = largest;
+    m_rangeSquares[static_cast<std::size_t>(range)] = squares;
+  };
+  forEachNodeRange(system.springs().threadPool(), x.cols(), pass);
+  ResidualNorms norms;
+  for (int range = 0; range < kNodeRanges; ++range) {
+    norms.largest_N = std::max(norms.largest_N, m_rangeLargest[static_cast<std::size_t>(range)]);
+    norms.squared_N2 += m_rangeSquares[static_cast<std::size_t>(range)];
   }
-  double* flat = r.data();
-  for (std::size_t d = 0; d < fixed.size(); ++d) {
-    if (fixed[d] != 0) flat[d] = 0.0;
-  }
-  return r.cwiseAbs().maxCoeff();
+  // A NaN or infinity anywhere makes the sum of squares non-finite (std::max may skip a NaN).
+  if (!std::isfinite(norms.squared_N2)) norms.largest_N = std::numeric_limits<double>::quiet_NaN();
+  return norms;
 }
 
 NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3Xd& x,
@@ -81,12 +100,14 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
   bool isExact = m_kind == LinearSolverKind::Cholesky;
   // The first iteration's stiffness comes with the initial residual's forces, in one pass.
   bool isMatrixCurrent = maxIterations > 0;
+  ResidualNorms norms;  // of m_r
   if (isMatrixCurrent) {
     report.forces = forcesAndStiffness(system, x, /*isTrial=*/false, /*isProjected=*/!isExact);
-    report.residual_N = residualFromForce(system, x, xHat, inertiaWeight, m_r);
+    norms = residualFromForce(system, x, xHat, inertiaWeight, m_r);
   } else {
-    report.residual_N = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
+    norms = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
   }
+  report.residual_N = norms.largest_N;
   while (report.residual_N > tolerance_N && report.iterations < maxIterations &&
          std::isfinite(report.residual_N)) {
     ++report.iterations;
@@ -102,7 +123,11 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       }
       m_matrix->applyFixedDofs(fixed);
     }
-    m_rhs = -Eigen::Map<const Eigen::VectorXd>(m_r.data(), m_r.size());
+    const auto negate = [&](int, Eigen::Index begin, Eigen::Index end) {
+      m_rhs.segment(3 * begin, 3 * (end - begin)) =
+          -Eigen::Map<const Eigen::VectorXd>(m_r.col(begin).data(), 3 * (end - begin));
+    };
+    forEachNodeRange(system.springs().threadPool(), x.cols(), negate);
 
     bool isSolved = false;
     if (m_kind == LinearSolverKind::Cholesky) {
@@ -142,20 +167,26 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     // assembles its stiffness (into the spare matrix, so the current one still scales the shift
     // below): the accepted trial's is then the next iteration's, with no second spring pass.
     const bool isTrialStiffnessWanted = report.iterations < maxIterations;
-    const double norm2 = m_r.squaredNorm();
     double stepLength = 1.0;
     bool isAccepted = false;
     ForceReport trialForces;
+    ResidualNorms trialNorms;
     for (int halving = 0; halving < 12; ++halving) {
-      m_trialX = x + stepLength * Eigen::Map<const Eigen::Matrix3Xd>(m_step.data(), 3, x.cols());
+      const auto trial = [&](int, Eigen::Index begin, Eigen::Index end) {
+        m_trialX.middleCols(begin, end - begin) =
+            x.middleCols(begin, end - begin) +
+            stepLength * Eigen::Map<const Eigen::Matrix3Xd>(m_step.data() + 3 * begin, 3, end - begin);
+      };
+      forEachNodeRange(system.springs().threadPool(), x.cols(), trial);
       if (isTrialStiffnessWanted) {
         trialForces = forcesAndStiffness(system, m_trialX, /*isTrial=*/true,
                                          /*isProjected=*/m_kind != LinearSolverKind::Cholesky);
-        residualFromForce(system, m_trialX, xHat, inertiaWeight, m_trialR);
+        trialNorms = residualFromForce(system, m_trialX, xHat, inertiaWeight, m_trialR);
       } else {
-        residual(system, m_trialX, xHat, inertiaWeight, m_trialR, &trialForces);
+        trialNorms = residual(system, m_trialX, xHat, inertiaWeight, m_trialR, &trialForces);
       }
-      if (m_trialR.allFinite() && m_trialR.squaredNorm() <= (1.0 - 1e-4 * stepLength) * norm2) {
+      if (std::isfinite(trialNorms.squared_N2) &&
+          trialNorms.squared_N2 <= (1.0 - 1e-4 * stepLength) * norms.squared_N2) {
         isAccepted = true;
         break;
       }
@@ -181,7 +212,8 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       isMatrixCurrent = true;
     }
     report.forces = trialForces;
-    report.residual_N = m_r.cwiseAbs().maxCoeff();
+    norms = trialNorms;
+    report.residual_N = norms.largest_N;
     shift *= 0.1;  // Levenberg-Marquardt: trust Newton again
     isExact = m_kind == LinearSolverKind::Cholesky;
   }

@@ -17,11 +17,13 @@
 // runs matrix-free (SpringSystemOperator, on the spring pass's blocks) unless the system has the
 // volume term, whose blocks exist only assembled; Cholesky needs the assembled matrix.
 
+#include <array>
 #include <memory>
 
 #include <Eigen/SparseCholesky>
 
 #include "numerics/BlockConjugateGradient.h"
+#include "parallel/NodeRanges.h"
 
 #include "integrators/SpringSystemOperator.h"
 
@@ -30,6 +32,13 @@
 namespace tissuesim {
 
 enum class LinearSolverKind { Cholesky, ConjugateGradient };
+
+/// Norms of a residual r (N): max |r_i| (NaN when any entry is not finite) and ||r||^2, its
+/// per-range partial sums (parallel/NodeRanges.h) added in range order.
+struct ResidualNorms {
+  double largest_N = 0.0;
+  double squared_N2 = 0.0;
+};
 
 struct NewtonReport {
   int iterations = 0;
@@ -50,13 +59,14 @@ class NewtonSolver {
                      int maxIterations, double tolerance_N);
 
  private:
-  double residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
-                  const Eigen::Matrix3Xd& xHat, double inertiaWeight, Eigen::Matrix3Xd& r,
-                  ForceReport* report);
-  /// r from the forces already in m_force (those at x).
-  double residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
-                           const Eigen::Matrix3Xd& xHat, double inertiaWeight,
-                           Eigen::Matrix3Xd& r) const;
+  ResidualNorms residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                         const Eigen::Matrix3Xd& xHat, double inertiaWeight, Eigen::Matrix3Xd& r,
+                         ForceReport* report);
+  /// r from the forces already in m_force (those at x), and its norms, in one node-wise pass
+  /// (parallel/NodeRanges.h).
+  ResidualNorms residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                                  const Eigen::Matrix3Xd& xHat, double inertiaWeight,
+                                  Eigen::Matrix3Xd& r);
   void prepare(const MechanicalSystem& system);
   /// Forces at x into m_force and the stiffness there into the matrix or the spring blocks
   /// (the trial's when `isTrial`).
@@ -79,6 +89,7 @@ class NewtonSolver {
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;
   Eigen::VectorXd m_rhs, m_step;
   std::vector<RankOneTerm> m_contactTerms;  ///< the contacts' stiffness, for CG's preconditioner
+  std::array<double, kNodeRanges> m_rangeLargest{}, m_rangeSquares{};  ///< residualFromForce's partials
 };
 
 }  // namespace tissuesim

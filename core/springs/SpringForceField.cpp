@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "numerics/CpuFeatures.h"
+#include "parallel/NodeRanges.h"
 #include "springs/SpringStressBatch.h"
 
 namespace tissuesim {
@@ -25,6 +26,15 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
   m_passStretch.setZero(mesh.springCount());
   for (auto& f : m_partForces) f.resize(3, mesh.nodeCount());
   for (auto& k : m_partNodeStiffness) k.resize(mesh.nodeCount());
+  for (int p = 0; p < kSpringParts; ++p) {
+    NodeSpan& touched = m_partNodes[static_cast<std::size_t>(p)];
+    touched = {mesh.nodeCount(), 0};
+    for (Eigen::Index s = partStart(p); s < partStart(p + 1); ++s) {
+      touched.begin = std::min<Eigen::Index>(touched.begin, std::min(mesh.springs(0, s), mesh.springs(1, s)));
+      touched.end = std::max<Eigen::Index>(touched.end, std::max(mesh.springs(0, s), mesh.springs(1, s)) + 1);
+    }
+    touched.begin = std::min(touched.begin, touched.end);  // a part without springs: empty
+  }
   setBatched(true);
 }
 
@@ -43,13 +53,9 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
                                                AxialBlocks* blocks,
                                                Eigen::VectorXd* nodeStiffness,
                                                bool isProjected) const {
-  if constexpr (withNodeStiffness) nodeStiffness->setZero();
-  // The implicit solvers' passes record their stretches for the commit (below, at these
-  // positions); the explicit integrator's (with node stiffness) do not: its commit follows a
-  // position update, never a pass, and at 100k springs the record cost it 10 %. What was
-  // recorded before stays valid: stretches are a function of the positions alone.
-  if constexpr (!withNodeStiffness) m_passPositions = x;
   std::array<SpringFieldReport, kSpringParts> reports;
+  // Part 0 adds into the caller's arrays; every other part into its own buffer, cleared only
+  // over the nodes its springs touch.
   auto part = [&](int p) {
     const Eigen::Index begin = partStart(p);
     const Eigen::Index end = partStart(p + 1);
@@ -60,23 +66,43 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
                                                                          rangeStiffness, isProjected);
     };
     if (p == 0) {
+      if constexpr (withNodeStiffness) nodeStiffness->setZero();
       reports[0] = range(forces, nodeStiffness);
       return;
     }
-    Eigen::Matrix3Xd& partForces = m_partForces[static_cast<std::size_t>(p - 1)];
-    Eigen::VectorXd& partStiffness = m_partNodeStiffness[static_cast<std::size_t>(p - 1)];
-    partForces.setZero();
-    if constexpr (withNodeStiffness) partStiffness.setZero();
-    reports[static_cast<std::size_t>(p)] = range(partForces, &partStiffness);
+    const auto q = static_cast<std::size_t>(p - 1);
+    const NodeSpan touched = m_partNodes[static_cast<std::size_t>(p)];
+    m_partForces[q].middleCols(touched.begin, touched.size()).setZero();
+    if constexpr (withNodeStiffness) m_partNodeStiffness[q].segment(touched.begin, touched.size()).setZero();
+    reports[static_cast<std::size_t>(p)] = range(m_partForces[q], &m_partNodeStiffness[q]);
   };
   runParts(m_pool, kSpringParts, part);
-  // Fixed order, whatever the thread count: the sums are bit-identical.
+  // The parts' buffers added in part order, on node ranges (so the sums are bit-identical for
+  // any thread count); a part adds only where its springs reached. Also the record of the
+  // positions for the commit (the implicit solvers' passes; the explicit integrator's, with node
+  // stiffness, do not record: its commit follows a position update, never a pass, and at 100k
+  // springs the record cost it 10 %). What was recorded before stays valid: stretches are a
+  // function of the positions alone.
+  const auto reduce = [&](int, Eigen::Index rangeBegin, Eigen::Index rangeEnd) {
+    for (int p = 1; p < kSpringParts; ++p) {
+      const NodeSpan touched = m_partNodes[static_cast<std::size_t>(p)];
+      const Eigen::Index begin = std::max(rangeBegin, touched.begin);
+      const Eigen::Index end = std::min(rangeEnd, touched.end);
+      if (begin >= end) continue;
+      const auto q = static_cast<std::size_t>(p - 1);
+      forces.middleCols(begin, end - begin) += m_partForces[q].middleCols(begin, end - begin);
+      if constexpr (withNodeStiffness) {
+        nodeStiffness->segment(begin, end - begin) += m_partNodeStiffness[q].segment(begin, end - begin);
+      }
+    }
+    if constexpr (!withNodeStiffness) {
+      const Eigen::Index count = rangeEnd - rangeBegin;
+      m_passPositions.middleCols(rangeBegin, count) = x.middleCols(rangeBegin, count);
+    }
+  };
+  forEachNodeRange(m_pool, x.cols(), reduce);
   SpringFieldReport report = reports[0];
-  for (int p = 1; p < kSpringParts; ++p) {
-    forces += m_partForces[static_cast<std::size_t>(p - 1)];
-    if constexpr (withNodeStiffness) *nodeStiffness += m_partNodeStiffness[static_cast<std::size_t>(p - 1)];
-    report.include(reports[static_cast<std::size_t>(p)]);
-  }
+  for (int p = 1; p < kSpringParts; ++p) report.include(reports[static_cast<std::size_t>(p)]);
   return report;
 }
 
@@ -233,7 +259,12 @@ double SpringForceField::frequencySquaredBound(const Eigen::Matrix3Xd& x) const 
 
 void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
   if (!m_law.isSoftening()) return;
-  if (x == m_passPositions) {
+  std::array<bool, kNodeRanges> isRangeUnmoved{};
+  forEachNodeRange(m_pool, x.cols(), [&](int range, Eigen::Index begin, Eigen::Index end) {
+    isRangeUnmoved[static_cast<std::size_t>(range)] =
+        x.middleCols(begin, end - begin) == m_passPositions.middleCols(begin, end - begin);
+  });
+  if (std::all_of(isRangeUnmoved.begin(), isRangeUnmoved.end(), [](bool b) { return b; })) {
     // The last pass's stretches, computed by the same expression at the same positions.
     const auto part = [&](int p) {
       const Eigen::Index end = partStart(p + 1);

@@ -41,8 +41,9 @@ struct SpringFieldReport {
 };
 
 /// Parallel passes: the springs are cut into kSpringParts contiguous ranges, each summed into
-/// its own force buffer, and the buffers are added in part order. The partition does not depend
-/// on the thread count, so results are bit-identical with 1, 2 or 4 threads.
+/// its own force buffer (over the nodes its springs touch), and the buffers are added in part
+/// order, node range by node range. The partitions do not depend on the thread count, so
+/// results are bit-identical with 1, 2 or 4 threads.
 class SpringForceField {
  public:
   static constexpr int kSpringParts = 4;
@@ -141,6 +142,13 @@ class SpringForceField {
   // scratch only, sized at construction, so the const passes never allocate.
   mutable std::array<Eigen::Matrix3Xd, kSpringParts - 1> m_partForces;
   mutable std::array<Eigen::VectorXd, kSpringParts - 1> m_partNodeStiffness;
+  /// The nodes [begin, end) that part p's springs touch: what its buffer clears and adds.
+  struct NodeSpan {
+    Eigen::Index begin = 0;
+    Eigen::Index end = 0;
+    Eigen::Index size() const { return end - begin; }
+  };
+  std::array<NodeSpan, kSpringParts> m_partNodes;
 };
 
 }  // namespace tissuesim
