@@ -91,8 +91,11 @@ void runSteps(benchmark::State& state, BenchScene& scene, TimeIntegrator& integr
 
 /// Speed against accuracy: implicit Euler (CG) with a budget of Newton iterations and a CG
 /// tolerance, timed, and its positions after 50 steps compared with a fully converged run from
-/// the same start (error_um: the largest node difference, micrometres).
-void registerAccuracyTrade(const TissueParameters& parameters) {
+/// the same start (error_um: the largest node difference, micrometres; moved_um: the converged
+/// run's largest displacement from rest, for scale). On the paper's size (one thread: the names
+/// without a suffix) and at 100k springs (one and two threads).
+void registerAccuracyTrade(const TissueParameters& parameters, const Eigen::Vector3i& cells,
+                           const std::string& suffix, int threads) {
   struct Setting {
     const char* name;
     int iterations;
@@ -102,30 +105,39 @@ void registerAccuracyTrade(const TissueParameters& parameters) {
                                 Setting{"Trade/ImplicitCG/newton1_cg1e-4", 1, 1e-4},
                                 Setting{"Trade/ImplicitCG/newton2_cg1e-6", 2, 1e-6},
                                 Setting{"Trade/ImplicitCG/newton8_cg1e-8", 8, 1e-8}}) {
-    benchmark::RegisterBenchmark(setting.name, [parameters, setting](benchmark::State& state) {
-      const auto run = [&](int iterations, double tolerance, int steps, BenchScene& scene) {
-        IntegratorSettings settings;
-        settings.massDamping_1_s = 1.0;
-        settings.maxIterations = iterations;
-        settings.linearTolerance = tolerance;
-        settings.forceTolerance_N = 1e-9;
-        ImplicitEulerSolver integrator(settings, LinearSolverKind::ConjugateGradient);
-        for (int n = 0; n < steps; ++n) integrator.step(scene.system, scene.state, 1e-3);
-      };
-      BenchScene reference(parameters, kPaperSize);
-      run(30, 1e-10, 50, reference);
-      BenchScene scene(parameters, kPaperSize);
-      run(setting.iterations, setting.linearTolerance, 50, scene);
-      const double error = (scene.state.x - reference.state.x).cwiseAbs().maxCoeff();
-      IntegratorSettings settings;
-      settings.massDamping_1_s = 1.0;
-      settings.maxIterations = setting.iterations;
-      settings.linearTolerance = setting.linearTolerance;
-      settings.forceTolerance_N = 1e-9;
-      ImplicitEulerSolver integrator(settings, LinearSolverKind::ConjugateGradient);
-      runSteps(state, scene, integrator, 1e-3);
-      state.counters["error_um"] = error * 1e6;
-    })->Unit(benchmark::kMicrosecond)->Iterations(timedSteps(kPaperSize, true));
+    benchmark::RegisterBenchmark(
+        (setting.name + suffix).c_str(),
+        [parameters, cells, threads, setting](benchmark::State& state) {
+          ForkJoinPool pool(threads);
+          const auto integrator = [&](int iterations, double tolerance) {
+            IntegratorSettings settings;
+            settings.massDamping_1_s = 1.0;
+            settings.maxIterations = iterations;
+            settings.linearTolerance = tolerance;
+            settings.forceTolerance_N = 1e-9;
+            return ImplicitEulerSolver(settings, LinearSolverKind::ConjugateGradient);
+          };
+          const auto run = [&](ImplicitEulerSolver& solver, BenchScene& scene) {
+            for (int n = 0; n < 50; ++n) solver.step(scene.system, scene.state, 1e-3);
+          };
+          BenchScene reference(parameters, cells);
+          reference.springs.setThreadPool(&pool);
+          ImplicitEulerSolver converged = integrator(30, 1e-10);
+          run(converged, reference);
+          BenchScene scene(parameters, cells);
+          scene.springs.setThreadPool(&pool);
+          ImplicitEulerSolver timed = integrator(setting.iterations, setting.linearTolerance);
+          run(timed, scene);
+          const double error = (scene.state.x - reference.state.x).cwiseAbs().maxCoeff();
+          const double moved =
+              (reference.state.x - reference.mesh.restPositions_m).colwise().norm().maxCoeff();
+          runSteps(state, scene, timed, 1e-3);
+          state.counters["error_um"] = error * 1e6;
+          state.counters["moved_um"] = moved * 1e6;
+          state.counters["threads"] = threads;
+        })
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(timedSteps(cells, true));
   }
 }
 
@@ -133,7 +145,9 @@ void registerAccuracyTrade(const TissueParameters& parameters) {
 
 void registerDynamicsBenchmarks(const std::string& tissuePath) {
   const TissueParameters parameters = loadTissueFile(tissuePath);
-  registerAccuracyTrade(parameters);
+  registerAccuracyTrade(parameters, kPaperSize, "", 1);
+  registerAccuracyTrade(parameters, kLargeSize, "/100k/threads:1", 1);
+  registerAccuracyTrade(parameters, kLargeSize, "/100k/threads:2", 2);
 
   for (const auto& [label, cells] : {std::pair{"5k", kPaperSize}, std::pair{"100k", kLargeSize}}) {
     const std::string suffix = std::string("/") + label;
