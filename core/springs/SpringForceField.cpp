@@ -191,33 +191,48 @@ SpringFieldReport SpringForceField::accumulateRangeBatched(Eigen::Index begin, E
   const SpringStressBatchCoefficients coefficients(m_law);
   const StretchRange range = m_law.range();
   SpringFieldReport report;
-  Eigen::Index s = begin;
   // Groups of four: the geometry per spring (the same expressions as the scalar pass, so the
-  // same stretches to the bit), the law for the four at once, then each spring's force.
-  for (; s + 4 <= end; s += 4) {
+  // same stretches to the bit), the law for the four at once, then each spring's force. The
+  // next group's geometry is taken before this group's law: its square roots and loads then
+  // run while the law waits on its own chain (stretch, spline cell, table load, exp).
+  struct Group {
     std::array<int, 4> a{}, b{};
     std::array<Eigen::Vector3d, 4> d;
-    alignas(32) std::array<double, 4> length{}, lambda{}, stress{}, slope{};
+    alignas(32) std::array<double, 4> length{}, lambda{};
     bool isInside = true;
+  };
+  const auto measure = [&](Eigen::Index first, Group& group) {
+    group.isInside = true;
     for (std::size_t k = 0; k < 4; ++k) {
-      const Eigen::Index spring = s + static_cast<Eigen::Index>(k);
-      a[k] = m_mesh.springs(0, spring);
-      b[k] = m_mesh.springs(1, spring);
-      d[k] = x.col(b[k]) - x.col(a[k]);
-      length[k] = d[k].norm();
-      lambda[k] = length[k] * m_inverseRestLength[spring];
-      isInside = isInside && lambda[k] > kCollapsedLengthFraction && lambda[k] >= range.lower &&
-                 lambda[k] <= range.upper;
+      const Eigen::Index spring = first + static_cast<Eigen::Index>(k);
+      group.a[k] = m_mesh.springs(0, spring);
+      group.b[k] = m_mesh.springs(1, spring);
+      group.d[k] = x.col(group.b[k]) - x.col(group.a[k]);
+      group.length[k] = group.d[k].norm();
+      group.lambda[k] = group.length[k] * m_inverseRestLength[spring];
+      group.isInside = group.isInside && group.lambda[k] > kCollapsedLengthFraction &&
+                       group.lambda[k] >= range.lower && group.lambda[k] <= range.upper;
     }
-    if (isInside) {
-      evaluateStressBatch<kWithSlope>(coefficients, lambda.data(), m_lambdaMax.data() + s, m_peaks.data() + s,
+  };
+  std::array<Group, 2> groups;
+  std::size_t current = 0;
+  Eigen::Index s = begin;
+  if (s + 4 <= end) measure(s, groups[0]);
+  for (; s + 4 <= end; s += 4, current ^= 1) {
+    const Group& group = groups[current];
+    if (s + 8 <= end) measure(s + 4, groups[current ^ 1]);
+    if (group.isInside) {
+      alignas(32) std::array<double, 4> stress{}, slope{};
+      evaluateStressBatch<kWithSlope>(coefficients, group.lambda.data(), m_lambdaMax.data() + s, m_peaks.data() + s,
                                       stress.data(), slope.data());
       for (std::size_t k = 0; k < 4; ++k) {
-        if constexpr (!withNodeStiffness) m_passStretch[s + static_cast<Eigen::Index>(k)] = lambda[k];
-        report.minStretch = std::min(report.minStretch, lambda[k]);
-        report.maxStretch = std::max(report.maxStretch, lambda[k]);
-        applyStress<withBlocks, withNodeStiffness>(s + static_cast<Eigen::Index>(k), a[k], b[k], d[k], length[k],
-                                                   stress[k], slope[k], forces, blocks, nodeStiffness, isProjected);
+        const double lambda = group.lambda[k];
+        if constexpr (!withNodeStiffness) m_passStretch[s + static_cast<Eigen::Index>(k)] = lambda;
+        report.minStretch = std::min(report.minStretch, lambda);
+        report.maxStretch = std::max(report.maxStretch, lambda);
+        applyStress<withBlocks, withNodeStiffness>(s + static_cast<Eigen::Index>(k), group.a[k], group.b[k],
+                                                   group.d[k], group.length[k], stress[k], slope[k], forces,
+                                                   blocks, nodeStiffness, isProjected);
       }
       continue;
     }
