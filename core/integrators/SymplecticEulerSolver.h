@@ -14,7 +14,10 @@
 // substep; the safety factor covers it). A step needing more than maxSubsteps is refused, never
 // taken unstably.
 
+#include <array>
+
 #include "integrators/TimeIntegrator.h"
+#include "parallel/NodeRanges.h"
 
 namespace tissuesim {
 
@@ -30,9 +33,12 @@ class SymplecticEulerSolver final : public TimeIntegrator {
 
  private:
   void ensureBuffers(Eigen::Index nodeCount);
-  /// h_max (s) from per-node stiffness bounds (N/m) and the mass damping (1/s).
-  static double stableStepBound(const Eigen::VectorXd& nodeStiffness, const Eigen::VectorXd& mass,
-                                double massDamping_1_s);
+  /// h_max (s) from the nodes' largest stiffness bound over mass, max_i K_i / m_i (1/s^2), and
+  /// the mass damping (1/s).
+  static double stableStepBound(double largestStiffnessPerMass, double massDamping_1_s);
+  /// max K_i / m_i over nodes [begin, end) (1/s^2; 0 when none is positive).
+  static double largestStiffnessPerMass(const Eigen::VectorXd& nodeStiffness, const Eigen::VectorXd& mass,
+                                        Eigen::Index begin, Eigen::Index end);
 
   IntegratorSettings m_settings;
   Eigen::Matrix3Xd m_force;
@@ -40,6 +46,7 @@ class SymplecticEulerSolver final : public TimeIntegrator {
   Eigen::Matrix3Xd m_savedX;
   Eigen::Matrix3Xd m_savedV;
   double m_lastStableStep = -1.0;  ///< h_max of the last bound (s); < 0: not yet known
+  std::array<double, kNodeRanges> m_rangeLargest{};  ///< per-range max K_i / m_i (1/s^2)
 };
 
 }  // namespace tissuesim

@@ -163,6 +163,33 @@ TEST(SymplecticEuler, HundredThousandStepsStayFiniteWithBoundedEnergy) {
   EXPECT_NEAR(-centreOfMass(block.mesh, state.x).z() + 0.005, 9.81 * t * t / 2, 9.81 * dt * t);
 }
 
+// The bound is taken at the nodes' largest K_i / m_i alone (h_max falls as omega^2 grows):
+// it must be the smallest of every node's own h_max, with the damping in it.
+TEST(SymplecticEuler, TheStableStepIsTheSmallestOfTheNodesBounds) {
+  test::BlockSystem block({0.02, 0.02, 0.02}, {3, 3, 3}, SpringLaw::Eesm, true);
+  MechanicalState state = block.system.restState();
+  for (Eigen::Index i = 0; i < state.x.cols(); ++i) {
+    state.x.col(i) *= 1.0 + 0.1 * std::sin(7.0 * static_cast<double>(i));  // uneven stretches
+  }
+  IntegratorSettings settings;
+  for (const double alpha : {0.0, 50.0, 5e4}) {
+    settings.massDamping_1_s = alpha;
+    block.springs.resetStretchHistory();  // each step commits its stretches
+    Eigen::Matrix3Xd f(3, state.x.cols());
+    Eigen::VectorXd nodeStiffness(state.x.cols());
+    block.system.forcesAndNodeStiffness(state.x, f, nodeStiffness);
+    double smallest = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < state.x.cols(); ++i) {
+      const double omega2 = 2.0 * nodeStiffness[i] / block.mesh.nodeMass_kg[i];
+      smallest = std::min(smallest, (std::sqrt(alpha * alpha + 4.0 * omega2) - alpha) / omega2);
+    }
+    SymplecticEulerSolver integrator(settings);
+    MechanicalState copy = state;
+    const StepReport report = integrator.step(block.system, copy, 1e-9);
+    EXPECT_NEAR(report.stableTimeStep_s, settings.stabilitySafety * smallest, 1e-9 * smallest) << alpha;
+  }
+}
+
 TEST(SymplecticEuler, RefusesAStepItCannotTakeStably) {
   test::BlockSystem block({0.01, 0.01, 0.01}, {1, 1, 1});
   IntegratorSettings settings;
