@@ -5,7 +5,8 @@
 //
 // With the explicit mass damping alpha a node's oscillator is stable while
 // omega^2 h^2 + 2 alpha h <= 4 (Jury's test on the step's 2x2 map; h < 2 / omega without
-// damping), so h_max = (sqrt(alpha^2 + 4 omega^2) - alpha) / omega^2 over the nodes, with
+// damping), so h_max = (sqrt(alpha^2 + 4 omega^2) - alpha) / omega^2 over the nodes (it falls
+// as omega^2 grows: the node with the largest omega^2 sets it), with
 // omega^2 bounded each substep from the same pass that computes the forces (Gershgorin on
 // M^-1 K: 2 K_i / m_i, from SpringForceField). The instrument's contacts are impulses after
 // the velocity update, each stepped by backward Euler on its own (PenaltyContactSet::
