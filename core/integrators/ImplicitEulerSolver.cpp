@@ -1,7 +1,5 @@
 #include "integrators/ImplicitEulerSolver.h"
 
-#include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "parallel/NodeRanges.h"
@@ -36,7 +34,7 @@ StepReport ImplicitEulerSolver::step(MechanicalSystem& system, MechanicalState& 
   report.converged = newton.converged;
   report.forces = newton.forces;
   // The new velocities, and whether every position is finite, in one node-wise pass.
-  std::array<bool, kNodeRanges> isRangeFinite{};
+  NodeRangeFlags isRangeFinite{};
   forEachNodeRange(pool, nodes, [&](int range, Eigen::Index begin, Eigen::Index end) {
     bool isFinite = true;
     for (Eigen::Index d = 3 * begin; d < 3 * end; ++d) {
@@ -47,8 +45,7 @@ StepReport ImplicitEulerSolver::step(MechanicalSystem& system, MechanicalState& 
     }
     isRangeFinite[static_cast<std::size_t>(range)] = isFinite;
   });
-  const bool isFinite = std::all_of(isRangeFinite.begin(), isRangeFinite.end(), [](bool b) { return b; });
-  if (!isFinite || !std::isfinite(newton.residual_N)) {
+  if (!allRanges(isRangeFinite) || !std::isfinite(newton.residual_N)) {
     report.isFinite = false;
     report.reason = "non-finite force or position in an implicit step; state rolled back";
     return report;

@@ -11,6 +11,8 @@
 // nodes) each such pass took 40-60 us on one thread, and ten of them a step were a sixth of the
 // two-thread step's time.
 
+#include <array>
+
 #include <Eigen/Core>
 
 #include "parallel/ForkJoinPool.h"
@@ -20,6 +22,17 @@ namespace tissuesim {
 constexpr int kNodeRanges = 4;
 /// From this many nodes on, node-wise passes run on the pool.
 constexpr Eigen::Index kParallelNodePassMinimum = 8192;
+
+/// Per-range flags of a pass (whether each range held only finite values, say).
+using NodeRangeFlags = std::array<bool, kNodeRanges>;
+
+/// Whether every range's flag is set.
+inline bool allRanges(const NodeRangeFlags& flags) {
+  for (const bool flag : flags) {
+    if (!flag) return false;
+  }
+  return true;
+}
 
 /// First node of range r (r = kNodeRanges: count).
 inline Eigen::Index nodeRangeStart(Eigen::Index count, int r) { return count * r / kNodeRanges; }

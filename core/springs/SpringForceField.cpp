@@ -274,12 +274,12 @@ double SpringForceField::frequencySquaredBound(const Eigen::Matrix3Xd& x) const 
 
 void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
   if (!m_law.isSoftening()) return;
-  std::array<bool, kNodeRanges> isRangeUnmoved{};
+  NodeRangeFlags isRangeUnmoved{};
   forEachNodeRange(m_pool, x.cols(), [&](int range, Eigen::Index begin, Eigen::Index end) {
     isRangeUnmoved[static_cast<std::size_t>(range)] =
         x.middleCols(begin, end - begin) == m_passPositions.middleCols(begin, end - begin);
   });
-  if (std::all_of(isRangeUnmoved.begin(), isRangeUnmoved.end(), [](bool b) { return b; })) {
+  if (allRanges(isRangeUnmoved)) {
     // The last pass's stretches, computed by the same expression at the same positions.
     const auto part = [&](int p) {
       const Eigen::Index end = partStart(p + 1);
