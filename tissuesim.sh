@@ -17,6 +17,7 @@ PACKAGES=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
   libfcl-dev libccd-dev libassimp-dev libvtk9-qt-dev qtbase5-dev
   xvfb xauth libgl1-mesa-dri
+  clang-format
 )
 JOBS=${JOBS:-2}
 

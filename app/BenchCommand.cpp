@@ -9,9 +9,9 @@
 #include "AssetPaths.h"
 #include "CommandError.h"
 #include "bench/ContactBenchmarks.h"
-#include "bench/RenderBenchmarks.h"
 #include "bench/DynamicsBenchmarks.h"
 #include "bench/MaterialBenchmarks.h"
+#include "bench/RenderBenchmarks.h"
 
 namespace tissuesim::app {
 namespace {

@@ -38,7 +38,8 @@ void writeCurvePlot(const std::string& path, const std::string& title,
       {{200, 40, 30}, {30, 90, 200}, {30, 150, 60}}};
   std::vector<ChartSeries> series;
   for (std::size_t m = 0; m < models.size(); ++m) {
-    series.push_back(seriesOf(models[m].first, models[m].second, kColours[m % kColours.size()], false));
+    series.push_back(
+        seriesOf(models[m].first, models[m].second, kColours[m % kColours.size()], false));
   }
   series.push_back(seriesOf("sedf (reference)", reference, {0, 0, 0}, true));
   chart.setSeries(series);

@@ -5,9 +5,9 @@
 #include <string>
 #include <thread>
 
+#include <QVTKOpenGLNativeWidget.h>
 #include <QApplication>
 #include <QSurfaceFormat>
-#include <QVTKOpenGLNativeWidget.h>
 
 #include "AssetPaths.h"
 #include "CommandError.h"
@@ -36,9 +36,10 @@ int runGui(const std::string& scenePath, int argc, char** argv) {
 void registerGuiCommand(CLI::App& app, int argc, char** argv) {
   auto scenePath = std::make_shared<std::string>(bundledAsset("scenes/liver-poke.json").string());
   CLI::App* command = app.add_subcommand(
-      "gui", "Open the interactive window (what `tissuesim` with no arguments does). Mouse: move "
-             "to steer the tool, wheel to push it (Ctrl+wheel zooms), drag to turn the camera; "
-             "keys: Space pause, R reset, G grasp, C colour map, W springs.");
+      "gui",
+      "Open the interactive window (what `tissuesim` with no arguments does). Mouse: move "
+      "to steer the tool, wheel to push it (Ctrl+wheel zooms), drag to turn the camera; "
+      "keys: Space pause, R reset, G grasp, C colour map, W springs.");
   command->add_option("--scene", *scenePath, "Scene file (JSON)")->capture_default_str();
   command->callback([scenePath, argc, argv] {
     const int code = runGui(*scenePath, argc > 0 ? 1 : 0, argv);

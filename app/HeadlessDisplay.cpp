@@ -25,7 +25,8 @@ std::string findOnPath(const std::string& name) {
   std::size_t start = 0;
   while (start <= paths.size()) {
     const std::size_t end = std::min(paths.find(':', start), paths.size());
-    const std::filesystem::path candidate = std::filesystem::path(paths.substr(start, end - start)) / name;
+    const std::filesystem::path candidate =
+        std::filesystem::path(paths.substr(start, end - start)) / name;
     if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
     start = end + 1;
   }
@@ -93,7 +94,8 @@ HeadlessDisplay::HeadlessDisplay(bool isQuiet) {
   m_display = ":" + number;
   ::setenv("DISPLAY", m_display.c_str(), 1);
   if (!isQuiet) {
-    std::fprintf(stderr, "tissuesim: no DISPLAY; rendering on a private Xvfb at %s (Mesa llvmpipe)\n",
+    std::fprintf(stderr,
+                 "tissuesim: no DISPLAY; rendering on a private Xvfb at %s (Mesa llvmpipe)\n",
                  m_display.c_str());
   }
 }

@@ -5,8 +5,8 @@
 // object goes. Rendering is then Mesa's llvmpipe (software), which makes images the same on
 // every machine with the same Mesa.
 
-#include <string>
 #include <sys/types.h>
+#include <string>
 
 namespace tissuesim::app {
 

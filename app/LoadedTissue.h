@@ -14,7 +14,11 @@ namespace tissuesim::app {
 
 struct LoadedTissue {
   explicit LoadedTissue(const std::string& tissuePath)
-      : path(tissuePath), parameters(loadTissueFile(tissuePath)), energy(parameters), table(energy), continuum(energy, table) {}
+      : path(tissuePath),
+        parameters(loadTissueFile(tissuePath)),
+        energy(parameters),
+        table(energy),
+        continuum(energy, table) {}
 
   /// @throws CommandError with one line naming the tissue when the protocol does not fit it.
   void validate(const UniaxialProtocol& protocol) const {

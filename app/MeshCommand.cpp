@@ -37,10 +37,11 @@ void printQuality(const TetMesh& mesh, const char* what) {
   const TetQualityReport quality = inspectTets(mesh);
   std::printf("%s: %ld nodes, %ld tets, %ld springs\n", what, static_cast<long>(mesh.nodeCount()),
               static_cast<long>(mesh.tetCount()), static_cast<long>(countUniqueEdges(mesh)));
-  std::printf("  dihedral angles %.1f to %.1f deg, minimum radius ratio %.3f, %zu inverted tets, "
-              "%zu slivers\n",
-              quality.minDihedral_deg, quality.maxDihedral_deg, quality.minRadiusRatio,
-              quality.invertedTets.size(), quality.slivers.size());
+  std::printf(
+      "  dihedral angles %.1f to %.1f deg, minimum radius ratio %.3f, %zu inverted tets, "
+      "%zu slivers\n",
+      quality.minDihedral_deg, quality.maxDihedral_deg, quality.minRadiusRatio,
+      quality.invertedTets.size(), quality.slivers.size());
   std::printf("  volume %.6g cm^3\n", quality.totalVolume_m3 * 1e6);
 }
 
@@ -65,10 +66,15 @@ void runMesh(const MeshOptions& options) {
   try {
     if (isTetMeshInput(input)) {
       TetMeshReadReport report;
-      mesh = isVtkMeshFile(input) ? readVtkTetMesh(input, scale, &report) : readTetMesh(input, scale, &report);
-      std::printf("read %s (%s)%s%s\n", options.input.c_str(), report.format.c_str(),
-                  report.skippedElements > 0 ? (", skipped " + std::to_string(report.skippedElements) + " non-tet elements").c_str() : "",
-                  report.wasReoriented ? ", all tets re-oriented to positive volume" : "");
+      mesh = isVtkMeshFile(input) ? readVtkTetMesh(input, scale, &report)
+                                  : readTetMesh(input, scale, &report);
+      std::printf(
+          "read %s (%s)%s%s\n", options.input.c_str(), report.format.c_str(),
+          report.skippedElements > 0
+              ? (", skipped " + std::to_string(report.skippedElements) + " non-tet elements")
+                    .c_str()
+              : "",
+          report.wasReoriented ? ", all tets re-oriented to positive volume" : "");
       printQuality(mesh, "tet mesh");
     } else {
       TriangleSurface surface = isVtkMeshFile(input) ? readVtkSurface(input, scale)
@@ -79,34 +85,41 @@ void runMesh(const MeshOptions& options) {
       std::printf("surface %s: %s; %d duplicate vertices welded\n", options.input.c_str(),
                   report.summary().c_str(), merged);
       if (report.nonManifoldEdges > 0) {
-        throw CommandError(options.input + ": the surface has " + std::to_string(report.nonManifoldEdges) +
-                           " non-manifold edges (three or more triangles on one edge); repair it first");
+        throw CommandError(
+            options.input + ": the surface has " + std::to_string(report.nonManifoldEdges) +
+            " non-manifold edges (three or more triangles on one edge); repair it first");
       }
       if (!report.holes.empty()) {
-        const double limit = options.closeHoles_mm >= 0.0 ? options.closeHoles_mm / 1000.0 : 0.02 * report.boundingDiagonal_m;
+        const double limit = options.closeHoles_mm >= 0.0 ? options.closeHoles_mm / 1000.0
+                                                          : 0.02 * report.boundingDiagonal_m;
         const int closed = closeSmallHoles(surface, limit);
         report = inspectSurface(surface);
         if (!report.holes.empty()) {
           std::string sizes;
           for (std::size_t h = 0; h < std::min<std::size_t>(report.holes.size(), 5); ++h) {
             char text[48];
-            std::snprintf(text, sizeof text, "%s%.1f mm", h == 0 ? "" : ", ", report.holes[h].diameter_m * 1e3);
+            std::snprintf(text, sizeof text, "%s%.1f mm", h == 0 ? "" : ", ",
+                          report.holes[h].diameter_m * 1e3);
             sizes += text;
           }
-          throw CommandError(options.input + ": the surface is open: " + std::to_string(report.holes.size()) +
-                             " holes larger than " + std::to_string(limit * 1e3) + " mm (across: " + sizes +
-                             (report.holes.size() > 5 ? ", ..." : "") + "); close them or raise --close-holes-mm");
+          throw CommandError(
+              options.input + ": the surface is open: " + std::to_string(report.holes.size()) +
+              " holes larger than " + std::to_string(limit * 1e3) + " mm (across: " + sizes +
+              (report.holes.size() > 5 ? ", ..." : "") + "); close them or raise --close-holes-mm");
         }
         std::printf("closed %d small holes\n", closed);
       }
       double h = options.edgeLength_mm / 1000.0;
-      if (h <= 0.0) h = edgeLengthForSpringCount(surface, options.targetSprings > 0 ? options.targetSprings : 5300);
+      if (h <= 0.0)
+        h = edgeLengthForSpringCount(surface,
+                                     options.targetSprings > 0 ? options.targetSprings : 5300);
       mesh = meshInterior(surface, {h});
       printQuality(mesh, "lattice tet mesh");
       const double enclosed = std::abs(enclosedVolume(surface));
-      std::printf("  edge length %.3f mm; tet volume / surface volume = %.3f (the surface is "
-                  "embedded in the mesh, not matched by it)\n",
-                  h * 1e3, inspectTets(mesh).totalVolume_m3 / enclosed);
+      std::printf(
+          "  edge length %.3f mm; tet volume / surface volume = %.3f (the surface is "
+          "embedded in the mesh, not matched by it)\n",
+          h * 1e3, inspectTets(mesh).totalVolume_m3 / enclosed);
     }
   } catch (const MeshFileError& error) {
     throw CommandError(error.what());
@@ -141,7 +154,8 @@ void registerMeshCommand(CLI::App& app) {
   command->add_option("--edge-length", options->edgeLength_mm, "Lattice edge length in mm");
   command->add_option("--target-springs", options->targetSprings,
                       "About this many springs (default 5300 when no edge length)");
-  command->add_option("--units", options->units, "Units of the file: m, cm or mm")->capture_default_str();
+  command->add_option("--units", options->units, "Units of the file: m, cm or mm")
+      ->capture_default_str();
   command->add_option("--scale", options->scale, "Metres per file unit (overrides --units)");
   command->add_option("--part", options->part, "Use one named part of a multi-part file");
   command->add_option("--close-holes-mm", options->closeHoles_mm,

@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "AssetPaths.h"
-#include "SceneSession.h"
 #include "CommandError.h"
+#include "SceneSession.h"
 #include "material/TissueFile.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/SceneFile.h"
@@ -33,8 +33,11 @@ void runSession(const RunOptions& options) {
   Simulation* simulation = &session.simulation();
   const SceneDescription& scene = simulation->scene();
   const InstrumentScript* script = session.script();
-  const double duration = options.duration_s > 0.0 ? options.duration_s : script ? script->duration_s() : 1.0;
-  if (!std::isfinite(duration) || duration > 3600.0) throw CommandError("--duration must be at most 3600 s");
+  const double duration = options.duration_s > 0.0 ? options.duration_s
+                          : script                 ? script->duration_s()
+                                                   : 1.0;
+  if (!std::isfinite(duration) || duration > 3600.0)
+    throw CommandError("--duration must be at most 3600 s");
   const long steps = std::lround(duration / simulation->timeStep_s());
 
   double maxForce = 0.0;
@@ -49,7 +52,8 @@ void runSession(const RunOptions& options) {
     maxStretch = std::max(maxStretch, outcome.maxStretch);
     badSteps += outcome.isGood ? 0 : 1;
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   nlohmann::json report;
   report["scene"] = options.scenePath;
@@ -67,16 +71,19 @@ void runSession(const RunOptions& options) {
   report["integrator"] = scene.integrator;
   report["instability_events"] = nlohmann::json::array();
   for (const InstabilityEvent& event : simulation->events()) {
-    report["instability_events"].push_back(
-        {{"step", event.step}, {"time_s", event.time_s}, {"kind", event.kind}, {"detail", event.detail}});
+    report["instability_events"].push_back({{"step", event.step},
+                                            {"time_s", event.time_s},
+                                            {"kind", event.kind},
+                                            {"detail", event.detail}});
   }
   report["wall_seconds"] = wall;
-  std::printf("%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld springs; max tool force "
-              "%.3f N, max penetration %.2f mm, max stretch %.3f; %zu instability events\n",
-              scene.name.c_str(), simulation->steps(), simulation->timeStep_s() * 1e3,
-              report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
-              static_cast<long>(simulation->springMesh().springCount()), maxForce, maxPenetration * 1e3,
-              maxStretch, simulation->events().size());
+  std::printf(
+      "%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld springs; max tool force "
+      "%.3f N, max penetration %.2f mm, max stretch %.3f; %zu instability events\n",
+      scene.name.c_str(), simulation->steps(), simulation->timeStep_s() * 1e3,
+      report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
+      static_cast<long>(simulation->springMesh().springCount()), maxForce, maxPenetration * 1e3,
+      maxStretch, simulation->events().size());
   if (!options.reportPath.empty()) {
     std::ofstream out(options.reportPath);
     if (!out) throw CommandError("cannot write --report " + options.reportPath);
@@ -89,13 +96,16 @@ void runSession(const RunOptions& options) {
 void registerRunCommand(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* command = app.add_subcommand(
-      "run", "A headless session of a scene: fixed-step physics with a scripted instrument (a "
-             "default poke when no script is given), and a JSON report.");
+      "run",
+      "A headless session of a scene: fixed-step physics with a scripted instrument (a "
+      "default poke when no script is given), and a JSON report.");
   options->scenePath = bundledAsset("scenes/liver-poke.json").string();
   command->add_option("--scene", options->scenePath, "Scene file (JSON)")->capture_default_str();
-  command->add_option("--script", options->scriptPath,
-                      "Instrument script: {\"poses\": [{\"time_s\", \"tip_m\", \"direction\"}...]}");
-  command->add_option("--duration", options->duration_s, "Simulated seconds (default: the script's length)");
+  command->add_option(
+      "--script", options->scriptPath,
+      "Instrument script: {\"poses\": [{\"time_s\", \"tip_m\", \"direction\"}...]}");
+  command->add_option("--duration", options->duration_s,
+                      "Simulated seconds (default: the script's length)");
   command->add_option("--report", options->reportPath, "Write the JSON report here");
   command->callback([options] { runSession(*options); });
 }

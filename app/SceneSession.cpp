@@ -19,10 +19,12 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
   }
   const SceneDescription& description = m_simulation->scene();
   if (!description.instrument) {
-    if (!scriptPath.empty()) throw CommandError("--script given, but the scene " + scenePath + " has no instrument");
+    if (!scriptPath.empty())
+      throw CommandError("--script given, but the scene " + scenePath + " has no instrument");
     return;
   }
-  const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction, false};
+  const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction,
+                             false};
   if (driver == InstrumentDriver::Live) {
     m_live = std::make_unique<LiveInstrument>(start);
     m_simulation->setInstrumentSource(m_live.get());
@@ -30,7 +32,8 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
     try {
       m_script = scriptPath.empty()
                      ? std::make_unique<InstrumentScript>(InstrumentScript::poke(
-                           {description.instrument->tipStart_m, description.instrument->direction}, 0.04, 1.0))
+                           {description.instrument->tipStart_m, description.instrument->direction},
+                           0.04, 1.0))
                      : std::make_unique<InstrumentScript>(InstrumentScript::load(scriptPath));
     } catch (const std::invalid_argument& error) {
       throw CommandError(error.what());
@@ -38,8 +41,8 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
     m_simulation->setInstrumentSource(m_script.get());
   }
   m_contact = std::make_unique<CapsuleContact>(
-      m_simulation->geometry().mesh,
-      CapsuleContactSettings{description.instrument->shaftRadius_m, description.instrument->shaftLength_m});
+      m_simulation->geometry().mesh, CapsuleContactSettings{description.instrument->shaftRadius_m,
+                                                            description.instrument->shaftLength_m});
   m_simulation->setContactProvider(m_contact.get());
 }
 

@@ -20,7 +20,8 @@ class SceneSession {
  public:
   /// Loads the scene. With a Script driver an empty scriptPath means the default poke
   /// (4 cm along the tool over 1 s). @throws CommandError with the file's one-line reason.
-  SceneSession(const std::string& scenePath, const std::string& scriptPath, InstrumentDriver driver);
+  SceneSession(const std::string& scenePath, const std::string& scriptPath,
+               InstrumentDriver driver);
 
   Simulation& simulation() { return *m_simulation; }
   const Simulation& simulation() const { return *m_simulation; }

@@ -18,7 +18,8 @@ SceneSnapshot takeSceneSnapshot(SceneSession& session, const SnapshotSettings& s
     snapshot.badSteps += outcome.isGood ? 0 : 1;
   }
   const auto& instrument = session.scene().instrument;
-  TissueSceneView view(simulation.geometry(), simulation.springMesh(), instrument ? &*instrument : nullptr);
+  TissueSceneView view(simulation.geometry(), simulation.springMesh(),
+                       instrument ? &*instrument : nullptr);
   view.setColourMap(settings.isColourMap);
   view.setWireframe(settings.isWireframe);
   view.update(simulation.state().x, simulation.instrumentPose());

@@ -42,10 +42,12 @@ void takeSnapshot(const SnapshotOptions& options) {
     throw CommandError(error.what());
   }
   const Simulation& simulation = session.simulation();
-  std::printf("%s: %d frames (%ld steps, t = %.3f s), max tool force %.3f N, %zu instability events; wrote %s (%dx%d)\n",
-              session.scene().name.c_str(), options.frames, simulation.steps(), simulation.time_s(),
-              snapshot.maxToolForce_N, simulation.events().size(), options.outputPath.c_str(),
-              settings.size.width, settings.size.height);
+  std::printf(
+      "%s: %d frames (%ld steps, t = %.3f s), max tool force %.3f N, %zu instability events; wrote "
+      "%s (%dx%d)\n",
+      session.scene().name.c_str(), options.frames, simulation.steps(), simulation.time_s(),
+      snapshot.maxToolForce_N, simulation.events().size(), options.outputPath.c_str(),
+      settings.size.width, settings.size.height);
 }
 
 }  // namespace
@@ -59,12 +61,15 @@ void registerSnapshotCommand(CLI::App& app) {
       "inputs give the same image.");
   options->scenePath = bundledAsset("scenes/liver-poke.json").string();
   command->add_option("--scene", options->scenePath, "Scene file (JSON)")->capture_default_str();
-  command->add_option("--script", options->scriptPath, "Instrument script (default: the scene's poke)");
+  command->add_option("--script", options->scriptPath,
+                      "Instrument script (default: the scene's poke)");
   command->add_option("--frames", options->frames, "Frames of 1/60 s to simulate before the image")
       ->capture_default_str();
   command->add_option("--output", options->outputPath, "PNG to write")->required();
-  command->add_option("--size", options->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
-  command->add_flag("--colour-map,--color-map", options->isColourMap, "Colour the surface by spring stretch");
+  command->add_option("--size", options->size, "Image size WIDTHxHEIGHT in pixels")
+      ->capture_default_str();
+  command->add_flag("--colour-map,--color-map", options->isColourMap,
+                    "Colour the surface by spring stretch");
   command->add_flag("--wireframe", options->isWireframe, "Show the springs");
   command->callback([options] { takeSnapshot(*options); });
 }

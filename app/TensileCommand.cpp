@@ -43,7 +43,8 @@ Eigen::Vector3d parseSize(const std::string& text) {
   in >> size_mm.x() >> x1 >> size_mm.y() >> x2 >> size_mm.z();
   if (!in || x1 != 'x' || x2 != 'x' || !in.eof() || !(size_mm.array() > 0.0).all() ||
       !size_mm.allFinite()) {
-    throw CommandError("--size '" + text + "': expected LENGTHxWIDTHxTHICKNESS in mm, e.g. 55x20x5");
+    throw CommandError("--size '" + text +
+                       "': expected LENGTHxWIDTHxTHICKNESS in mm, e.g. 55x20x5");
   }
   return size_mm / 1000.0;
 }
@@ -118,22 +119,24 @@ void runTensile(const TensileCommandOptions& options) {
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const char* name = each == SpringLaw::Eesm ? "eesm" : each == SpringLaw::EesmPaper ? "eesm-paper" : "smm";
+    const char* name = each == SpringLaw::Eesm        ? "eesm"
+                       : each == SpringLaw::EesmPaper ? "eesm-paper"
+                                                      : "smm";
     for (std::size_t b = 0; b + 1 < curve.size(); b += 2) {
       char branch[64];
       std::snprintf(branch, sizeof branch, "cycle %d (lambda_max %.3f)", curve[b].cycle,
                     options.lambdaMax[static_cast<std::size_t>(curve[b].cycle - 1)]);
-      std::fprintf(stderr, "%-11s %-28s %9.4f%% %9.4f%%\n", name, branch,
-                   100.0 * coefficientOfDetermination(reference[b].stress_Pa, curve[b].stress_Pa),
-                   100.0 * coefficientOfDetermination(reference[b + 1].stress_Pa,
-                                                      curve[b + 1].stress_Pa));
+      std::fprintf(
+          stderr, "%-11s %-28s %9.4f%% %9.4f%%\n", name, branch,
+          100.0 * coefficientOfDetermination(reference[b].stress_Pa, curve[b].stress_Pa),
+          100.0 * coefficientOfDetermination(reference[b + 1].stress_Pa, curve[b + 1].stress_Pa));
     }
     std::fprintf(stderr,
                  "%-11s %d nodes, %d springs; max |net force| %.2g N, %.2g per N of grip force "
                  "(worst %d iterations), %d unconverged points; %.2f s\n",
                  name, stats.nodes, stats.springs, stats.worstResidual_N,
-                 stats.worstRelativeResidual, stats.worstIterations,
-                 stats.unconvergedPoints, seconds);
+                 stats.worstRelativeResidual, stats.worstIterations, stats.unconvergedPoints,
+                 seconds);
     if (each == law) writeCurveCsv(options.outputPath, curve);
     plotted.emplace_back(std::string(name) + " (network)", std::move(curve));
   }
@@ -153,27 +156,32 @@ void registerTensileCommand(CLI::App& app) {
   command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")->required();
   command->add_option("--model", options->modelName, "Spring law: eesm, eesm-paper, smm")
       ->capture_default_str();
-  command->add_option("--lambda-max", options->lambdaMax,
-                      "Peak stretch of each cycle, comma-separated (e.g. 1.15,1.23,1.30)")
+  command
+      ->add_option("--lambda-max", options->lambdaMax,
+                   "Peak stretch of each cycle, comma-separated (e.g. 1.15,1.23,1.30)")
       ->required()
       ->delimiter(',');
   command->add_option("--size", options->size, "Specimen LENGTHxWIDTHxTHICKNESS in mm")
       ->capture_default_str();
   command->add_option("--resolution", options->resolution, "Cells across the thickness (1-40)")
       ->capture_default_str();
-  command->add_option("--integrator", options->integrator,
-                      "static (Newton on equilibrium), implicit, quasi-newton or explicit "
-                      "(damped pseudo-time to the same tolerance)")
+  command
+      ->add_option("--integrator", options->integrator,
+                   "static (Newton on equilibrium), implicit, quasi-newton or explicit "
+                   "(damped pseudo-time to the same tolerance)")
       ->capture_default_str();
   command->add_option("--points", options->points, "Points per branch (>= 2)")
       ->capture_default_str();
   command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
-  command->add_option("--plot", options->plotPath, "Also draw the curves and the sedf reference to this PNG");
-  command->add_option("--calibration", options->calibration,
-                      "small-strain (scale V_e so the network's initial modulus is 3 mu0) or none")
+  command->add_option("--plot", options->plotPath,
+                      "Also draw the curves and the sedf reference to this PNG");
+  command
+      ->add_option("--calibration", options->calibration,
+                   "small-strain (scale V_e so the network's initial modulus is 3 mu0) or none")
       ->capture_default_str();
-  command->add_option("--bulk-modulus-kpa", options->bulkModulus_kPa,
-                      "Volume term's bulk modulus in kPa (0: off)")
+  command
+      ->add_option("--bulk-modulus-kpa", options->bulkModulus_kPa,
+                   "Volume term's bulk modulus in kPa (0: off)")
       ->capture_default_str();
   command->add_flag("--no-softening", options->isSofteningOff, "Turn the Mullins effect off");
   command->add_flag("--compare", options->isComparing,

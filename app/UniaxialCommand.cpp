@@ -76,17 +76,18 @@ void registerUniaxialCommand(CLI::App& app) {
       "Cyclic uniaxial test of one material point: loading to each lambda_max and unloading, "
       "stress softening carried between cycles. CSV on stdout or --output; R^2 against sedf on "
       "stderr.");
-  command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")
-      ->required();
+  command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")->required();
   command->add_option("--model", options->modelName, "Force law: " + modelNames())->required();
-  command->add_option("--lambda-max", options->lambdaMax,
-                      "Peak stretch of each cycle, comma-separated (e.g. 1.15,1.23,1.30)")
+  command
+      ->add_option("--lambda-max", options->lambdaMax,
+                   "Peak stretch of each cycle, comma-separated (e.g. 1.15,1.23,1.30)")
       ->required()
       ->delimiter(',');
   command->add_option("--points", options->points, "Points per branch (>= 2)")
       ->capture_default_str();
   command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
-  command->add_option("--plot", options->plotPath, "Also draw the curves and the sedf reference to this PNG");
+  command->add_option("--plot", options->plotPath,
+                      "Also draw the curves and the sedf reference to this PNG");
   command->callback([options] { runUniaxial(*options); });
 }
 

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "AssetPaths.h"
 #include "BenchCommand.h"
 #include "CommandError.h"
 #include "GuiCommand.h"
@@ -14,12 +15,12 @@
 #include "SnapshotCommand.h"
 #include "TensileCommand.h"
 #include "UniaxialCommand.h"
-#include "AssetPaths.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"TissueSim: real-time soft-tissue simulation with the Equivalent Energy Spring "
-               "Model (Moreno-Guerra et al., Polymers 2022)",
-               "tissuesim"};
+  CLI::App app{
+      "TissueSim: real-time soft-tissue simulation with the Equivalent Energy Spring "
+      "Model (Moreno-Guerra et al., Polymers 2022)",
+      "tissuesim"};
   app.set_version_flag("--version", "tissuesim 0.1.0");
   app.require_subcommand(0, 1);
   // One line on error, as for every other failure of the program.
@@ -45,7 +46,8 @@ int main(int argc, char** argv) {
   if (app.get_subcommands().empty()) {
     // No subcommand: the trainee's window on the bundled liver scene.
     try {
-      return tissuesim::app::runGui(tissuesim::app::bundledAsset("scenes/liver-poke.json").string(), 1, argv);
+      return tissuesim::app::runGui(tissuesim::app::bundledAsset("scenes/liver-poke.json").string(),
+                                    1, argv);
     } catch (const std::exception& error) {
       std::cerr << "tissuesim: error: " << error.what() << "\n";
       return 1;

@@ -47,7 +47,9 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
   const Eigen::Vector3d axisStart = axisEnd - m_settings.length_m * pose.direction;
   Capsule capsule{radius + margin, m_settings.length_m, Eigen::Isometry3d::Identity()};
   capsule.pose.translation() = 0.5 * (axisStart + axisEnd);
-  capsule.pose.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), pose.direction).toRotationMatrix();
+  capsule.pose.linear() =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), pose.direction)
+          .toRotationMatrix();
   m_bvh->touchedTriangles(capsule, m_touched);
 
   // Each touched triangle is held out of the capsule at its point p nearest the axis (c on the
@@ -83,8 +85,12 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
       away.normalize();
     }
     // penetration = r - u . (s(x) - c) = n . s(x) - offset with n = -u.
-    contacts.add({{ia, ib, ic}, closest.weights, -away, -(radius + away.dot(onAxis)),
-                  m_settings.stiffness_N_m, m_settings.damping_N_s_m});
+    contacts.add({{ia, ib, ic},
+                  closest.weights,
+                  -away,
+                  -(radius + away.dot(onAxis)),
+                  m_settings.stiffness_N_m,
+                  m_settings.damping_N_s_m});
   }
 }
 

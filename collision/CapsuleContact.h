@@ -52,11 +52,11 @@ class CapsuleContact final : public ContactProvider {
 
  private:
   CapsuleContactSettings m_settings;
-  Eigen::Matrix3Xi m_faces;           ///< boundary faces, local vertex indices
-  std::vector<int> m_surfaceNodes;    ///< local index -> mesh node
-  Eigen::MatrixX3d m_vertices;        ///< #local by 3 scratch for refits
+  Eigen::Matrix3Xi m_faces;         ///< boundary faces, local vertex indices
+  std::vector<int> m_surfaceNodes;  ///< local index -> mesh node
+  Eigen::MatrixX3d m_vertices;      ///< #local by 3 scratch for refits
   std::unique_ptr<SurfaceBvh> m_bvh;
-  std::vector<int> m_touched;         ///< scratch: local vertices of touched triangles
+  std::vector<int> m_touched;  ///< scratch: local vertices of touched triangles
   std::vector<char> m_isTouched;
 };
 

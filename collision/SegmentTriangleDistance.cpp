@@ -57,7 +57,8 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
 namespace {
 /// Ericson 5.1.9: closest points of segments p1-q1 and p2-q2, as parameters s and t.
 void closestSegmentSegment(const Eigen::Vector3d& p1, const Eigen::Vector3d& q1,
-                           const Eigen::Vector3d& p2, const Eigen::Vector3d& q2, double& s, double& t) {
+                           const Eigen::Vector3d& p2, const Eigen::Vector3d& q2, double& s,
+                           double& t) {
   const Eigen::Vector3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   const double tiny = 1e-30;

@@ -102,11 +102,13 @@ void SurfaceBvh::refit(const Eigen::Ref<const Eigen::MatrixX3d>& vertices) {
   // bit). Only the current vertices are kept (no previous frame: FCL's continuous queries,
   // which need it, are not made), and the narrow phase reads them from the model.
   fcl::BVHModel<fcl::AABBd>& model = *m_impl->model;
-  for (Eigen::Index i = 0; i < vertices.rows(); ++i) model.vertices[i] = vertices.row(i).transpose();
+  for (Eigen::Index i = 0; i < vertices.rows(); ++i)
+    model.vertices[i] = vertices.row(i).transpose();
   for (const int id : m_impl->refitOrder) {
     fcl::BVNode<fcl::AABBd>& node = model.getBV(id);
     if (node.first_child < 0) {
-      const std::array<int, 3>& t = m_impl->corners[static_cast<std::size_t>(-(node.first_child + 1))];
+      const std::array<int, 3>& t =
+          m_impl->corners[static_cast<std::size_t>(-(node.first_child + 1))];
       const fcl::Vector3d& a = model.vertices[t[0]];
       const fcl::Vector3d& b = model.vertices[t[1]];
       const fcl::Vector3d& c = model.vertices[t[2]];
@@ -128,7 +130,8 @@ CapsuleSurfaceDistance SurfaceBvh::distanceTo(const Capsule& capsule) const {
   const fcl::BVHModel<fcl::AABBd>& model = *m_impl->model;
   // The model's own vertices and triangles (FCL keeps the triangles in the order given).
   const std::vector<fcl::Vector3d> points(model.vertices, model.vertices + m_impl->vertexCount);
-  const std::vector<fcl::Triangle> faces(model.tri_indices, model.tri_indices + m_impl->triangleCount);
+  const std::vector<fcl::Triangle> faces(model.tri_indices,
+                                         model.tri_indices + m_impl->triangleCount);
   distanceModel->beginModel(m_impl->triangleCount, m_impl->vertexCount);
   distanceModel->addSubModel(points, faces);
   distanceModel->endModel();

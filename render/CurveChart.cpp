@@ -14,7 +14,8 @@
 
 namespace tissuesim {
 
-CurveChart::CurveChart(const std::string& title, const std::string& xTitle, const std::string& yTitle)
+CurveChart::CurveChart(const std::string& title, const std::string& xTitle,
+                       const std::string& yTitle)
     : m_renderer(vtkSmartPointer<vtkRenderer>::New()),
       m_actor(vtkSmartPointer<vtkContextActor>::New()),
       m_chart(vtkSmartPointer<vtkChartXY>::New()) {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include <vtkRenderer.h>
 #include <vtkChartXY.h>
+#include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 
 class vtkChartXY;

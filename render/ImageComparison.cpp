@@ -11,20 +11,23 @@ namespace tissuesim {
 std::string ImageDifference::describe() const {
   if (!isSameSize) return "the images differ in size or channels";
   char text[160];
-  std::snprintf(text, sizeof text, "%ld of %ld pixels differ (%.3f %%), mean absolute difference %.3f / 255",
+  std::snprintf(text, sizeof text,
+                "%ld of %ld pixels differ (%.3f %%), mean absolute difference %.3f / 255",
                 differingPixels, pixels, 100.0 * differingFraction(), meanAbsoluteDifference);
   return text;
 }
 
 ImageDifference compareImages(vtkImageData* actual, vtkImageData* reference,
-                              const ImageTolerance& tolerance, vtkSmartPointer<vtkImageData>* diff) {
+                              const ImageTolerance& tolerance,
+                              vtkSmartPointer<vtkImageData>* diff) {
   ImageDifference result;
   int a[3], b[3];
   actual->GetDimensions(a);
   reference->GetDimensions(b);
   const int channels = actual->GetNumberOfScalarComponents();
   if (a[0] != b[0] || a[1] != b[1] || channels != reference->GetNumberOfScalarComponents() ||
-      actual->GetScalarType() != VTK_UNSIGNED_CHAR || reference->GetScalarType() != VTK_UNSIGNED_CHAR) {
+      actual->GetScalarType() != VTK_UNSIGNED_CHAR ||
+      reference->GetScalarType() != VTK_UNSIGNED_CHAR) {
     return result;
   }
   result.isSameSize = true;

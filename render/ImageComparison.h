@@ -18,8 +18,8 @@ class vtkImageData;
 namespace tissuesim {
 
 struct ImageTolerance {
-  int channelTolerance = 24;    ///< of 255
-  double pixelFraction = 0.002; ///< 0.2 % of the pixels
+  int channelTolerance = 24;     ///< of 255
+  double pixelFraction = 0.002;  ///< 0.2 % of the pixels
 };
 
 struct ImageDifference {
@@ -27,7 +27,9 @@ struct ImageDifference {
   long differingPixels = 0;
   long pixels = 0;
   double meanAbsoluteDifference = 0.0;  ///< over all channels, of 255
-  double differingFraction() const { return pixels > 0 ? static_cast<double>(differingPixels) / pixels : 1.0; }
+  double differingFraction() const {
+    return pixels > 0 ? static_cast<double>(differingPixels) / pixels : 1.0;
+  }
   bool matches(const ImageTolerance& tolerance) const {
     return isSameSize && differingFraction() <= tolerance.pixelFraction;
   }
@@ -36,6 +38,7 @@ struct ImageDifference {
 
 /// Compares two RGB(A) 8-bit images; `diff` (optional) receives |a - b| per channel, scaled x4.
 ImageDifference compareImages(vtkImageData* actual, vtkImageData* reference,
-                              const ImageTolerance& tolerance, vtkSmartPointer<vtkImageData>* diff = nullptr);
+                              const ImageTolerance& tolerance,
+                              vtkSmartPointer<vtkImageData>* diff = nullptr);
 
 }  // namespace tissuesim

@@ -57,7 +57,8 @@ void writePng(vtkImageData* image, const std::filesystem::path& path) {
   writer->SetFileName(path.string().c_str());
   writer->SetInputData(image);
   writer->Write();
-  if (writer->GetErrorCode() != 0) throw std::runtime_error("cannot write the image " + path.string());
+  if (writer->GetErrorCode() != 0)
+    throw std::runtime_error("cannot write the image " + path.string());
 }
 
 vtkSmartPointer<vtkImageData> readPng(const std::filesystem::path& path) {

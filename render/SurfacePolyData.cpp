@@ -12,7 +12,8 @@ namespace tissuesim {
 SurfacePolyData::SurfacePolyData(const Eigen::Ref<const Eigen::MatrixX3d>& vertices,
                                  const Eigen::Ref<const Eigen::MatrixX3i>& triangles)
     : m_polyData(vtkSmartPointer<vtkPolyData>::New()) {
-  if (triangles.rows() > 0 && (triangles.minCoeff() < 0 || triangles.maxCoeff() >= vertices.rows())) {
+  if (triangles.rows() > 0 &&
+      (triangles.minCoeff() < 0 || triangles.maxCoeff() >= vertices.rows())) {
     throw std::invalid_argument("a surface triangle refers to a vertex outside 0.." +
                                 std::to_string(vertices.rows() - 1));
   }

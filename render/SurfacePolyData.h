@@ -3,8 +3,8 @@
 // and each frame only the points are overwritten in place (no reallocation), then marked
 // modified so VTK's pipeline re-renders.
 
-#include <Eigen/Core>
 #include <vtkSmartPointer.h>
+#include <Eigen/Core>
 
 class vtkPolyData;
 

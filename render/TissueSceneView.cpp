@@ -29,7 +29,6 @@
 namespace tissuesim {
 namespace {
 
-
 void setPoints(vtkPoints* points, const Eigen::Matrix3Xd& x) {
   for (Eigen::Index i = 0; i < x.cols(); ++i) points->SetPoint(i, x(0, i), x(1, i), x(2, i));
   points->Modified();
@@ -60,9 +59,10 @@ TissueSceneView::TissueSceneView(const SceneGeometry& geometry, const SpringMesh
   buildSprings();
   buildTray();
   buildInstrument();
-  update(springs.restPositions_m, instrument != nullptr
-                                      ? InstrumentPose{instrument->tipStart_m, instrument->direction, false}
-                                      : InstrumentPose{});
+  update(springs.restPositions_m,
+         instrument != nullptr
+             ? InstrumentPose{instrument->tipStart_m, instrument->direction, false}
+             : InstrumentPose{});
   resetCamera();
 }
 
@@ -105,7 +105,8 @@ void TissueSceneView::buildSurface() {
     const double r = s < 0.5 ? 0.23 + 1.54 * s : 1.0;
     const double g = s < 0.5 ? 0.30 + 1.40 * s : 1.0 - 1.6 * (s - 0.5);
     const double b = s < 0.5 ? 0.75 + 0.50 * s : 1.0 - 1.7 * (s - 0.5);
-    lut->SetTableValue(i, std::clamp(r, 0.0, 1.0), std::clamp(g, 0.0, 1.0), std::clamp(b, 0.0, 1.0));
+    lut->SetTableValue(i, std::clamp(r, 0.0, 1.0), std::clamp(g, 0.0, 1.0),
+                       std::clamp(b, 0.0, 1.0));
   }
   lut->Build();
   auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
@@ -243,14 +244,16 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
       const int a = m_springs.springs(0, s), b = m_springs.springs(1, s);
       const double lambda = (x.col(b) - x.col(a)).norm() / m_springs.restLength_m[s];
       for (const int node : {a, b}) {
-        if (std::abs(lambda - 1.0) > std::abs(m_nodeStretch[node] - 1.0)) m_nodeStretch[node] = lambda;
+        if (std::abs(lambda - 1.0) > std::abs(m_nodeStretch[node] - 1.0))
+          m_nodeStretch[node] = lambda;
       }
     }
     for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) {
       double value = 0.0;
       if (isEmbedded) {
         for (int k = 0; k < 4; ++k) {
-          value += m_geometry.embedding->weights()(k, v) * m_nodeStretch[m_geometry.embedding->nodes()(k, v)];
+          value += m_geometry.embedding->weights()(k, v) *
+                   m_nodeStretch[m_geometry.embedding->nodes()(k, v)];
         }
       } else {
         value = m_nodeStretch[v];

@@ -15,9 +15,9 @@
 #include <optional>
 #include <vector>
 
-#include <Eigen/Core>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <Eigen/Core>
 
 #include "sim/ContactProvider.h"
 #include "sim/SceneFile.h"
@@ -86,8 +86,8 @@ class TissueSceneView {
   vtkSmartPointer<vtkActor> m_trayActor;
   double m_trayHeight_m = 0.0;  ///< along the up axis (y)
 
-  Eigen::Matrix3Xd m_surfaceX;          ///< scratch: surface vertices (m)
-  Eigen::VectorXd m_nodeStretch;        ///< scratch: per tet node
+  Eigen::Matrix3Xd m_surfaceX;    ///< scratch: surface vertices (m)
+  Eigen::VectorXd m_nodeStretch;  ///< scratch: per tet node
   bool m_isColourMap = false;
   bool m_isWireframe = false;
 };

@@ -25,7 +25,9 @@ namespace {
 /// VTK prints its complaints to stderr; ours is one line. Silence it while reading.
 class QuietVtk {
  public:
-  QuietVtk() : m_previous(vtkObject::GetGlobalWarningDisplay()) { vtkObject::GlobalWarningDisplayOff(); }
+  QuietVtk() : m_previous(vtkObject::GetGlobalWarningDisplay()) {
+    vtkObject::GlobalWarningDisplayOff();
+  }
   ~QuietVtk() { vtkObject::SetGlobalWarningDisplay(m_previous); }
   QuietVtk(const QuietVtk&) = delete;
   QuietVtk& operator=(const QuietVtk&) = delete;
@@ -55,13 +57,15 @@ vtkSmartPointer<vtkDataSet> readDataSet(const std::filesystem::path& path) {
   vtkSmartPointer<vtkDataSet> data;
   if (extension == ".vtp") {
     vtkNew<vtkXMLPolyDataReader> reader;
-    if (reader->CanReadFile(name.c_str()) == 0) throw MeshFileError(name + ": not a VTK XML polydata file");
+    if (reader->CanReadFile(name.c_str()) == 0)
+      throw MeshFileError(name + ": not a VTK XML polydata file");
     reader->SetFileName(name.c_str());
     reader->Update();
     data = reader->GetOutput();
   } else if (extension == ".vtu") {
     vtkNew<vtkXMLUnstructuredGridReader> reader;
-    if (reader->CanReadFile(name.c_str()) == 0) throw MeshFileError(name + ": not a VTK XML unstructured grid file");
+    if (reader->CanReadFile(name.c_str()) == 0)
+      throw MeshFileError(name + ": not a VTK XML unstructured grid file");
     reader->SetFileName(name.c_str());
     reader->Update();
     data = reader->GetOutput();
@@ -89,7 +93,8 @@ Eigen::Matrix3Xd points(vtkDataSet* data, const std::string& name, double metres
     data->GetPoint(i, p);
     nodes.col(i) = Eigen::Vector3d(p[0], p[1], p[2]) * metresPerUnit;
     if (!nodes.col(i).allFinite()) {
-      throw MeshFileError(name + ": point " + std::to_string(i) + " has a coordinate that is not finite");
+      throw MeshFileError(name + ": point " + std::to_string(i) +
+                          " has a coordinate that is not finite");
     }
     if (nodes.col(i).cwiseAbs().maxCoeff() > 100.0) {
       throw MeshFileError(name + ": point " + std::to_string(i) +
@@ -124,7 +129,8 @@ TriangleSurface readVtkSurface(const std::filesystem::path& path, double metresP
   }
   if (triangles.empty()) throw MeshFileError(name + ": the VTK file holds no polygons");
   surface.triangles.resize(3, static_cast<Eigen::Index>(triangles.size()));
-  for (std::size_t f = 0; f < triangles.size(); ++f) surface.triangles.col(static_cast<Eigen::Index>(f)) = triangles[f];
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+    surface.triangles.col(static_cast<Eigen::Index>(f)) = triangles[f];
   return surface;
 }
 
@@ -147,10 +153,12 @@ TetMesh readVtkTetMesh(const std::filesystem::path& path, double metresPerUnit,
                       static_cast<int>(ids->GetId(2)), static_cast<int>(ids->GetId(3)));
   }
   if (tets.empty()) {
-    throw MeshFileError(name + ": the mesh has no tetrahedra (" + std::to_string(skipped) + " other cells)");
+    throw MeshFileError(name + ": the mesh has no tetrahedra (" + std::to_string(skipped) +
+                        " other cells)");
   }
   mesh.tets.resize(4, static_cast<Eigen::Index>(tets.size()));
-  for (std::size_t t = 0; t < tets.size(); ++t) mesh.tets.col(static_cast<Eigen::Index>(t)) = tets[t];
+  for (std::size_t t = 0; t < tets.size(); ++t)
+    mesh.tets.col(static_cast<Eigen::Index>(t)) = tets[t];
   TetMeshReadReport local;
   local.skippedElements = skipped;
   local.format = path.extension() == ".vtu" ? "vtk xml" : "vtk legacy";

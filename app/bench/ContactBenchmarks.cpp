@@ -29,9 +29,11 @@ InstrumentPose pressToPokeDepth(Simulation& simulation, const SceneDescription& 
 
 void registerContactBenchmarks(const std::string& scenePath) {
   const SceneDescription scene = loadSceneFile(scenePath);
-  benchmark::RegisterBenchmark("Contact/QueryAndResponse/liver5k", [scene](benchmark::State& state) {
+  benchmark::RegisterBenchmark("Contact/QueryAndResponse/liver5k", [scene](
+                                                                       benchmark::State& state) {
     Simulation simulation(scene);
-    CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    CapsuleContact contact(simulation.geometry().mesh,
+                           {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
     LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
     simulation.setContactProvider(&contact);
     simulation.setInstrumentSource(&live);
@@ -65,8 +67,10 @@ void registerContactBenchmarks(const std::string& scenePath) {
     changed.linearTolerance = setting.linearTolerance;
     changed.threads = setting.threads;
     Simulation simulation(changed);
-    CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
-    const InstrumentScript script = InstrumentScript::poke({scene.instrument->tipStart_m, scene.instrument->direction}, 0.04, 1.0);
+    CapsuleContact contact(simulation.geometry().mesh,
+                           {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    const InstrumentScript script = InstrumentScript::poke(
+        {scene.instrument->tipStart_m, scene.instrument->direction}, 0.04, 1.0);
     simulation.setContactProvider(&contact);
     simulation.setInstrumentSource(&script);
     const auto steps = static_cast<long>(std::lround(seconds / simulation.timeStep_s()));
@@ -81,63 +85,78 @@ void registerContactBenchmarks(const std::string& scenePath) {
   };
   const auto reference = std::make_shared<std::vector<Eigen::Matrix3Xd>>();
   const auto referenceForce = std::make_shared<double>(0.0);
-  for (const Setting setting : {Setting{"Trade/Poke/implicit_newton8_cg1e-8", "implicit", 8, 1e-8, 1},
-                                Setting{"Trade/Poke/implicit_newton2_cg1e-6", "implicit", 2, 1e-6, 1},
-                                Setting{"Trade/Poke/implicit_newton1_cg1e-4", "implicit", 1, 1e-4, 1},
-                                Setting{"Trade/Poke/implicit_newton1_cg1e-4/threads:2", "implicit", 1, 1e-4, 2},
-                                Setting{"Trade/Poke/implicit_newton1_cg1e-3", "implicit", 1, 1e-3, 1},
-                                Setting{"Trade/Poke/implicit_newton1_cg1e-2", "implicit", 1, 1e-2, 1},
-                                Setting{"Trade/Poke/explicit", "explicit", 2, 1e-6, 1},
-                                Setting{"Trade/Poke/explicit/threads:2", "explicit", 2, 1e-6, 2},
-                                Setting{"Trade/Poke/quasi_newton2", "quasi-newton", 2, 1e-6, 1},
-                                Setting{"Trade/Poke/quasi_newton5", "quasi-newton", 5, 1e-6, 1}}) {
-    benchmark::RegisterBenchmark(setting.name, [=](benchmark::State& state) {
-      if (reference->empty()) {
-        *reference = pokeTo({"", "implicit", 8, 1e-8, 1}, 1.0, referenceForce.get());
-      }
-      double force = 0.0;
-      std::vector<Eigen::Matrix3Xd> trail;
-      for (auto _ : state) trail = pokeTo(setting, 1.0, &force);
-      double worst = 0.0;
-      for (std::size_t k = 0; k < trail.size() && k < reference->size(); ++k) {
-        worst = std::max(worst, (trail[k] - (*reference)[k]).colwise().norm().maxCoeff());
-      }
-      state.counters["error_deepest_um"] = (trail.back() - reference->back()).colwise().norm().maxCoeff() * 1e6;
-      state.counters["error_max_um"] = worst * 1e6;
-      state.counters["force_n"] = force;
-      state.counters["force_error_pct"] = 100.0 * std::abs(force - *referenceForce) / *referenceForce;
-      state.counters["steps_per_s"] = benchmark::Counter(1000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-    })->Unit(benchmark::kMillisecond)->Iterations(1);
+  for (const Setting setting :
+       {Setting{"Trade/Poke/implicit_newton8_cg1e-8", "implicit", 8, 1e-8, 1},
+        Setting{"Trade/Poke/implicit_newton2_cg1e-6", "implicit", 2, 1e-6, 1},
+        Setting{"Trade/Poke/implicit_newton1_cg1e-4", "implicit", 1, 1e-4, 1},
+        Setting{"Trade/Poke/implicit_newton1_cg1e-4/threads:2", "implicit", 1, 1e-4, 2},
+        Setting{"Trade/Poke/implicit_newton1_cg1e-3", "implicit", 1, 1e-3, 1},
+        Setting{"Trade/Poke/implicit_newton1_cg1e-2", "implicit", 1, 1e-2, 1},
+        Setting{"Trade/Poke/explicit", "explicit", 2, 1e-6, 1},
+        Setting{"Trade/Poke/explicit/threads:2", "explicit", 2, 1e-6, 2},
+        Setting{"Trade/Poke/quasi_newton2", "quasi-newton", 2, 1e-6, 1},
+        Setting{"Trade/Poke/quasi_newton5", "quasi-newton", 5, 1e-6, 1}}) {
+    benchmark::RegisterBenchmark(
+        setting.name,
+        [=](benchmark::State& state) {
+          if (reference->empty()) {
+            *reference = pokeTo({"", "implicit", 8, 1e-8, 1}, 1.0, referenceForce.get());
+          }
+          double force = 0.0;
+          std::vector<Eigen::Matrix3Xd> trail;
+          for (auto _ : state) trail = pokeTo(setting, 1.0, &force);
+          double worst = 0.0;
+          for (std::size_t k = 0; k < trail.size() && k < reference->size(); ++k) {
+            worst = std::max(worst, (trail[k] - (*reference)[k]).colwise().norm().maxCoeff());
+          }
+          state.counters["error_deepest_um"] =
+              (trail.back() - reference->back()).colwise().norm().maxCoeff() * 1e6;
+          state.counters["error_max_um"] = worst * 1e6;
+          state.counters["force_n"] = force;
+          state.counters["force_error_pct"] =
+              100.0 * std::abs(force - *referenceForce) / *referenceForce;
+          state.counters["steps_per_s"] = benchmark::Counter(
+              1000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+        })
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
   }
 
   for (const int threads : {1, 2}) {
-  const std::string name = "Contact/WholeStep/liver5k/threads:" + std::to_string(threads);
-  benchmark::RegisterBenchmark(name.c_str(), [scene, threads](benchmark::State& state) {
-    SceneDescription changed = scene;
-    changed.threads = threads;
-    Simulation simulation(changed);
-    CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
-    LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
-    simulation.setContactProvider(&contact);
-    simulation.setInstrumentSource(&live);
-    pressToPokeDepth(simulation, scene, live);
-    long linearIterations = 0;
-    double force_N = 0.0;
-    for (auto _ : state) {
-      const StepOutcome outcome = simulation.step();
-      linearIterations += outcome.integrator.linearIterations;
-      force_N = outcome.contact.toolForce_N.norm();
-    }
-    state.counters["tool_force_n"] = force_N;
-    state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
-    state.counters["threads"] = threads;
-    state.counters["cg_iterations"] = static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
-    state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-    // A fixed count of steps after the press, not a minimum time: held still, the tissue settles
-    // and each step needs fewer CG products (11 just after arrival, 6 after four seconds), so a
-    // time-based count made the figure depend on --benchmark_min_time. 400 steps is the first
-    // 0.4 s of holding, the part a trainee's poke spends there.
-  })->Unit(benchmark::kMicrosecond)->Iterations(400);
+    const std::string name = "Contact/WholeStep/liver5k/threads:" + std::to_string(threads);
+    benchmark::RegisterBenchmark(
+        name.c_str(),
+        [scene, threads](benchmark::State& state) {
+          SceneDescription changed = scene;
+          changed.threads = threads;
+          Simulation simulation(changed);
+          CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m,
+                                                              scene.instrument->shaftLength_m});
+          LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
+          simulation.setContactProvider(&contact);
+          simulation.setInstrumentSource(&live);
+          pressToPokeDepth(simulation, scene, live);
+          long linearIterations = 0;
+          double force_N = 0.0;
+          for (auto _ : state) {
+            const StepOutcome outcome = simulation.step();
+            linearIterations += outcome.integrator.linearIterations;
+            force_N = outcome.contact.toolForce_N.norm();
+          }
+          state.counters["tool_force_n"] = force_N;
+          state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
+          state.counters["threads"] = threads;
+          state.counters["cg_iterations"] =
+              static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
+          state.counters["steps_per_s"] = benchmark::Counter(
+              static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+          // A fixed count of steps after the press, not a minimum time: held still, the tissue
+          // settles and each step needs fewer CG products (11 just after arrival, 6 after four
+          // seconds), so a time-based count made the figure depend on --benchmark_min_time. 400
+          // steps is the first 0.4 s of holding, the part a trainee's poke spends there.
+        })
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(400);
   }
 }
 

@@ -76,16 +76,19 @@ void runSteps(benchmark::State& state, BenchScene& scene, TimeIntegrator& integr
   const auto springs = static_cast<double>(scene.mesh.springCount());
   state.counters["springs"] = springs;
   state.counters["dt_ms"] = dt * 1e3;
-  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()),
-                                                     benchmark::Counter::kIsRate);
-  state.counters["substeps"] = static_cast<double>(substeps) / static_cast<double>(state.iterations());
+  state.counters["steps_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["substeps"] =
+      static_cast<double>(substeps) / static_cast<double>(state.iterations());
   // The explicit integrator's own step is the substep (at its stable step size): its rate is
   // what compares with the explicit target; the slab stiffens as it sags, so the substeps per
   // benchmark step grow with the time simulated.
-  state.counters["substeps_per_s"] = benchmark::Counter(static_cast<double>(substeps),
-                                                        benchmark::Counter::kIsRate);
-  state.counters["iterations"] = static_cast<double>(iterations) / static_cast<double>(state.iterations());
-  state.counters["cg_iterations"] = static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
+  state.counters["substeps_per_s"] =
+      benchmark::Counter(static_cast<double>(substeps), benchmark::Counter::kIsRate);
+  state.counters["iterations"] =
+      static_cast<double>(iterations) / static_cast<double>(state.iterations());
+  state.counters["cg_iterations"] =
+      static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * springs));
 }
 
@@ -154,55 +157,59 @@ void registerDynamicsBenchmarks(const std::string& tissuePath) {
     benchmark::RegisterBenchmark(("SpringMesh/Build" + suffix).c_str(),
                                  [parameters, cells = cells](benchmark::State& state) {
                                    for (auto _ : state) {
-                                     const SpringMesh mesh = buildSpringMesh(
-                                         makeBlockMesh({0.2, 0.2, 0.2}, cells), parameters.density_kg_m3);
+                                     const SpringMesh mesh =
+                                         buildSpringMesh(makeBlockMesh({0.2, 0.2, 0.2}, cells),
+                                                         parameters.density_kg_m3);
                                      benchmark::DoNotOptimize(mesh.springCount());
                                    }
                                  })
         ->Unit(benchmark::kMillisecond);
 
     for (const int threads : {1, 2}) {
-    const std::string threadSuffix = suffix + "/threads:" + std::to_string(threads);
-    benchmark::RegisterBenchmark(("Step/Explicit" + threadSuffix).c_str(),
-                                 [parameters, cells = cells, threads](benchmark::State& state) {
-                                   BenchScene scene(parameters, cells);
-                                   ForkJoinPool pool(threads);
-                                   scene.springs.setThreadPool(&pool);
-                                   IntegratorSettings settings;
-                                   settings.massDamping_1_s = 1.0;
-                                   SymplecticEulerSolver integrator(settings);
-                                   // The largest step it takes without substepping.
-                                   const double dt = SymplecticEulerSolver::stableTimeStep(
-                                       scene.system, scene.state.x, settings.stabilitySafety);
-                                   runSteps(state, scene, integrator, 0.99 * dt);
-                                   state.counters["threads"] = threads;
-                                 })
-        ->Unit(benchmark::kMicrosecond)
-        ->Iterations(timedSteps(cells, false));
-
-    for (const auto& [name, kind] : {std::pair{"Step/ImplicitCG", LinearSolverKind::ConjugateGradient},
-                                     std::pair{"Step/ImplicitCholesky", LinearSolverKind::Cholesky}}) {
-      // Eigen's simplicial (non-supernodal) Cholesky takes 0.2 s a factorisation at 5k springs;
-      // at 100k it would take minutes a step, so it is not run there.
-      if (kind == LinearSolverKind::Cholesky && cells == kLargeSize) continue;
-      if (kind == LinearSolverKind::Cholesky && threads > 1) continue;  // the factorisation is serial
-      benchmark::RegisterBenchmark((name + threadSuffix).c_str(),
-                                   [parameters, cells = cells, kind = kind, threads](benchmark::State& state) {
+      const std::string threadSuffix = suffix + "/threads:" + std::to_string(threads);
+      benchmark::RegisterBenchmark(("Step/Explicit" + threadSuffix).c_str(),
+                                   [parameters, cells = cells, threads](benchmark::State& state) {
                                      BenchScene scene(parameters, cells);
                                      ForkJoinPool pool(threads);
                                      scene.springs.setThreadPool(&pool);
                                      IntegratorSettings settings;
                                      settings.massDamping_1_s = 1.0;
-                                     settings.maxIterations = 2;
-                                     settings.forceTolerance_N = 1e-6;
-                                     ImplicitEulerSolver integrator(settings, kind);
-                                     runSteps(state, scene, integrator, 1e-3);
+                                     SymplecticEulerSolver integrator(settings);
+                                     // The largest step it takes without substepping.
+                                     const double dt = SymplecticEulerSolver::stableTimeStep(
+                                         scene.system, scene.state.x, settings.stabilitySafety);
+                                     runSteps(state, scene, integrator, 0.99 * dt);
                                      state.counters["threads"] = threads;
                                    })
           ->Unit(benchmark::kMicrosecond)
-          // Cholesky: 0.1 s a step, so ten of them.
-          ->Iterations(kind == LinearSolverKind::Cholesky ? 10 : timedSteps(cells, true));
-    }
+          ->Iterations(timedSteps(cells, false));
+
+      for (const auto& [name, kind] :
+           {std::pair{"Step/ImplicitCG", LinearSolverKind::ConjugateGradient},
+            std::pair{"Step/ImplicitCholesky", LinearSolverKind::Cholesky}}) {
+        // Eigen's simplicial (non-supernodal) Cholesky takes 0.2 s a factorisation at 5k springs;
+        // at 100k it would take minutes a step, so it is not run there.
+        if (kind == LinearSolverKind::Cholesky && cells == kLargeSize) continue;
+        if (kind == LinearSolverKind::Cholesky && threads > 1)
+          continue;  // the factorisation is serial
+        benchmark::RegisterBenchmark(
+            (name + threadSuffix).c_str(),
+            [parameters, cells = cells, kind = kind, threads](benchmark::State& state) {
+              BenchScene scene(parameters, cells);
+              ForkJoinPool pool(threads);
+              scene.springs.setThreadPool(&pool);
+              IntegratorSettings settings;
+              settings.massDamping_1_s = 1.0;
+              settings.maxIterations = 2;
+              settings.forceTolerance_N = 1e-6;
+              ImplicitEulerSolver integrator(settings, kind);
+              runSteps(state, scene, integrator, 1e-3);
+              state.counters["threads"] = threads;
+            })
+            ->Unit(benchmark::kMicrosecond)
+            // Cholesky: 0.1 s a step, so ten of them.
+            ->Iterations(kind == LinearSolverKind::Cholesky ? 10 : timedSteps(cells, true));
+      }
     }
 
     if (cells == kLargeSize) continue;  // its prefactored H0 is a Cholesky too: see above

@@ -60,13 +60,13 @@ void registerMaterialBenchmarks(const std::string& tissuePath) {
         lookup(state, [](const StrainEnergy&, const StiffnessTable& table, const StressSoftening&,
                          double lambda) { return table.stressAndSlope(lambda).slope; });
       });
-  benchmark::RegisterBenchmark(
-      "StiffnessTable/SoftenedStressLookup", [lookup](benchmark::State& state) {
-        lookup(state, [](const StrainEnergy&, const StiffnessTable& table,
-                         const StressSoftening& softening, double lambda) {
-          return softening.soften(table.stress(lambda), lambda, 1.25);
-        });
-      });
+  benchmark::RegisterBenchmark("StiffnessTable/SoftenedStressLookup",
+                               [lookup](benchmark::State& state) {
+                                 lookup(state, [](const StrainEnergy&, const StiffnessTable& table,
+                                                  const StressSoftening& softening, double lambda) {
+                                   return softening.soften(table.stress(lambda), lambda, 1.25);
+                                 });
+                               });
   benchmark::RegisterBenchmark("StrainEnergy/ClosedFormStress", [lookup](benchmark::State& state) {
     lookup(state, [](const StrainEnergy& energy, const StiffnessTable&, const StressSoftening&,
                      double lambda) { return energy.stress(lambda); });

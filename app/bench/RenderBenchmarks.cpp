@@ -7,10 +7,10 @@
 #include <benchmark/benchmark.h>
 
 #include "HeadlessDisplay.h"
-#include "bench/ContactBenchmarks.h"
 #include "OffscreenImage.h"
 #include "SceneSession.h"
 #include "TissueSceneView.h"
+#include "bench/ContactBenchmarks.h"
 
 namespace tissuesim::app {
 namespace {
@@ -27,7 +27,8 @@ void frameBenchmark(benchmark::State& state, const std::string& scenePath, bool 
   SceneSession session(scenePath, "", InstrumentDriver::Script);
   Simulation& simulation = session.simulation();
   for (int n = 0; n < 600; ++n) simulation.step();  // mid-poke: a deformed surface
-  TissueSceneView view(simulation.geometry(), simulation.springMesh(), &*session.scene().instrument);
+  TissueSceneView view(simulation.geometry(), simulation.springMesh(),
+                       &*session.scene().instrument);
   view.setColourMap(isColourMap);
   OffscreenWindow window(view.renderer(), 1280, 800);
   for (auto _ : state) {
@@ -35,12 +36,13 @@ void frameBenchmark(benchmark::State& state, const std::string& scenePath, bool 
     view.update(simulation.state().x, simulation.instrumentPose());
     window.render();
   }
-  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["fps"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
 }
 
-/// The real-time loop for 3 s of wall time with the probe held at the poke's depth, alone or with the
-/// main thread rendering frames at up to 60 per second as the window does.
+/// The real-time loop for 3 s of wall time with the probe held at the poke's depth, alone or with
+/// the main thread rendering frames at up to 60 per second as the window does.
 void physicsRateBenchmark(benchmark::State& state, const std::string& scenePath, bool isRendering) {
   if (isRendering) ensureDisplay();
   SceneSession session(scenePath, "", InstrumentDriver::Live);
@@ -85,17 +87,22 @@ void physicsRateBenchmark(benchmark::State& state, const std::string& scenePath,
 }  // namespace
 
 void registerRenderBenchmarks(const std::string& scenePath) {
-  benchmark::RegisterBenchmark("Render/Frame/liver/1280x800", [scenePath](benchmark::State& state) {
-    frameBenchmark(state, scenePath, false);
-  })->Unit(benchmark::kMillisecond)->UseRealTime();
-  benchmark::RegisterBenchmark("Render/Frame/liver/1280x800/colour_map", [scenePath](benchmark::State& state) {
-    frameBenchmark(state, scenePath, true);
-  })->Unit(benchmark::kMillisecond)->UseRealTime();
+  benchmark::RegisterBenchmark(
+      "Render/Frame/liver/1280x800",
+      [scenePath](benchmark::State& state) { frameBenchmark(state, scenePath, false); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
+  benchmark::RegisterBenchmark(
+      "Render/Frame/liver/1280x800/colour_map",
+      [scenePath](benchmark::State& state) { frameBenchmark(state, scenePath, true); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
   for (const bool isRendering : {false, true}) {
-    benchmark::RegisterBenchmark(isRendering ? "Render/PhysicsRate/with_rendering" : "Render/PhysicsRate/alone",
-                                 [scenePath, isRendering](benchmark::State& state) {
-                                   physicsRateBenchmark(state, scenePath, isRendering);
-                                 })
+    benchmark::RegisterBenchmark(
+        isRendering ? "Render/PhysicsRate/with_rendering" : "Render/PhysicsRate/alone",
+        [scenePath, isRendering](benchmark::State& state) {
+          physicsRateBenchmark(state, scenePath, isRendering);
+        })
         ->Iterations(1)
         ->Unit(benchmark::kMillisecond);
   }

@@ -7,7 +7,7 @@ namespace tissuesim::app {
 
 vtkStandardNewMacro(InstrumentInteractorStyle)
 
-void InstrumentInteractorStyle::OnMouseMove() {
+    void InstrumentInteractorStyle::OnMouseMove() {
   if (GetState() == VTKIS_NONE && onHover) {
     const int* position = GetInteractor()->GetEventPosition();
     onHover(position[0], position[1]);

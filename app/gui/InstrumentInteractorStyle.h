@@ -15,8 +15,8 @@ class InstrumentInteractorStyle : public vtkInteractorStyleTrackballCamera {
   static InstrumentInteractorStyle* New();
   vtkTypeMacro(InstrumentInteractorStyle, vtkInteractorStyleTrackballCamera)
 
-  /// Display coordinates (pixels, VTK's origin bottom-left) of a hover.
-  std::function<void(int x, int y)> onHover;
+      /// Display coordinates (pixels, VTK's origin bottom-left) of a hover.
+      std::function<void(int x, int y)> onHover;
   /// +1 per wheel notch forward (deeper), -1 backward.
   std::function<void(int notches)> onWheel;
 

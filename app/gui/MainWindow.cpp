@@ -4,6 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkCamera.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkImageData.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+#include <vtkWindowToImageFilter.h>
 #include <QAction>
 #include <QDockWidget>
 #include <QFileDialog>
@@ -12,13 +19,6 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QStatusBar>
-#include <QVTKOpenGLNativeWidget.h>
-#include <vtkCamera.h>
-#include <vtkGenericOpenGLRenderWindow.h>
-#include <vtkImageData.h>
-#include <vtkRenderWindowInteractor.h>
-#include <vtkRenderer.h>
-#include <vtkWindowToImageFilter.h>
 
 #include "CommandError.h"
 #include "OffscreenImage.h"
@@ -30,7 +30,7 @@
 
 namespace tissuesim::app {
 namespace {
-constexpr int kFrameInterval_ms = 16;  ///< about 60 frames per second
+constexpr int kFrameInterval_ms = 16;   ///< about 60 frames per second
 constexpr double kWheelStep_m = 0.002;  ///< tool travel per wheel notch
 }  // namespace
 
@@ -87,8 +87,8 @@ void MainWindow::buildDocks() {
   if (isSoftwareOpenGL()) m_chartWindow->SetMultiSamples(0);
   m_chartWidget->setRenderWindow(m_chartWindow);
   m_chartWidget->setMinimumSize(320, 260);
-  m_materialChart = std::make_unique<CurveChart>("Tissue: uniaxial stress-stretch", "stretch",
-                                                 "stress (kPa)");
+  m_materialChart =
+      std::make_unique<CurveChart>("Tissue: uniaxial stress-stretch", "stretch", "stress (kPa)");
   m_chartWindow->AddRenderer(m_materialChart->renderer());
   auto* chartDock = new QDockWidget("Material", this);
   chartDock->setObjectName("materialDock");
@@ -99,46 +99,69 @@ void MainWindow::buildDocks() {
 void MainWindow::buildMenus() {
   QMenu* file = menuBar()->addMenu("&File");
   file->addAction("Open &tissue parameters...", this, [this] {
-    const QString path = QFileDialog::getOpenFileName(this, "Open tissue parameters", QString(), "Tissue (*.json)");
+    const QString path =
+        QFileDialog::getOpenFileName(this, "Open tissue parameters", QString(), "Tissue (*.json)");
     if (!path.isEmpty()) loadTissue(path);
   });
-  file->addAction("Open &scene...", this, [this] {
-    const QString path = QFileDialog::getOpenFileName(this, "Open scene", QString(), "Scene (*.json)");
-    if (!path.isEmpty()) loadScene(path);
-  }, QKeySequence::Open);
-  file->addAction("Save &image...", this, [this] {
-    const QString path = QFileDialog::getSaveFileName(this, "Save image", "tissuesim.png", "PNG (*.png)");
-    if (!path.isEmpty()) saveImage(path);
-  }, QKeySequence::Save);
+  file->addAction(
+      "Open &scene...", this,
+      [this] {
+        const QString path =
+            QFileDialog::getOpenFileName(this, "Open scene", QString(), "Scene (*.json)");
+        if (!path.isEmpty()) loadScene(path);
+      },
+      QKeySequence::Open);
+  file->addAction(
+      "Save &image...", this,
+      [this] {
+        const QString path =
+            QFileDialog::getSaveFileName(this, "Save image", "tissuesim.png", "PNG (*.png)");
+        if (!path.isEmpty()) saveImage(path);
+      },
+      QKeySequence::Save);
   file->addSeparator();
   file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
 
   QMenu* simulation = menuBar()->addMenu("&Simulation");
-  m_pauseAction = simulation->addAction("&Pause", this, [this](bool on) { setPaused(on); }, Qt::Key_Space);
+  m_pauseAction = simulation->addAction(
+      "&Pause", this, [this](bool on) { setPaused(on); }, Qt::Key_Space);
   m_pauseAction->setCheckable(true);
-  simulation->addAction("&Reset", this, [this] { resetSimulation(); }, Qt::Key_R);
-  simulation->addAction("Toggle &grasper", this, [this] {
-    m_pose.isGrasping = !m_pose.isGrasping;
-    publishPose();
-  }, Qt::Key_G);
+  simulation->addAction(
+      "&Reset", this, [this] { resetSimulation(); }, Qt::Key_R);
+  simulation->addAction(
+      "Toggle &grasper", this,
+      [this] {
+        m_pose.isGrasping = !m_pose.isGrasping;
+        publishPose();
+      },
+      Qt::Key_G);
   // Tilting about the tip, in the screen's axes: 5 degrees a press.
   constexpr double kTilt_rad = 5.0 * 3.14159265358979323846 / 180.0;
-  simulation->addAction("Tilt tool &left", this, [this] { tiltInstrument(-kTilt_rad, 0.0); }, Qt::Key_Left);
-  simulation->addAction("Tilt tool r&ight", this, [this] { tiltInstrument(kTilt_rad, 0.0); }, Qt::Key_Right);
-  simulation->addAction("Tilt tool &away", this, [this] { tiltInstrument(0.0, kTilt_rad); }, Qt::Key_Up);
-  simulation->addAction("Tilt tool &towards me", this, [this] { tiltInstrument(0.0, -kTilt_rad); }, Qt::Key_Down);
+  simulation->addAction(
+      "Tilt tool &left", this, [this] { tiltInstrument(-kTilt_rad, 0.0); }, Qt::Key_Left);
+  simulation->addAction(
+      "Tilt tool r&ight", this, [this] { tiltInstrument(kTilt_rad, 0.0); }, Qt::Key_Right);
+  simulation->addAction(
+      "Tilt tool &away", this, [this] { tiltInstrument(0.0, kTilt_rad); }, Qt::Key_Up);
+  simulation->addAction(
+      "Tilt tool &towards me", this, [this] { tiltInstrument(0.0, -kTilt_rad); }, Qt::Key_Down);
   simulation->addSeparator();
-  m_softeningAction = simulation->addAction("Stress &softening", this, [this](bool on) { setSoftening(on); });
+  m_softeningAction =
+      simulation->addAction("Stress &softening", this, [this](bool on) { setSoftening(on); });
   m_softeningAction->setCheckable(true);
   m_gravityAction = simulation->addAction("Gra&vity", this, [this](bool on) { setGravity(on); });
   m_gravityAction->setCheckable(true);
 
   QMenu* view = menuBar()->addMenu("&View");
-  m_colourMapAction = view->addAction("Stretch &colour map", this, [this](bool on) { setColourMap(on); }, Qt::Key_C);
+  m_colourMapAction = view->addAction(
+      "Stretch &colour map", this, [this](bool on) { setColourMap(on); }, Qt::Key_C);
   m_colourMapAction->setCheckable(true);
-  m_wireframeAction = view->addAction("&Springs", this, [this](bool on) {
-    if (m_view) m_view->setWireframe(on);
-  }, Qt::Key_W);
+  m_wireframeAction = view->addAction(
+      "&Springs", this,
+      [this](bool on) {
+        if (m_view) m_view->setWireframe(on);
+      },
+      Qt::Key_W);
   m_wireframeAction->setCheckable(true);
   view->addAction("Reset &camera", this, [this] {
     if (m_view) m_view->resetCamera();
@@ -157,7 +180,8 @@ void MainWindow::showError(const QString& title, const QString& text) {
 bool MainWindow::loadScene(const QString& path) {
   std::unique_ptr<SceneSession> session;
   try {
-    session = std::make_unique<SceneSession>(path.toStdString(), std::string(), InstrumentDriver::Live);
+    session =
+        std::make_unique<SceneSession>(path.toStdString(), std::string(), InstrumentDriver::Live);
   } catch (const std::exception& error) {
     showError("Scene refused", error.what());
     return false;
@@ -203,7 +227,8 @@ bool MainWindow::loadTissue(const QString& path) {
   }
   whilePaused([&] { m_session->simulation().replaceTissue(parameters); });
   updateMaterialChart();
-  statusBar()->showMessage("tissue: " + QString::fromStdString(parameters.name) + " (" + path + ")", 10000);
+  statusBar()->showMessage("tissue: " + QString::fromStdString(parameters.name) + " (" + path + ")",
+                           10000);
   return true;
 }
 
@@ -258,7 +283,8 @@ void MainWindow::setGravity(bool isOn) {
   // The scene's gravity when it has one, else 9.81 m/s^2 down the bundled scenes' -y.
   Eigen::Vector3d gravity = m_session->scene().gravity_m_s2;
   if (gravity.squaredNorm() == 0.0) gravity = {0.0, -9.81, 0.0};
-  whilePaused([&] { m_session->simulation().setGravity(isOn ? gravity : Eigen::Vector3d::Zero()); });
+  whilePaused(
+      [&] { m_session->simulation().setGravity(isOn ? gravity : Eigen::Vector3d::Zero()); });
 }
 
 void MainWindow::setColourMap(bool isOn) {
@@ -267,7 +293,8 @@ void MainWindow::setColourMap(bool isOn) {
 }
 
 void MainWindow::publishPose() {
-  if (m_session && m_session->liveInstrument() != nullptr) m_session->liveInstrument()->setPose(m_pose);
+  if (m_session && m_session->liveInstrument() != nullptr)
+    m_session->liveInstrument()->setPose(m_pose);
 }
 
 void MainWindow::moveInstrumentToDisplay(int x, int y) {
@@ -306,11 +333,12 @@ void MainWindow::tiltInstrument(double right_rad, double forward_rad) {
   // about the viewing axis swings its tip a to the right, and a turn of +a about the screen's
   // right axis swings it away from the viewer.
   const Eigen::Vector3d turned =
-      (Eigen::AngleAxisd(forward_rad, screenRight) * Eigen::AngleAxisd(-right_rad, away.normalized()) *
-       m_pose.direction.normalized())
+      (Eigen::AngleAxisd(forward_rad, screenRight) *
+       Eigen::AngleAxisd(-right_rad, away.normalized()) * m_pose.direction.normalized())
           .normalized();
   const Eigen::Vector3d start = m_session->scene().instrument->direction.normalized();
-  if (!turned.allFinite() || turned.dot(start) < std::cos(80.0 * 3.14159265358979323846 / 180.0)) return;
+  if (!turned.allFinite() || turned.dot(start) < std::cos(80.0 * 3.14159265358979323846 / 180.0))
+    return;
   m_pose.direction = turned;
   publishPose();
 }
@@ -333,10 +361,14 @@ void MainWindow::updateMaterialChart() {
     for (const CurveBranch& branch : curve) {
       // One line per branch (a joined line would draw chords between cycles).
       const bool isLoading = branch.phase == LoadPhase::Loading;
-      ChartSeries line{std::string(isLoading ? "loading " : "unloading ") + std::to_string(branch.cycle),
-                       {}, {}, isLoading ? std::array<unsigned char, 3>{200, 40, 30}
-                                         : std::array<unsigned char, 3>{30, 90, 200},
-                       false, 2.0f};
+      ChartSeries line{
+          std::string(isLoading ? "loading " : "unloading ") + std::to_string(branch.cycle),
+          {},
+          {},
+          isLoading ? std::array<unsigned char, 3>{200, 40, 30}
+                    : std::array<unsigned char, 3>{30, 90, 200},
+          false,
+          2.0f};
       for (std::size_t i = 0; i < branch.stretch.size(); ++i) {
         line.x.push_back(branch.stretch[i]);
         line.y.push_back(branch.stress_Pa[i] / 1000.0);
@@ -345,8 +377,9 @@ void MainWindow::updateMaterialChart() {
     }
     // Reloading follows the unloading path below the previous peak (the Mullins model): draw
     // the unloading lines last so they are not hidden.
-    std::stable_partition(series.begin(), series.end(),
-                          [](const ChartSeries& line) { return line.name.rfind("loading", 0) == 0; });
+    std::stable_partition(series.begin(), series.end(), [](const ChartSeries& line) {
+      return line.name.rfind("loading", 0) == 0;
+    });
   }
   m_materialChart->chart()->SetTitle(parameters.name + ": loading (red), unloading (blue)");
   m_materialChart->setLegend(false);
@@ -367,7 +400,8 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
     m_windowStart_s = now;
   }
   const Simulation& simulation = m_session->simulation();
-  m_statusLabel->setText(QString("%1   physics %2 Hz   %3 fps   %4 springs   tool force %5 N   max stretch %6   t = %7 s   %8 events")
+  m_statusLabel->setText(QString("%1   physics %2 Hz   %3 fps   %4 springs   tool force %5 N   max "
+                                 "stretch %6   t = %7 s   %8 events")
                              .arg(isPaused() ? "paused" : "running")
                              .arg(m_physicsHz, 0, 'f', 0)
                              .arg(m_fps, 0, 'f', 0)

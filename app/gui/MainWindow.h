@@ -12,10 +12,10 @@
 
 #include <memory>
 
+#include <vtkSmartPointer.h>
 #include <QElapsedTimer>
 #include <QMainWindow>
 #include <QTimer>
-#include <vtkSmartPointer.h>
 
 #include "CurveChart.h"
 #include "SceneSession.h"

@@ -13,7 +13,9 @@ QString openGLRendererName() {
     QOpenGLContext context;
     if (!surface.isValid() || !context.create() || !context.makeCurrent(&surface)) return QString();
     const auto* renderer = context.functions()->glGetString(GL_RENDERER);
-    QString result = renderer != nullptr ? QString::fromLatin1(reinterpret_cast<const char*>(renderer)) : QString();
+    QString result = renderer != nullptr
+                         ? QString::fromLatin1(reinterpret_cast<const char*>(renderer))
+                         : QString();
     context.doneCurrent();
     return result;
   }();

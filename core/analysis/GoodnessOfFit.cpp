@@ -7,7 +7,8 @@
 
 namespace tissuesim {
 
-double coefficientOfDetermination(std::span<const double> reference, std::span<const double> model) {
+double coefficientOfDetermination(std::span<const double> reference,
+                                  std::span<const double> model) {
   if (reference.size() != model.size() || reference.size() < 2) {
     throw std::invalid_argument("R^2 needs two curves of equal length with at least 2 points");
   }

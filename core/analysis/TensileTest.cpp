@@ -28,7 +28,9 @@ Specimen buildSpecimen(const TensileSpecimen& spec, double density) {
   const Eigen::Vector3i cells(std::max(1, static_cast<int>(std::lround(spec.size_m.x() / h))),
                               std::max(1, static_cast<int>(std::lround(spec.size_m.y() / h))),
                               spec.cellsAcrossThickness);
-  Specimen out{buildSpringMesh(makeBlockMesh(spec.size_m, cells), density), {}, spec.size_m.x(),
+  Specimen out{buildSpringMesh(makeBlockMesh(spec.size_m, cells), density),
+               {},
+               spec.size_m.x(),
                spec.size_m.y() * spec.size_m.z()};
   for (Eigen::Index i = 0; i < out.mesh.nodeCount(); ++i) {
     if (std::abs(out.mesh.restPositions_m(0, i) - spec.size_m.x()) < 1e-12) {
@@ -38,7 +40,8 @@ Specimen buildSpecimen(const TensileSpecimen& spec, double density) {
   return out;
 }
 
-void clampSpecimen(MechanicalSystem& system, const Specimen& specimen, const Eigen::Vector3d& size) {
+void clampSpecimen(MechanicalSystem& system, const Specimen& specimen,
+                   const Eigen::Vector3d& size) {
   const Eigen::Matrix3Xd& rest = specimen.mesh.restPositions_m;
   for (Eigen::Index i = 0; i < rest.cols(); ++i) {
     const Eigen::Vector3d p = rest.col(i);
@@ -142,9 +145,10 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
         // (about 0.07 s for the liver strip), so each is nearly a static solve; explicit steps of
         // 1 ms relax through damping.
         const bool isExplicit = options.integrator == "explicit";
-        report = relax(*integrator, system, state, isExplicit ? 1e-3 : 1.0, tolerance,
-                       isExplicit ? 100 * options.maxIterationsPerPoint : options.maxIterationsPerPoint,
-                       scratch);
+        report =
+            relax(*integrator, system, state, isExplicit ? 1e-3 : 1.0, tolerance,
+                  isExplicit ? 100 * options.maxIterationsPerPoint : options.maxIterationsPerPoint,
+                  scratch);
       } else {
         report = newton.solve(system, state.x, state.x, 0.0, 0.0, options.maxIterationsPerPoint,
                               tolerance);
@@ -152,7 +156,8 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
       localStats.worstIterations = std::max(localStats.worstIterations, report.iterations);
       localStats.worstResidual_N = std::max(localStats.worstResidual_N, report.residual_N);
       localStats.worstRelativeResidual =
-          std::max(localStats.worstRelativeResidual, report.residual_N / tolerance * options.forceTolerance_N);
+          std::max(localStats.worstRelativeResidual,
+                   report.residual_N / tolerance * options.forceTolerance_N);
       localStats.unconvergedPoints += report.converged ? 0 : 1;
       if (!integrator) springs.commitStretchHistory(state.x);
 

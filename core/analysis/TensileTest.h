@@ -8,10 +8,10 @@
 // with the continuum). Three more DOFs at x = 0 remove the rigid motions: node (0, 0, 0) fixed,
 // node (0, W, 0) held in z, node (0, 0, T) held in y.
 //
-// Quasi-static means converged: every point is a static equilibrium, max |net force| on free
-// DOFs below forceTolerance_N x max(1, grip force in N) (Newton with line search; or, with a
-// time integrator named, damped pseudo-time steps until the same tolerance). The Mullins state is committed after
-// each converged point, as in a slow experiment.
+// Quasi-static means converged: every point is a static equilibrium, max |net force| on free DOFs
+// below forceTolerance_N x max(1, grip force in N) (Newton with line search; or, with a time
+// integrator named, damped pseudo-time steps until the same tolerance). The Mullins state is
+// committed after each converged point, as in a slow experiment.
 
 #include <optional>
 #include <string>
@@ -34,7 +34,7 @@ struct TensileOptions {
   double linearModulus_Pa = 0.0;  ///< smm only
   /// Scales every spring's volume V_e (see docs/tensile-calibration in README): 1 = none.
   double volumeScale = 1.0;
-  double bulkModulus_Pa = 0.0;    ///< > 0 turns the volume term on
+  double bulkModulus_Pa = 0.0;        ///< > 0 turns the volume term on
   std::string integrator = "static";  ///< static | implicit | quasi-newton | explicit
   double forceTolerance_N = 1e-8;
   int maxIterationsPerPoint = 200;

@@ -25,9 +25,8 @@ StepReport ImplicitEulerSolver::step(MechanicalSystem& system, MechanicalState& 
       if (fixed[static_cast<std::size_t>(d)] != 0) m_x.data()[d] = state.x.data()[d];
     }
   });
-  const NewtonReport newton =
-      m_newton.solve(system, m_x, m_xHat, damping / (dt * dt), 0.0, m_settings.maxIterations,
-                     m_settings.forceTolerance_N);
+  const NewtonReport newton = m_newton.solve(system, m_x, m_xHat, damping / (dt * dt), 0.0,
+                                             m_settings.maxIterations, m_settings.forceTolerance_N);
   report.iterations = newton.iterations;
   report.linearIterations = newton.linearIterations;
   report.residual_N = newton.residual_N;

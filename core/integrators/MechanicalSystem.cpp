@@ -35,17 +35,20 @@ void MechanicalSystem::releaseAll() {
 }
 
 // x: where the contacts are evaluated; null leaves them out.
-void MechanicalSystem::addExternalAndZeroFixed(const Eigen::Matrix3Xd* x, Eigen::Matrix3Xd& f) const {
+void MechanicalSystem::addExternalAndZeroFixed(const Eigen::Matrix3Xd* x,
+                                               Eigen::Matrix3Xd& f) const {
   // The contacts (a few nodes) first, then one node-wise pass for the rest.
   if (x != nullptr) contacts.addForces(*x, f);
   const Eigen::VectorXd& mass = mesh().nodeMass_kg;
-  forEachNodeRange(m_springs.threadPool(), f.cols(), [&](int, Eigen::Index begin, Eigen::Index end) {
-    for (Eigen::Index i = begin; i < end; ++i) f.col(i) += mass[i] * gravity_m_s2 + externalForces_N.col(i);
-    double* flat = f.data();
-    for (Eigen::Index d = 3 * begin; d < 3 * end; ++d) {
-      if (m_isFixed[static_cast<std::size_t>(d)] != 0) flat[d] = 0.0;
-    }
-  });
+  forEachNodeRange(m_springs.threadPool(), f.cols(),
+                   [&](int, Eigen::Index begin, Eigen::Index end) {
+                     for (Eigen::Index i = begin; i < end; ++i)
+                       f.col(i) += mass[i] * gravity_m_s2 + externalForces_N.col(i);
+                     double* flat = f.data();
+                     for (Eigen::Index d = 3 * begin; d < 3 * end; ++d) {
+                       if (m_isFixed[static_cast<std::size_t>(d)] != 0) flat[d] = 0.0;
+                     }
+                   });
 }
 
 ForceReport MechanicalSystem::forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f) const {
@@ -81,7 +84,8 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
   report.springs = m_springs.addForcesAndStiffness(x, f, m_springBlocks, isProjected);
   // The matrix's edges are the springs, in order (makeMatrix).
   if (stiffness.edgeCount() != m_springBlocks.cols()) {
-    throw std::logic_error("MechanicalSystem::forcesAndStiffness: the matrix is not makeMatrix()'s");
+    throw std::logic_error(
+        "MechanicalSystem::forcesAndStiffness: the matrix is not makeMatrix()'s");
   }
   // Every value, no clearing first; on the springs' pool.
   stiffness.assignAxialEdgeStiffness(m_springBlocks, m_springs.threadPool());
@@ -102,9 +106,11 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
 }
 
 ForceReport MechanicalSystem::forcesAndSpringBlocks(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
-                                                   AxialBlocks& springBlocks, bool isProjected) const {
+                                                    AxialBlocks& springBlocks,
+                                                    bool isProjected) const {
   if (m_volume != nullptr) {
-    throw std::logic_error("MechanicalSystem::forcesAndSpringBlocks: the volume term's stiffness is assembled only");
+    throw std::logic_error(
+        "MechanicalSystem::forcesAndSpringBlocks: the volume term's stiffness is assembled only");
   }
   f.setZero();
   ForceReport report;
@@ -137,7 +143,8 @@ double MechanicalSystem::totalEnergy(const MechanicalState& state) const {
   if (m_volume != nullptr) {
     for (Eigen::Index t = 0; t < m.tets.cols(); ++t) {
       const double ratio = signedTetVolume(state.x, m.tets, t) / m.tetRestVolume_m3[t];
-      energy += 0.5 * m_volume->bulkModulus() * m.tetRestVolume_m3[t] * (ratio - 1.0) * (ratio - 1.0);
+      energy +=
+          0.5 * m_volume->bulkModulus() * m.tetRestVolume_m3[t] * (ratio - 1.0) * (ratio - 1.0);
     }
   }
   return energy;

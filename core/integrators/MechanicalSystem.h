@@ -51,7 +51,9 @@ class MechanicalSystem {
   void fixDof(int node, int axis);
   void releaseAll();
   const std::vector<char>& fixedDofs() const { return m_isFixed; }
-  bool isFixed(int node, int axis) const { return m_isFixed[static_cast<std::size_t>(3 * node + axis)] != 0; }
+  bool isFixed(int node, int axis) const {
+    return m_isFixed[static_cast<std::size_t>(3 * node + axis)] != 0;
+  }
   /// Incremented whenever the fixed set changes (solvers refactor what depends on it).
   int constraintRevision() const { return m_constraintRevision; }
 
@@ -65,8 +67,8 @@ class MechanicalSystem {
   /// and without the contacts: the explicit integrator applies them itself, as impulses.
   ForceReport forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                      Eigen::VectorXd& nodeStiffness) const;
-  /// The same, and K (made by makeMatrix()) overwritten with the internal stiffness (fixed DOFs not yet applied):
-  /// PSD-projected per spring when `isProjected`, else the springs' exact Hessian.
+  /// The same, and K (made by makeMatrix()) overwritten with the internal stiffness (fixed DOFs not
+  /// yet applied): PSD-projected per spring when `isProjected`, else the springs' exact Hessian.
   ForceReport forcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                  NodeBlockMatrix& stiffness, bool isProjected = true) const;
   /// f, and the springs' stiffness blocks (5 by #S, numerics/AxialBlocks.h) overwritten, in one

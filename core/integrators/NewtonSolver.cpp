@@ -33,10 +33,12 @@ void NewtonSolver::prepare(const MechanicalSystem& system) {
   m_preparedFor = &system;
 }
 
-ForceReport NewtonSolver::forcesAndStiffness(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
-                                             bool isTrial, bool isProjected) {
+ForceReport NewtonSolver::forcesAndStiffness(const MechanicalSystem& system,
+                                             const Eigen::Matrix3Xd& x, bool isTrial,
+                                             bool isProjected) {
   if (m_isMatrixFree) {
-    return system.forcesAndSpringBlocks(x, m_force, isTrial ? m_trialSpringBlocks : m_springBlocks, isProjected);
+    return system.forcesAndSpringBlocks(x, m_force, isTrial ? m_trialSpringBlocks : m_springBlocks,
+                                        isProjected);
   }
   return system.forcesAndStiffness(x, m_force, isTrial ? *m_trialMatrix : *m_matrix, isProjected);
 }
@@ -49,7 +51,8 @@ ResidualNorms NewtonSolver::residual(const MechanicalSystem& system, const Eigen
   return residualFromForce(system, x, xHat, inertiaWeight, r);
 }
 
-ResidualNorms NewtonSolver::residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+ResidualNorms NewtonSolver::residualFromForce(const MechanicalSystem& system,
+                                              const Eigen::Matrix3Xd& x,
                                               const Eigen::Matrix3Xd& xHat, double inertiaWeight,
                                               Eigen::Matrix3Xd& r) {
   const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
@@ -111,7 +114,8 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
   while (report.residual_N > tolerance_N && report.iterations < maxIterations &&
          std::isfinite(report.residual_N)) {
     ++report.iterations;
-    if (!isMatrixCurrent) forcesAndStiffness(system, x, /*isTrial=*/false, /*isProjected=*/!isExact);
+    if (!isMatrixCurrent)
+      forcesAndStiffness(system, x, /*isTrial=*/false, /*isProjected=*/!isExact);
     isMatrixCurrent = false;  // the shift and constraints below change it in place
     if (m_isMatrixFree) {
       m_operator->setSpringBlocks(m_springBlocks);
@@ -136,8 +140,7 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
         m_isPatternAnalysed = true;
       }
       m_cholesky.factorize(m_matrix->matrix());
-      isSolved = m_cholesky.info() == Eigen::Success &&
-                 (m_cholesky.vectorD().array() > 0.0).all();
+      isSolved = m_cholesky.info() == Eigen::Success && (m_cholesky.vectorD().array() > 0.0).all();
       if (isSolved) m_step = m_cholesky.solve(m_rhs);
     } else {
       // Inexact Newton: the outer iteration tightens the rest.
@@ -146,10 +149,10 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       // matrix-free; and for the preconditioner to invert exactly.
       system.contacts.rankOneTerms(x, fixed, m_contactTerms);
       if (m_isMatrixFree) m_operator->setTerms(&m_contactTerms);
-      const BlockLinearOperator& a = m_isMatrixFree ? static_cast<const BlockLinearOperator&>(*m_operator)
-                                                    : *m_matrix;
-      const ConjugateGradientReport cg = m_cg.solve(a, m_rhs, m_step, m_linearTolerance,
-                                                    static_cast<int>(3 * x.cols()), &m_contactTerms);
+      const BlockLinearOperator& a =
+          m_isMatrixFree ? static_cast<const BlockLinearOperator&>(*m_operator) : *m_matrix;
+      const ConjugateGradientReport cg = m_cg.solve(
+          a, m_rhs, m_step, m_linearTolerance, static_cast<int>(3 * x.cols()), &m_contactTerms);
       report.linearIterations += cg.iterations;
       isSolved = cg.converged || cg.relativeResidual < std::max(1e-6, m_linearTolerance);
     }
@@ -175,7 +178,8 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       const auto trial = [&](int, Eigen::Index begin, Eigen::Index end) {
         m_trialX.middleCols(begin, end - begin) =
             x.middleCols(begin, end - begin) +
-            stepLength * Eigen::Map<const Eigen::Matrix3Xd>(m_step.data() + 3 * begin, 3, end - begin);
+            stepLength *
+                Eigen::Map<const Eigen::Matrix3Xd>(m_step.data() + 3 * begin, 3, end - begin);
       };
       forEachNodeRange(system.springs().threadPool(), x.cols(), trial);
       if (isTrialStiffnessWanted) {

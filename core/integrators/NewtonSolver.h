@@ -6,16 +6,17 @@
 //
 // with K the stiffness (MechanicalSystem): with Cholesky, the exact Hessian first, for Newton's
 // quadratic convergence, and the per-spring PSD projection whenever the exact matrix is not
-// positive definite (a non-positive pivot) or gives no descent; with CG, always the projection, w >= 0 the inertia weight (1/s^2:
-// (1 + alpha h) / h^2 for implicit Euler, 0 for statics) and rho >= 0 a Levenberg-Marquardt
-// regularisation that keeps the matrix definite where K alone is singular (statics). When a
-// factorisation fails or no step length reduces |r|, a Levenberg-Marquardt shift mu I is added
-// (raised tenfold each time, relaxed after a good step); the solve stops, unconverged, when even
-// a vanishing gradient step gives no descent (a kink in the force, say) and reports it. Linear solves: sparse Cholesky (Eigen
-// SimplicialLDLT, symbolic analysis once per pattern) or conjugate gradients (3x3 block-Jacobi
-// preconditioner, BlockConjugateGradient: on the springs' thread pool when they have one). CG
-// runs matrix-free (SpringSystemOperator, on the spring pass's blocks) unless the system has the
-// volume term, whose blocks exist only assembled; Cholesky needs the assembled matrix.
+// positive definite (a non-positive pivot) or gives no descent; with CG, always the projection,
+// w >= 0 the inertia weight (1/s^2: (1 + alpha h) / h^2 for implicit Euler, 0 for statics) and
+// rho >= 0 a Levenberg-Marquardt regularisation that keeps the matrix definite where K alone is
+// singular (statics). When a factorisation fails or no step length reduces |r|, a
+// Levenberg-Marquardt shift mu I is added (raised tenfold each time, relaxed after a good step);
+// the solve stops, unconverged, when even a vanishing gradient step gives no descent (a kink in the
+// force, say) and reports it. Linear solves: sparse Cholesky (Eigen SimplicialLDLT, symbolic
+// analysis once per pattern) or conjugate gradients (3x3 block-Jacobi preconditioner,
+// BlockConjugateGradient: on the springs' thread pool when they have one). CG runs matrix-free
+// (SpringSystemOperator, on the spring pass's blocks) unless the system has the volume term, whose
+// blocks exist only assembled; Cholesky needs the assembled matrix.
 
 #include <array>
 #include <memory>
@@ -43,7 +44,7 @@ struct ResidualNorms {
 struct NewtonReport {
   int iterations = 0;
   int linearIterations = 0;  ///< CG iterations summed over the Newton iterations (0: Cholesky)
-  double residual_N = 0.0;  ///< max |r_i| at the end
+  double residual_N = 0.0;   ///< max |r_i| at the end
   bool converged = false;
   ForceReport forces;
 };
@@ -70,8 +71,8 @@ class NewtonSolver {
   void prepare(const MechanicalSystem& system);
   /// Forces at x into m_force and the stiffness there into the matrix or the spring blocks
   /// (the trial's when `isTrial`).
-  ForceReport forcesAndStiffness(const MechanicalSystem& system, const Eigen::Matrix3Xd& x, bool isTrial,
-                                 bool isProjected);
+  ForceReport forcesAndStiffness(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
+                                 bool isTrial, bool isProjected);
 
   LinearSolverKind m_kind;
   double m_linearTolerance;  ///< CG's relative residual (inexact Newton)
@@ -89,7 +90,9 @@ class NewtonSolver {
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;
   Eigen::VectorXd m_rhs, m_step;
   std::vector<RankOneTerm> m_contactTerms;  ///< the contacts' stiffness, for CG's preconditioner
-  std::array<double, kNodeRanges> m_rangeLargest{}, m_rangeSquares{};  ///< residualFromForce's partials
+  // residualFromForce's partials, one per node range.
+  std::array<double, kNodeRanges> m_rangeLargest{};
+  std::array<double, kNodeRanges> m_rangeSquares{};
 };
 
 }  // namespace tissuesim

@@ -10,7 +10,8 @@ void PenaltyContactSet::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f
     const double delta = c.penetration(x);
     if (!(delta > 0.0) && !std::isnan(delta)) continue;  // a NaN goes through, to be caught
     const Eigen::Vector3d push = -c.stiffness_N_m * delta * c.normal;
-    for (int k = 0; k < 3; ++k) forces.col(c.nodes[static_cast<std::size_t>(k)]) += c.weights[k] * push;
+    for (int k = 0; k < 3; ++k)
+      forces.col(c.nodes[static_cast<std::size_t>(k)]) += c.weights[k] * push;
   }
 }
 
@@ -32,7 +33,8 @@ void PenaltyContactSet::applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::Ve
     const double u = c.normal.dot(c.point(v));
     const double gain = h * h * c.stiffness_N_m + h * c.damping_N_s_m;
     const double lambda = (h * c.stiffness_N_m * delta + gain * u) / (1.0 + gain * compliance);
-    if (!(lambda > 0.0) && !std::isnan(lambda)) continue;  // push only; a NaN goes through, to be caught
+    if (!(lambda > 0.0) && !std::isnan(lambda))
+      continue;  // push only; a NaN goes through, to be caught
     for (int k = 0; k < 3; ++k) {
       v.col(c.nodes[static_cast<std::size_t>(k)]) -=
           (c.weights[k] * inverseMass[static_cast<std::size_t>(k)] * lambda) * c.normal;
@@ -48,7 +50,8 @@ void PenaltyContactSet::addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix&
       if (c.weights[i] == 0.0) continue;
       for (int j = 0; j < 3; ++j) {
         if (c.weights[j] == 0.0) continue;
-        stiffness.addBlock(c.nodes[static_cast<std::size_t>(i)], c.nodes[static_cast<std::size_t>(j)],
+        stiffness.addBlock(c.nodes[static_cast<std::size_t>(i)],
+                           c.nodes[static_cast<std::size_t>(j)],
                            (c.weights[i] * c.weights[j]) * nn);
       }
     }
@@ -67,14 +70,16 @@ void PenaltyContactSet::rankOneTerms(const Eigen::Matrix3Xd& x, const std::vecto
       if (c.weights[static_cast<Eigen::Index>(k)] == 0.0) continue;
       for (int axis = 0; axis < 3; ++axis) {
         const bool isFree = isFixed[static_cast<std::size_t>(3 * c.nodes[k] + axis)] == 0;
-        term.blocks[k][axis] = isFree ? c.weights[static_cast<Eigen::Index>(k)] * c.normal[axis] : 0.0;
+        term.blocks[k][axis] =
+            isFree ? c.weights[static_cast<Eigen::Index>(k)] * c.normal[axis] : 0.0;
       }
     }
     terms.push_back(term);
   }
 }
 
-ContactResult PenaltyContactSet::reaction(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m) const {
+ContactResult PenaltyContactSet::reaction(const Eigen::Matrix3Xd& x,
+                                          const Eigen::Vector3d& tip_m) const {
   ContactResult result;
   for (const PenaltyContact& c : m_contacts) {
     const double delta = c.penetration(x);

@@ -41,7 +41,8 @@ struct PenaltyContact {
   double damping_N_s_m = 0.0;  ///< c (N s/m): explicit integrator only (applyImpulses)
 
   Eigen::Vector3d point(const Eigen::Matrix3Xd& x) const {
-    return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) + weights[2] * x.col(nodes[2]);
+    return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) +
+           weights[2] * x.col(nodes[2]);
   }
   double penetration(const Eigen::Matrix3Xd& x) const { return normal.dot(point(x)) - offset_m; }
 };

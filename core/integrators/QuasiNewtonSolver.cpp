@@ -60,7 +60,8 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
     for (int k = 0; k < 3; ++k) {
       for (int axis = 0; axis < 3; ++axis) {
         const Eigen::Index d = 3 * c.nodes[static_cast<std::size_t>(k)] + axis;
-        if (fixed[static_cast<std::size_t>(d)] == 0) m_contactU(d, column) += root * c.weights[k] * c.normal[axis];
+        if (fixed[static_cast<std::size_t>(d)] == 0)
+          m_contactU(d, column) += root * c.weights[k] * c.normal[axis];
       }
     }
   }

@@ -57,9 +57,9 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   Eigen::VectorXd m_x, m_xHat, m_r, m_newX, m_newR, m_q, m_z, m_alpha, m_rhoHistory;
   Eigen::MatrixXd m_s, m_y;  ///< 3#V by m history of steps and residual changes
   Eigen::Matrix3Xd m_force;
-  Eigen::MatrixXd m_contactU, m_contactV;  ///< 3#V by #C (Woodbury)
-  Eigen::MatrixXd m_capacitanceMatrix;          ///< I + U^T V, #C by #C
-  Eigen::LDLT<Eigen::MatrixXd> m_capacitance;   ///< its factorisation
+  Eigen::MatrixXd m_contactU, m_contactV;         ///< 3#V by #C (Woodbury)
+  Eigen::MatrixXd m_capacitanceMatrix;            ///< I + U^T V, #C by #C
+  Eigen::LDLT<Eigen::MatrixXd> m_capacitance;     ///< its factorisation
   Eigen::VectorXd m_projected, m_contactScratch;  ///< #C: U^T z and the capacitance solve
 };
 

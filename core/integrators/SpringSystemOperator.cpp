@@ -14,23 +14,28 @@ SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
   const Eigen::Index nodes = mesh.nodeCount();
   const Eigen::Index springs = mesh.springCount();
   if (3 * nodes > std::numeric_limits<int>::max()) {
-    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(nodes) + " nodes (rows must fit an int)");
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(nodes) +
+                                " nodes (rows must fit an int)");
   }
   // Incidence, each node's springs in spring order.
   for (Eigen::Index s = 0; s < springs; ++s) {
-    for (int end = 0; end < 2; ++end) ++m_incidentStart[static_cast<std::size_t>(mesh.springs(end, s)) + 1];
+    for (int end = 0; end < 2; ++end)
+      ++m_incidentStart[static_cast<std::size_t>(mesh.springs(end, s)) + 1];
   }
-  for (std::size_t j = 0; j < static_cast<std::size_t>(nodes); ++j) m_incidentStart[j + 1] += m_incidentStart[j];
+  for (std::size_t j = 0; j < static_cast<std::size_t>(nodes); ++j)
+    m_incidentStart[j + 1] += m_incidentStart[j];
   m_incident.resize(static_cast<std::size_t>(m_incidentStart.back()));
   std::vector<int> fill(m_incidentStart.begin(), m_incidentStart.end() - 1);
   for (Eigen::Index s = 0; s < springs; ++s) {
     for (int end = 0; end < 2; ++end) {
-      m_incident[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.springs(end, s))]++)] = static_cast<int>(s);
+      m_incident[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.springs(end, s))]++)] =
+          static_cast<int>(s);
     }
   }
   // Parts of about equal incident springs (each part's work: one entry per spring it touches).
-  m_bounds = balancedPartBounds(
-      nodes, [this](Eigen::Index j) { return static_cast<Eigen::Index>(m_incidentStart[static_cast<std::size_t>(j)]); });
+  m_bounds = balancedPartBounds(nodes, [this](Eigen::Index j) {
+    return static_cast<Eigen::Index>(m_incidentStart[static_cast<std::size_t>(j)]);
+  });
   const auto partOf = [&](int node) {
     int p = 0;
     while (node >= m_bounds[static_cast<std::size_t>(p) + 1]) ++p;
@@ -64,16 +69,16 @@ SpringSystemOperator::SpringSystemOperator(const SpringMesh& mesh)
 
 void SpringSystemOperator::setSpringBlocks(const AxialBlocks& blocks) {
   if (blocks.cols() != m_mesh.springCount()) {
-    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(blocks.cols()) + " blocks for " +
-                                std::to_string(m_mesh.springCount()) + " springs");
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(blocks.cols()) +
+                                " blocks for " + std::to_string(m_mesh.springCount()) + " springs");
   }
   m_blocks = &blocks;
 }
 
 void SpringSystemOperator::setFixedDofs(const std::vector<char>& isFixed) {
   if (isFixed.size() != m_isFixed.size()) {
-    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(isFixed.size()) + " DOF flags for " +
-                                std::to_string(m_isFixed.size()) + " DOFs");
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(isFixed.size()) +
+                                " DOF flags for " + std::to_string(m_isFixed.size()) + " DOFs");
   }
   if (isFixed == m_isFixed) return;
   m_isFixed = isFixed;
@@ -126,7 +131,8 @@ void SpringSystemOperator::multiplyPart(int part, const double* x, double* y) co
       }
     }
   }
-  for (std::size_t i = m_fixedStart[p]; i < m_fixedStart[p + 1]; ++i) y[m_fixedDofs[i]] = x[m_fixedDofs[i]];
+  for (std::size_t i = m_fixedStart[p]; i < m_fixedStart[p + 1]; ++i)
+    y[m_fixedDofs[i]] = x[m_fixedDofs[i]];
 }
 
 template <bool AddA, bool AddB>
@@ -188,7 +194,8 @@ Eigen::Matrix3d SpringSystemOperator::diagonalBlock(Eigen::Index j) const {
   double b00 = 0.0, b01 = 0.0, b02 = 0.0, b11 = 0.0, b12 = 0.0, b22 = 0.0;
   const double* const k = m_blocks->data();
   for (int i = m_incidentStart[node]; i < m_incidentStart[node + 1]; ++i) {
-    const double* const ks = k + 5 * static_cast<std::ptrdiff_t>(m_incident[static_cast<std::size_t>(i)]);
+    const double* const ks =
+        k + 5 * static_cast<std::ptrdiff_t>(m_incident[static_cast<std::size_t>(i)]);
     const double c0 = ks[3] * ks[0];
     const double c1 = ks[3] * ks[1];
     const double c2 = ks[3] * ks[2];
@@ -214,7 +221,8 @@ Eigen::Matrix3d SpringSystemOperator::diagonalBlock(Eigen::Index j) const {
 
 double SpringSystemOperator::largestDiagonalEntry() const {
   double largest = 0.0;
-  for (Eigen::Index j = 0; j < nodeCount(); ++j) largest = std::max(largest, diagonalBlock(j).diagonal().maxCoeff());
+  for (Eigen::Index j = 0; j < nodeCount(); ++j)
+    largest = std::max(largest, diagonalBlock(j).diagonal().maxCoeff());
   return largest;
 }
 

@@ -94,8 +94,8 @@ class SpringSystemOperator final : public BlockLinearOperator {
   const AxialBlocks* m_blocks = nullptr;
   double m_massWeight = 0.0;
   double m_shift_N_m = 0.0;
-  std::vector<char> m_isFixed;                       ///< 3#V, as last set
-  std::vector<Eigen::Index> m_fixedDofs;              ///< the fixed DOFs, part after part
+  std::vector<char> m_isFixed;            ///< 3#V, as last set
+  std::vector<Eigen::Index> m_fixedDofs;  ///< the fixed DOFs, part after part
   std::array<std::size_t, kParts + 1> m_fixedStart{};
   const std::vector<RankOneTerm>* m_terms = nullptr;
   RankOneTermDiagonals m_termDiagonals;

@@ -18,7 +18,8 @@ void SymplecticEulerSolver::ensureBuffers(Eigen::Index nodeCount) {
   }
 }
 
-double SymplecticEulerSolver::stableStepBound(double largestStiffnessPerMass, double massDamping_1_s) {
+double SymplecticEulerSolver::stableStepBound(double largestStiffnessPerMass,
+                                              double massDamping_1_s) {
   // h_max(omega^2) = (sqrt(alpha^2 + 4 omega^2) - alpha) / omega^2
   //                = 4 / (sqrt(alpha^2 + 4 omega^2) + alpha)   (no cancellation)
   // falls as omega^2 grows, so the nodes' smallest h_max is the one at their largest omega^2:
@@ -31,10 +32,11 @@ double SymplecticEulerSolver::stableStepBound(double largestStiffnessPerMass, do
 }
 
 double SymplecticEulerSolver::largestStiffnessPerMass(const Eigen::VectorXd& nodeStiffness,
-                                                      const Eigen::VectorXd& mass, Eigen::Index begin,
-                                                      Eigen::Index end) {
+                                                      const Eigen::VectorXd& mass,
+                                                      Eigen::Index begin, Eigen::Index end) {
   double largest = 0.0;
-  for (Eigen::Index i = begin; i < end; ++i) largest = std::max(largest, nodeStiffness[i] / mass[i]);
+  for (Eigen::Index i = begin; i < end; ++i)
+    largest = std::max(largest, nodeStiffness[i] / mass[i]);
   return largest;
 }
 
@@ -44,7 +46,8 @@ double SymplecticEulerSolver::stableTimeStep(const MechanicalSystem& system,
   Eigen::VectorXd nodeStiffness(x.cols());
   system.forcesAndNodeStiffness(x, f, nodeStiffness);
   const Eigen::VectorXd& mass = system.mesh().nodeMass_kg;
-  return safety * stableStepBound(largestStiffnessPerMass(nodeStiffness, mass, 0, mass.size()), 0.0);
+  return safety *
+         stableStepBound(largestStiffnessPerMass(nodeStiffness, mass, 0, mass.size()), 0.0);
 }
 
 StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState& state,
@@ -60,7 +63,8 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
   // Each substep's force pass refreshes the bound for the next.
   if (m_lastStableStep < 0.0) {
     system.forcesAndNodeStiffness(state.x, m_force, m_nodeStiffness);
-    m_lastStableStep = stableStepBound(largestStiffnessPerMass(m_nodeStiffness, mass, 0, nodes), alpha);
+    m_lastStableStep =
+        stableStepBound(largestStiffnessPerMass(m_nodeStiffness, mass, 0, nodes), alpha);
   }
   const auto stableStep = [&] { return m_settings.stabilitySafety * m_lastStableStep; };
   report.stableTimeStep_s = stableStep();
@@ -68,10 +72,10 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
   if (needed > m_settings.maxSubsteps) {
     report.refused = true;
     report.substeps = 0;
-    report.reason = "explicit step refused: dt = " + std::to_string(dt) +
-                    " s needs " + std::to_string(static_cast<long long>(needed)) +
-                    " substeps (stable step " + std::to_string(report.stableTimeStep_s) +
-                    " s), more than the limit of " + std::to_string(m_settings.maxSubsteps);
+    report.reason = "explicit step refused: dt = " + std::to_string(dt) + " s needs " +
+                    std::to_string(static_cast<long long>(needed)) + " substeps (stable step " +
+                    std::to_string(report.stableTimeStep_s) + " s), more than the limit of " +
+                    std::to_string(m_settings.maxSubsteps);
     return report;
   }
   m_savedX = state.x;
@@ -111,7 +115,8 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
     forEachNodeRange(pool, nodes, [&](int, Eigen::Index begin, Eigen::Index end) {
       for (Eigen::Index i = begin; i < end; ++i) {
         for (int axis = 0; axis < 3; ++axis) {
-          if (fixed[static_cast<std::size_t>(3 * i + axis)] == 0) state.x(axis, i) += h * state.v(axis, i);
+          if (fixed[static_cast<std::size_t>(3 * i + axis)] == 0)
+            state.x(axis, i) += h * state.v(axis, i);
         }
       }
     });

@@ -38,8 +38,9 @@ class SymplecticEulerSolver final : public TimeIntegrator {
   /// the mass damping (1/s).
   static double stableStepBound(double largestStiffnessPerMass, double massDamping_1_s);
   /// max K_i / m_i over nodes [begin, end) (1/s^2; 0 when none is positive).
-  static double largestStiffnessPerMass(const Eigen::VectorXd& nodeStiffness, const Eigen::VectorXd& mass,
-                                        Eigen::Index begin, Eigen::Index end);
+  static double largestStiffnessPerMass(const Eigen::VectorXd& nodeStiffness,
+                                        const Eigen::VectorXd& mass, Eigen::Index begin,
+                                        Eigen::Index end);
 
   IntegratorSettings m_settings;
   Eigen::Matrix3Xd m_force;

@@ -9,15 +9,15 @@
 namespace tissuesim {
 
 struct StepReport {
-  int substeps = 1;            ///< explicit: substeps taken for stability
-  int iterations = 0;          ///< implicit: Newton or quasi-Newton iterations
-  int linearIterations = 0;    ///< implicit with CG: CG iterations over the whole step
-  double residual_N = 0.0;     ///< implicit: max |r| at the end (N)
-  bool converged = true;       ///< implicit: residual under tolerance
-  bool refused = false;        ///< the step was not taken (state unchanged): see `reason`
-  bool isFinite = true;        ///< false when NaN or infinity appeared (state not advanced)
+  int substeps = 1;          ///< explicit: substeps taken for stability
+  int iterations = 0;        ///< implicit: Newton or quasi-Newton iterations
+  int linearIterations = 0;  ///< implicit with CG: CG iterations over the whole step
+  double residual_N = 0.0;   ///< implicit: max |r| at the end (N)
+  bool converged = true;     ///< implicit: residual under tolerance
+  bool refused = false;      ///< the step was not taken (state unchanged): see `reason`
+  bool isFinite = true;      ///< false when NaN or infinity appeared (state not advanced)
   double stableTimeStep_s = std::numeric_limits<double>::infinity();  ///< explicit bound
-  ForceReport forces;          ///< what the last force evaluation saw
+  ForceReport forces;  ///< what the last force evaluation saw
   std::string reason;
 };
 
@@ -25,13 +25,13 @@ struct StepReport {
 struct IntegratorSettings {
   double massDamping_1_s = 0.0;  ///< alpha: damping force -alpha m v (1/s)
   // Explicit.
-  int maxSubsteps = 64;             ///< refuse a step that would need more
-  double stabilitySafety = 0.8;     ///< substep dt <= safety * 2 / omega_max
+  int maxSubsteps = 64;          ///< refuse a step that would need more
+  double stabilitySafety = 0.8;  ///< substep dt <= safety * 2 / omega_max
   // Implicit.
-  int maxIterations = 20;           ///< Newton (or quasi-Newton) iterations per step
-  double forceTolerance_N = 1e-6;   ///< converged when max |r| is below this
-  int historySize = 5;              ///< quasi-Newton: L-BFGS pairs kept
-  double linearTolerance = 1e-6;    ///< CG: relative residual of each Newton linear solve
+  int maxIterations = 20;          ///< Newton (or quasi-Newton) iterations per step
+  double forceTolerance_N = 1e-6;  ///< converged when max |r| is below this
+  int historySize = 5;             ///< quasi-Newton: L-BFGS pairs kept
+  double linearTolerance = 1e-6;   ///< CG: relative residual of each Newton linear solve
 };
 
 class TimeIntegrator {

@@ -26,8 +26,7 @@ HermiteNode StiffnessTable::closedFormStiffness(const StrainEnergy& energy, doub
 }
 
 StiffnessTable::StiffnessTable(const StrainEnergy& energy)
-    : m_range(energy.usableRange()),
-      m_halfInverseArea(0.5 / energy.parameters().springArea_m2) {
+    : m_range(energy.usableRange()), m_halfInverseArea(0.5 / energy.parameters().springArea_m2) {
   const StretchRange locking = energy.lockingRange();
   const double gap = std::min(m_range.lower - locking.lower, locking.upper - m_range.upper);
   const double spacing = std::min(kMaxSpacing, gap / kNodesPerLockingGap);

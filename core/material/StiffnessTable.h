@@ -17,8 +17,8 @@
 // lambda -> 1 is 0/0 in Eq. 11. Writing I1 - 3 = (lambda - 1)^2 (lambda + 2) / lambda and
 // W_T = (I1 - 3) Q(I1), Q = integral_0^1 dW_T/dI1(3 + s (I1 - 3)) ds, gives
 // k_s = 2 v (lambda - 1)(lambda + 2) Q / lambda^2 with no division by a small number; Q is
-// taken by Gauss-Legendre quadrature near I1 = 3. The series is k_s = v (3 mu0 e - 5 mu0 e^2 + ...),
-// e = lambda - 1 (tested).
+// taken by Gauss-Legendre quadrature near I1 = 3. The series is
+// k_s = v (3 mu0 e - 5 mu0 e^2 + ...), e = lambda - 1 (tested).
 
 #include "material/StrainEnergy.h"
 #include "numerics/UniformHermiteSpline.h"

@@ -76,10 +76,9 @@ EnergyInI1 StrainEnergy::isotropicInChainStretch(double r, bool withEnergy) cons
   // does not, and this is the derivative of the energy actually used (model.md).
   const double dEnergy =
       mu * (n * (b1 * r + beta + b1 / beta - b1 * cothBeta) - b1 / beta + 1.0 / r);
-  const double d2Energy =
-      mu * (n * (b2 * r + 2.0 * b1 + b2 / beta - b1 * b1 / (beta * beta) - b2 * cothBeta +
-                 b1 * b1 * cschSquared) -
-            b2 / beta + b1 * b1 / (beta * beta) - 1.0 / (r * r));
+  const double d2Energy = mu * (n * (b2 * r + 2.0 * b1 + b2 / beta - b1 * b1 / (beta * beta) -
+                                     b2 * cothBeta + b1 * b1 * cschSquared) -
+                                b2 / beta + b1 * b1 / (beta * beta) - 1.0 / (r * r));
   return {energy, dEnergy, d2Energy};
 }
 

@@ -53,7 +53,8 @@ struct SofteningPeak {
   double axial = 1.0;           ///< lambda_max^n
   double lateral = 1.0;         ///< lambda_max,3^n = lambda_max^(-n/2)
   double offsetAtRest = 0.0;    ///< P_s(1) = R(1) F(1) (Pa), the compression branch's offset
-  double jumpAtPeak = 0.0;      ///< P_s(lambda_max-) - P_v(lambda_max) = R(lambda_max)/lambda_max (Pa); 0 for n = 2
+  /// P_s(lambda_max-) - P_v(lambda_max) = R(lambda_max) / lambda_max (Pa); 0 for n = 2.
+  double jumpAtPeak = 0.0;
 };
 
 class StressSoftening {
@@ -96,8 +97,8 @@ class StressSoftening {
     const double l2 = lambda * lambda;
     const double inverse2 = inverse * inverse;
     // R = s [ -4 l^2 (A - l^2) + 4 / l (B - 1 / l) ]                                 (Eq. 17)
-    const double residual = m_residualScale_Pa *
-                            (-4.0 * l2 * (peak.axial - l2) + 4.0 * inverse * (peak.lateral - inverse));
+    const double residual = m_residualScale_Pa * (-4.0 * l2 * (peak.axial - l2) +
+                                                  4.0 * inverse * (peak.lateral - inverse));
     const double t = virgin.value + residual * inverse;
 
     // F = exp(-b sqrt(q)), q = (M - m) m / M;  dq/dlambda = (M - 2 m) m' / M,
@@ -117,7 +118,8 @@ class StressSoftening {
       // The tangent is vertical at lambda_max: cap it where sqrt(q) = 1e-6 (see above). One
       // division for both 1/m and 1/sqrt(q).
       constexpr double kMinRootQ = 1e-6;
-      const double dqTimesM = (1.0 - 2.0 * m * peak.inverseMeasure) * 2.0 * (l2 * lambda - inverse2 * inverse);
+      const double dqTimesM =
+          (1.0 - 2.0 * m * peak.inverseMeasure) * 2.0 * (l2 * lambda - inverse2 * inverse);
       const double df = -m_b * f * dqTimesM / (2.0 * m * std::max(kMinRootQ, rootQ));
       return {t * f, dt * f + t * df};
     }

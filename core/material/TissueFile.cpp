@@ -128,7 +128,8 @@ void rejectNonFiniteLiterals(std::string_view text, const std::string& source) {
   }
 }
 
-void lineAndColumn(std::string_view text, std::size_t byte, std::size_t& line, std::size_t& column) {
+void lineAndColumn(std::string_view text, std::size_t byte, std::size_t& line,
+                   std::size_t& column) {
   line = 1;
   column = 1;
   for (std::size_t i = 0; i < std::min(byte, text.size()); ++i) {
@@ -158,16 +159,17 @@ double readNumber(const Json& root, const NumberField& field, double fallback,
   if (!std::isfinite(value)) {
     fail(source, std::string("field '") + field.key + "' is not finite; expected " + field.meaning);
   }
-  const bool isBelow = field.lower.isStrict ? !(value > field.lower.value)
-                                            : !(value >= field.lower.value);
+  const bool isBelow =
+      field.lower.isStrict ? !(value > field.lower.value) : !(value >= field.lower.value);
   if (isBelow || value > field.upper) {
-    std::string range = std::string(field.lower.isStrict ? "> " : ">= ") +
-                        formatNumber(field.lower.value);
+    std::string range =
+        std::string(field.lower.isStrict ? "> " : ">= ") + formatNumber(field.lower.value);
     if (std::isfinite(field.upper)) range += " and <= " + formatNumber(field.upper);
     std::string why;
     if (std::string(field.key) == "N") {
-      why = ": with N <= 1 the chains lock before the unstretched state (lambda_r = 1/sqrt(N) "
-            ">= 1), so lambda = 1 is inadmissible";
+      why =
+          ": with N <= 1 the chains lock before the unstretched state (lambda_r = 1/sqrt(N) "
+          ">= 1), so lambda = 1 is inadmissible";
     }
     fail(source, std::string("field '") + field.key + "' = " + formatNumber(value) +
                      " is out of range" + why + "; expected " + field.meaning + " " + range);
@@ -180,7 +182,8 @@ std::string readString(const Json& root, const char* key, const std::string& fal
   const auto found = root.find(key);
   if (found == root.end()) return fallback;
   if (!found->is_string()) {
-    fail(source, std::string("field '") + key + "' must be a string, found " + describeType(*found));
+    fail(source,
+         std::string("field '") + key + "' must be a string, found " + describeType(*found));
   }
   return found->get<std::string>();
 }
@@ -188,16 +191,17 @@ std::string readString(const Json& root, const char* key, const std::string& fal
 }  // namespace
 
 TissueParameters parseTissueJson(std::string_view text, const std::string& source) {
-  if (std::all_of(text.begin(), text.end(),
-                  [](unsigned char c) { return std::isspace(c) != 0; })) {
-    fail(source, "the file is empty; expected a JSON object of tissue parameters "
-                 "(see docs/tissue-file.md)");
+  if (std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isspace(c) != 0; })) {
+    fail(source,
+         "the file is empty; expected a JSON object of tissue parameters "
+         "(see docs/tissue-file.md)");
   }
   // Control bytes other than whitespace never occur in a JSON text file.
   const bool isBinary = std::any_of(text.begin(), text.end(), [](unsigned char c) {
     return c < 0x20 && c != '\n' && c != '\r' && c != '\t';
   });
-  if (isBinary) fail(source, "contains binary data; expected a JSON text file of tissue parameters");
+  if (isBinary)
+    fail(source, "contains binary data; expected a JSON text file of tissue parameters");
   rejectNonFiniteLiterals(text, source);
 
   Json root;
@@ -223,7 +227,8 @@ TissueParameters parseTissueJson(std::string_view text, const std::string& sourc
   }
   if (!root.is_object()) {
     fail(source, std::string("expected a JSON object of tissue parameters at the top level, "
-                             "found ") + root.type_name());
+                             "found ") +
+                     root.type_name());
   }
 
   for (const auto& item : root.items()) {

@@ -26,13 +26,13 @@ struct TissueParameters {
   double fibreFraction = 0.0;   ///< f in [0, 1], volume fraction of the fibre term
 
   // Stress softening with residual strain (Eqs. 16-20).
-  double softeningB = 0.0;    ///< b (dimensionless, >= 0); 0 turns softening off
-  double softeningC_Pa = 0.0; ///< C (> 0); the residual term scales with mu / (2 C)
-  int softeningExponentN = 1; ///< n in g_k (Eq. 17): 1 (the paper's) or 2
+  double softeningB = 0.0;     ///< b (dimensionless, >= 0); 0 turns softening off
+  double softeningC_Pa = 0.0;  ///< C (> 0); the residual term scales with mu / (2 C)
+  int softeningExponentN = 1;  ///< n in g_k (Eq. 17): 1 (the paper's) or 2
 
   // The EESM spring (Eq. 11) and the mass of the tissue.
-  double springArea_m2 = 0.0;      ///< v_ij, the specimen cross-section of the fit (m^2)
-  double density_kg_m3 = 1060.0;   ///< mass density (liver about 1060 kg/m^3)
+  double springArea_m2 = 0.0;     ///< v_ij, the specimen cross-section of the fit (m^2)
+  double density_kg_m3 = 1060.0;  ///< mass density (liver about 1060 kg/m^3)
 
   InverseLangevin inverseLangevin = InverseLangevin::Puso;
 };

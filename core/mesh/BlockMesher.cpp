@@ -11,7 +11,8 @@ TetMesh makeBlockMesh(const Eigen::Vector3d& size_m, const Eigen::Vector3i& cell
   if ((size_m.array() <= 0.0).any() || !size_m.allFinite()) {
     throw std::invalid_argument("a block needs positive, finite edge lengths");
   }
-  if ((cells.array() < 1).any()) throw std::invalid_argument("a block needs at least one cell per axis");
+  if ((cells.array() < 1).any())
+    throw std::invalid_argument("a block needs at least one cell per axis");
   const int nx = cells.x() + 1;
   const int ny = cells.y() + 1;
   const int nz = cells.z() + 1;

@@ -12,8 +12,8 @@ namespace tissuesim {
 namespace {
 
 /// For each cell centre, how many of the three ray directions find it inside.
-std::vector<int> insideVotes(const TriangleSurface& surface, const Eigen::Vector3d& origin, double h,
-                             const Eigen::Vector3i& cells) {
+std::vector<int> insideVotes(const TriangleSurface& surface, const Eigen::Vector3d& origin,
+                             double h, const Eigen::Vector3i& cells) {
   std::vector<int> votes(static_cast<std::size_t>(cells.prod()), 0);
   const auto cellIndex = [&](const Eigen::Vector3i& c) {
     return static_cast<std::size_t>(c.x() + cells.x() * (c.y() + cells.y() * c.z()));
@@ -43,8 +43,8 @@ std::vector<int> insideVotes(const TriangleSurface& surface, const Eigen::Vector
           const double s = ((pu - a[u]) * (c[v] - a[v]) - (c[u] - a[u]) * (pv - a[v])) / det;
           const double t = ((b[u] - a[u]) * (pv - a[v]) - (pu - a[u]) * (b[v] - a[v])) / det;
           if (s < 0.0 || t < 0.0 || s + t > 1.0) continue;
-          hits[static_cast<std::size_t>(j + cells[u] * k)].push_back(a[axis] + s * (b[axis] - a[axis]) +
-                                                                     t * (c[axis] - a[axis]));
+          hits[static_cast<std::size_t>(j + cells[u] * k)].push_back(
+              a[axis] + s * (b[axis] - a[axis]) + t * (c[axis] - a[axis]));
         }
       }
     }
@@ -74,7 +74,8 @@ std::vector<int> insideVotes(const TriangleSurface& surface, const Eigen::Vector
 
 TetMesh meshInterior(const TriangleSurface& surface, const LatticeOptions& options) {
   const double h = options.edgeLength_m;
-  if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("the lattice edge length must be > 0");
+  if (!(h > 0.0) || !std::isfinite(h))
+    throw std::invalid_argument("the lattice edge length must be > 0");
   if (surface.triangleCount() == 0) throw std::invalid_argument("the surface has no triangles");
   const Eigen::Vector3d lower = surface.vertices_m.rowwise().minCoeff();
   const Eigen::Vector3d upper = surface.vertices_m.rowwise().maxCoeff();
@@ -82,7 +83,8 @@ TetMesh meshInterior(const TriangleSurface& surface, const LatticeOptions& optio
   const Eigen::Vector3d origin = lower.array() - h;
   const Eigen::Vector3i cells = (((upper - lower).array() / h).ceil() + 2.0).cast<int>();
   if (static_cast<double>(cells.cast<double>().prod()) > 2e7) {
-    throw std::invalid_argument("the lattice would have over 20 million cells; use a larger edge length");
+    throw std::invalid_argument(
+        "the lattice would have over 20 million cells; use a larger edge length");
   }
   std::vector<int> votes = insideVotes(surface, origin, h, cells);
   std::vector<char> keep(votes.size(), 0);
@@ -108,7 +110,8 @@ TetMesh meshInterior(const TriangleSurface& surface, const LatticeOptions& optio
   }
   mesh.nodes_m.resize(3, nodes);
   for (Eigen::Index v = 0; v < block.nodeCount(); ++v) {
-    if (newIndex[static_cast<std::size_t>(v)] >= 0) mesh.nodes_m.col(newIndex[static_cast<std::size_t>(v)]) = block.nodes_m.col(v);
+    if (newIndex[static_cast<std::size_t>(v)] >= 0)
+      mesh.nodes_m.col(newIndex[static_cast<std::size_t>(v)]) = block.nodes_m.col(v);
   }
   return mesh;
 }

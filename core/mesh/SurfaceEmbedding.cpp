@@ -26,11 +26,14 @@ SurfaceEmbedding::SurfaceEmbedding(const TetMesh& mesh, const Eigen::Matrix3Xd& 
   // Bin tets by bounding box on a grid of about the mean tet size.
   const Eigen::Vector3d lower = mesh.nodes_m.rowwise().minCoeff();
   const Eigen::Vector3d upper = mesh.nodes_m.rowwise().maxCoeff();
-  const double cell = std::max(1e-9, std::cbrt((upper - lower).prod() / std::max<Eigen::Index>(1, mesh.tetCount())) * 2.0);
+  const double cell = std::max(
+      1e-9, std::cbrt((upper - lower).prod() / std::max<Eigen::Index>(1, mesh.tetCount())) * 2.0);
   const Eigen::Vector3i cells = (((upper - lower).array() / cell).floor() + 1.0).cast<int>();
   const auto binOf = [&](const Eigen::Vector3d& p) {
-    const Eigen::Vector3i c = ((p - lower).array() / cell).floor().cast<int>().cwiseMax(0).cwiseMin(cells.array() - 1);
-    return static_cast<long long>(c.x()) + cells.x() * (static_cast<long long>(c.y()) + cells.y() * static_cast<long long>(c.z()));
+    const Eigen::Vector3i c =
+        ((p - lower).array() / cell).floor().cast<int>().cwiseMax(0).cwiseMin(cells.array() - 1);
+    return static_cast<long long>(c.x()) +
+           cells.x() * (static_cast<long long>(c.y()) + cells.y() * static_cast<long long>(c.z()));
   };
   std::unordered_map<long long, std::vector<int>> bins;
   for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
@@ -39,12 +42,16 @@ SurfaceEmbedding::SurfaceEmbedding(const TetMesh& mesh, const Eigen::Matrix3Xd& 
       lo = lo.cwiseMin(mesh.nodes_m.col(mesh.tets(k, t)));
       hi = hi.cwiseMax(mesh.nodes_m.col(mesh.tets(k, t)));
     }
-    const Eigen::Vector3i a = ((lo - lower).array() / cell).floor().cast<int>().cwiseMax(0).cwiseMin(cells.array() - 1);
-    const Eigen::Vector3i b = ((hi - lower).array() / cell).floor().cast<int>().cwiseMax(0).cwiseMin(cells.array() - 1);
+    const Eigen::Vector3i a =
+        ((lo - lower).array() / cell).floor().cast<int>().cwiseMax(0).cwiseMin(cells.array() - 1);
+    const Eigen::Vector3i b =
+        ((hi - lower).array() / cell).floor().cast<int>().cwiseMax(0).cwiseMin(cells.array() - 1);
     for (int x = a.x(); x <= b.x(); ++x)
       for (int y = a.y(); y <= b.y(); ++y)
         for (int z = a.z(); z <= b.z(); ++z)
-          bins[static_cast<long long>(x) + cells.x() * (static_cast<long long>(y) + cells.y() * static_cast<long long>(z))].push_back(static_cast<int>(t));
+          bins[static_cast<long long>(x) +
+               cells.x() * (static_cast<long long>(y) + cells.y() * static_cast<long long>(z))]
+              .push_back(static_cast<int>(t));
   }
 
   for (Eigen::Index v = 0; v < surfaceVertices_m.cols(); ++v) {
@@ -70,8 +77,12 @@ SurfaceEmbedding::SurfaceEmbedding(const TetMesh& mesh, const Eigen::Matrix3Xd& 
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dz = -1; dz <= 1; ++dz) {
-            const Eigen::Vector3i n = (c + Eigen::Vector3i(dx, dy, dz)).cwiseMax(0).cwiseMin((cells.array() - 1).matrix());
-            const auto found = bins.find(static_cast<long long>(n.x()) + cells.x() * (static_cast<long long>(n.y()) + cells.y() * static_cast<long long>(n.z())));
+            const Eigen::Vector3i n = (c + Eigen::Vector3i(dx, dy, dz))
+                                          .cwiseMax(0)
+                                          .cwiseMin((cells.array() - 1).matrix());
+            const auto found = bins.find(static_cast<long long>(n.x()) +
+                                         cells.x() * (static_cast<long long>(n.y()) +
+                                                      cells.y() * static_cast<long long>(n.z())));
             if (found == bins.end()) continue;
             for (const int t : found->second) consider(t);
           }
@@ -93,8 +104,9 @@ SurfaceEmbedding::SurfaceEmbedding(const TetMesh& mesh, const Eigen::Matrix3Xd& 
 
 void SurfaceEmbedding::apply(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& surface) const {
   for (Eigen::Index v = 0; v < m_nodes.cols(); ++v) {
-    surface.col(v) = m_weights(0, v) * x.col(m_nodes(0, v)) + m_weights(1, v) * x.col(m_nodes(1, v)) +
-                     m_weights(2, v) * x.col(m_nodes(2, v)) + m_weights(3, v) * x.col(m_nodes(3, v));
+    surface.col(v) =
+        m_weights(0, v) * x.col(m_nodes(0, v)) + m_weights(1, v) * x.col(m_nodes(1, v)) +
+        m_weights(2, v) * x.col(m_nodes(2, v)) + m_weights(3, v) * x.col(m_nodes(3, v));
   }
 }
 

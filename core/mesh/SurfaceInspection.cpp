@@ -24,14 +24,16 @@ std::map<Edge, int> countEdges(const TriangleSurface& surface) {
   return counts;
 }
 
-std::vector<SurfaceHole> findHoles(const TriangleSurface& surface, const std::map<Edge, int>& counts) {
+std::vector<SurfaceHole> findHoles(const TriangleSurface& surface,
+                                   const std::map<Edge, int>& counts) {
   // Boundary edges keep their triangle's direction, so loops can be walked a -> b.
   std::multimap<int, int> next;
   for (Eigen::Index f = 0; f < surface.triangleCount(); ++f) {
     for (int k = 0; k < 3; ++k) {
       const int a = surface.triangles(k, f);
       const int b = surface.triangles((k + 1) % 3, f);
-      if (counts.at({std::min(a, b), std::max(a, b)}) == 1) next.emplace(b, a);  // reversed: hole orientation
+      if (counts.at({std::min(a, b), std::max(a, b)}) == 1)
+        next.emplace(b, a);  // reversed: hole orientation
     }
   }
   std::vector<SurfaceHole> holes;
@@ -50,9 +52,11 @@ std::vector<SurfaceHole> findHoles(const TriangleSurface& surface, const std::ma
     }
     for (std::size_t i = 0; i < hole.loop.size(); ++i) {
       const Eigen::Vector3d p = surface.vertices_m.col(hole.loop[i]);
-      hole.perimeter_m += (surface.vertices_m.col(hole.loop[(i + 1) % hole.loop.size()]) - p).norm();
+      hole.perimeter_m +=
+          (surface.vertices_m.col(hole.loop[(i + 1) % hole.loop.size()]) - p).norm();
       for (std::size_t j = i + 1; j < hole.loop.size(); ++j) {
-        hole.diameter_m = std::max(hole.diameter_m, (surface.vertices_m.col(hole.loop[j]) - p).norm());
+        hole.diameter_m =
+            std::max(hole.diameter_m, (surface.vertices_m.col(hole.loop[j]) - p).norm());
       }
     }
     holes.push_back(std::move(hole));
@@ -117,24 +121,29 @@ int weldVertices(TriangleSurface& surface, double tolerance_m) {
   std::vector<Eigen::Vector3i> kept;
   for (Eigen::Index f = 0; f < surface.triangleCount(); ++f) {
     Eigen::Vector3i t;
-    for (int k = 0; k < 3; ++k) t[k] = representative[static_cast<std::size_t>(surface.triangles(k, f))];
+    for (int k = 0; k < 3; ++k)
+      t[k] = representative[static_cast<std::size_t>(surface.triangles(k, f))];
     if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) kept.push_back(t);
   }
   std::vector<int> newIndex(static_cast<std::size_t>(count), -1);
   int used = 0;
   for (const Eigen::Vector3i& t : kept) {
     for (int k = 0; k < 3; ++k) {
-      if (newIndex[static_cast<std::size_t>(t[k])] < 0) newIndex[static_cast<std::size_t>(t[k])] = used++;
+      if (newIndex[static_cast<std::size_t>(t[k])] < 0)
+        newIndex[static_cast<std::size_t>(t[k])] = used++;
     }
   }
   Eigen::Matrix3Xd vertices(3, used);
   for (Eigen::Index v = 0; v < count; ++v) {
-    if (newIndex[static_cast<std::size_t>(v)] >= 0) vertices.col(newIndex[static_cast<std::size_t>(v)]) = surface.vertices_m.col(v);
+    if (newIndex[static_cast<std::size_t>(v)] >= 0)
+      vertices.col(newIndex[static_cast<std::size_t>(v)]) = surface.vertices_m.col(v);
   }
   surface.vertices_m = std::move(vertices);
   surface.triangles.resize(3, static_cast<Eigen::Index>(kept.size()));
   for (std::size_t f = 0; f < kept.size(); ++f) {
-    for (int k = 0; k < 3; ++k) surface.triangles(k, static_cast<Eigen::Index>(f)) = newIndex[static_cast<std::size_t>(kept[f][k])];
+    for (int k = 0; k < 3; ++k)
+      surface.triangles(k, static_cast<Eigen::Index>(f)) =
+          newIndex[static_cast<std::size_t>(kept[f][k])];
   }
   return merged;
 }
@@ -181,8 +190,8 @@ int closeSmallHoles(TriangleSurface& surface, double maxDiameter_m) {
     const Eigen::Index first = surface.triangleCount();
     surface.triangles.conservativeResize(3, first + static_cast<Eigen::Index>(hole.loop.size()));
     for (std::size_t i = 0; i < hole.loop.size(); ++i) {
-      surface.triangles.col(first + static_cast<Eigen::Index>(i))
-          << hole.loop[i], hole.loop[(i + 1) % hole.loop.size()], static_cast<int>(centre);
+      surface.triangles.col(first + static_cast<Eigen::Index>(i)) << hole.loop[i],
+          hole.loop[(i + 1) % hole.loop.size()], static_cast<int>(centre);
     }
     ++closed;
   }

@@ -20,9 +20,9 @@ struct SurfaceHole {
 struct SurfaceReport {
   Eigen::Index vertices = 0;
   Eigen::Index triangles = 0;
-  int openEdges = 0;          ///< edges with one triangle
-  int nonManifoldEdges = 0;   ///< edges with three or more triangles
-  int degenerateTriangles = 0;///< area below (1e-6 of the bounding-box diagonal)^2
+  int openEdges = 0;            ///< edges with one triangle
+  int nonManifoldEdges = 0;     ///< edges with three or more triangles
+  int degenerateTriangles = 0;  ///< area below (1e-6 of the bounding-box diagonal)^2
   int unusedVertices = 0;
   std::vector<SurfaceHole> holes;
   double boundingDiagonal_m = 0.0;

@@ -1,8 +1,8 @@
 #include "mesh/SurfaceReader.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include <functional>
 
@@ -71,7 +71,7 @@ TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceRead
   std::vector<Eigen::Vector3i> triangles;
   // Walk the node tree so each mesh gets its node's transform.
   std::function<void(const aiNode*, const aiMatrix4x4&)> visit = [&](const aiNode* node,
-                                                                      const aiMatrix4x4& parent) {
+                                                                     const aiMatrix4x4& parent) {
     const aiMatrix4x4 transform = parent * node->mTransformation;
     for (unsigned k = 0; k < node->mNumMeshes; ++k) {
       const unsigned m = node->mMeshes[k];
@@ -101,7 +101,8 @@ TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceRead
   for (std::size_t v = 0; v < vertices.size(); ++v) {
     const Eigen::Vector3d& p = vertices[v];
     if (!p.allFinite()) {
-      throw MeshFileError(name + ": vertex " + std::to_string(v) + " has a coordinate that is not finite");
+      throw MeshFileError(name + ": vertex " + std::to_string(v) +
+                          " has a coordinate that is not finite");
     }
     if (p.cwiseAbs().maxCoeff() > kMaxCoordinate_m) {
       throw MeshFileError(name + ": vertex " + std::to_string(v) + " lies " +

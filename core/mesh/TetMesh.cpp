@@ -1,12 +1,12 @@
 #include "mesh/TetMesh.h"
 
 #include <algorithm>
-#include <cmath>
-#include <numbers>
-#include <utility>
 #include <array>
+#include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
+#include <utility>
 
 namespace tissuesim {
 
@@ -23,7 +23,8 @@ Eigen::Matrix3Xi boundaryFaces(const TetMesh& mesh) {
   for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
     for (const auto& local : kOpposite) {
       Face face{};
-      for (int i = 0; i < 3; ++i) face.oriented[static_cast<std::size_t>(i)] = mesh.tets(local[i], t);
+      for (int i = 0; i < 3; ++i)
+        face.oriented[static_cast<std::size_t>(i)] = mesh.tets(local[i], t);
       face.key = face.oriented;
       std::sort(face.key.begin(), face.key.end());
       faces.push_back(face);
@@ -80,7 +81,9 @@ void tetShape(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen:
   maxAngle = 0.0;
   for (int i = 0; i < 4; ++i) {
     for (int j = i + 1; j < 4; ++j) {
-      const double cosine = std::clamp(-normals[static_cast<std::size_t>(i)].dot(normals[static_cast<std::size_t>(j)]), -1.0, 1.0);
+      const double cosine = std::clamp(
+          -normals[static_cast<std::size_t>(i)].dot(normals[static_cast<std::size_t>(j)]), -1.0,
+          1.0);
       const double angle = std::acos(cosine) * 180.0 / std::numbers::pi;
       minAngle = std::min(minAngle, angle);
       maxAngle = std::max(maxAngle, angle);
@@ -89,9 +92,12 @@ void tetShape(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen:
   const Eigen::Vector3d a = p1 - p0, b = p2 - p0, c = p3 - p0;
   const double volume = std::abs(a.dot(b.cross(c))) / 6.0;
   const double inradius = area > 0.0 ? 3.0 * volume / area : 0.0;
-  const double circumradius =
-      volume > 0.0 ? (a.squaredNorm() * b.cross(c) + b.squaredNorm() * c.cross(a) + c.squaredNorm() * a.cross(b)).norm() / (12.0 * volume)
-                   : std::numeric_limits<double>::infinity();
+  const double circumradius = volume > 0.0
+                                  ? (a.squaredNorm() * b.cross(c) + b.squaredNorm() * c.cross(a) +
+                                     c.squaredNorm() * a.cross(b))
+                                            .norm() /
+                                        (12.0 * volume)
+                                  : std::numeric_limits<double>::infinity();
   radiusRatio = 3.0 * inradius / circumradius;
 }
 }  // namespace

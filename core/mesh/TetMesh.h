@@ -40,9 +40,9 @@ struct TetQualityReport {
   std::vector<Eigen::Index> slivers;       ///< |volume| below the sliver threshold (incl. 0)
   double minVolume_m3 = 0.0;
   double totalVolume_m3 = 0.0;
-  double minDihedral_deg = 180.0;   ///< smallest dihedral angle of any tet
+  double minDihedral_deg = 180.0;  ///< smallest dihedral angle of any tet
   double maxDihedral_deg = 0.0;
-  double minRadiusRatio = 1.0;      ///< 3 r_in / R_circ: 1 for a regular tet, 0 for a flat one
+  double minRadiusRatio = 1.0;  ///< 3 r_in / R_circ: 1 for a regular tet, 0 for a flat one
 };
 
 /// A tet is a sliver when its volume is below `sliverFraction` times the volume of the

@@ -32,7 +32,8 @@ class LineReader {
       ++m_line;
       if (!line.empty() && line.back() == '\r') line.pop_back();
       for (const unsigned char c : line) {
-        if (c < 0x09 || (c > 0x0d && c < 0x20)) fail("contains binary data; expected an ASCII mesh");
+        if (c < 0x09 || (c > 0x0d && c < 0x20))
+          fail("contains binary data; expected an ASCII mesh");
       }
       const auto first = line.find_first_not_of(" \t");
       if (first == std::string::npos || line[first] == '#') continue;
@@ -332,7 +333,8 @@ void writeGmsh(const std::filesystem::path& path, const TetMesh& mesh) {
   out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << mesh.nodeCount() << "\n";
   out.precision(17);
   for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
-    out << i + 1 << ' ' << mesh.nodes_m(0, i) << ' ' << mesh.nodes_m(1, i) << ' ' << mesh.nodes_m(2, i) << '\n';
+    out << i + 1 << ' ' << mesh.nodes_m(0, i) << ' ' << mesh.nodes_m(1, i) << ' '
+        << mesh.nodes_m(2, i) << '\n';
   }
   out << "$EndNodes\n$Elements\n" << mesh.tetCount() << "\n";
   for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {

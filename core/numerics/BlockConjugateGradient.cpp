@@ -107,7 +107,8 @@ bool BlockConjugateGradient::factorCapacitance(const std::vector<RankOneTerm>& t
       double sum = c == d ? 1.0 / tc.stiffness_N_m : 0.0;
       for (std::size_t i = 0; i < 3; ++i) {
         for (std::size_t j = 0; j < 3; ++j) {
-          if (tc.nodes[i] == td.nodes[j]) sum += tc.blocks[i].dot(m_termW[static_cast<std::size_t>(d)][j]);
+          if (tc.nodes[i] == td.nodes[j])
+            sum += tc.blocks[i].dot(m_termW[static_cast<std::size_t>(d)][j]);
         }
       }
       s(c, d) = sum;
@@ -151,9 +152,8 @@ double BlockConjugateGradient::correctForTerms(const std::vector<RankOneTerm>& t
 }
 
 ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator& a,
-                                                      const Eigen::VectorXd& b,
-                                                      Eigen::VectorXd& x, double tolerance,
-                                                      int maxIterations,
+                                                      const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                                      double tolerance, int maxIterations,
                                                       const std::vector<RankOneTerm>* terms) {
   if (m_nodeCount != a.nodeCount()) resize(a);
   m_bounds = a.partBounds();
@@ -211,8 +211,8 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
       rz = sumInOrder(m_dotB);
     }
   }
-  const double threshold = std::max(tolerance * tolerance * bNorm2,
-                                    std::numeric_limits<double>::min());
+  const double threshold =
+      std::max(tolerance * tolerance * bNorm2, std::numeric_limits<double>::min());
   double alpha = 0.0, beta = 0.0;
 
   // q = A p on the part's rows; partial p.q.

@@ -4,15 +4,15 @@
 //
 //   A x = b,   A: 3#V by 3#V (N/m),  b: 3#V (N),  x: 3#V (m), started from x = 0
 //
-// stopping when ||b - A x||_2 <= tolerance ||b||_2 (Eigen's ConjugateGradient criterion) or
-// after maxIterations. Why not Eigen's: its product is a serial scalar CSC loop that reads one
-// row index per value; here the product is the operator's own (one neighbour index per 3x3
-// block, or none at all), and every pass (product, updates, dot products) runs over the
-// operator's kParts fixed node ranges, on a ForkJoinPool when one is set. The ranges and the order in which their partial dot products are summed do not
-// depend on the thread count, so the result is bit-identical with 1, 2 or 4 threads.
-// The preconditioner is the inverse of each node's 3x3 diagonal block, not of its diagonal
-// entries: an instrument contact adds k w^2 n n^T there, along a normal that is rarely an axis,
-// and the springs' blocks couple the axes too. On the held probe it takes 9.5 products a step
+// stopping when ||b - A x||_2 <= tolerance ||b||_2 (Eigen's ConjugateGradient criterion) or after
+// maxIterations. Why not Eigen's: its product is a serial scalar CSC loop that reads one row index
+// per value; here the product is the operator's own (one neighbour index per 3x3 block, or none at
+// all), and every pass (product, updates, dot products) runs over the operator's kParts fixed node
+// ranges, on a ForkJoinPool when one is set. The ranges and the order in which their partial dot
+// products are summed do not depend on the thread count, so the result is bit-identical with 1, 2
+// or 4 threads. The preconditioner is the inverse of each node's 3x3 diagonal block, not of its
+// diagonal entries: an instrument contact adds k w^2 n n^T there, along a normal that is rarely an
+// axis, and the springs' blocks couple the axes too. On the held probe it takes 9.5 products a step
 // against 10.8 with scalar Jacobi, on the stretched slab 14-15 against 19.
 //
 // Rank-one terms (instrument contacts): A may hold terms k u u^T whose u spans up to three
@@ -86,7 +86,7 @@ class BlockConjugateGradient {
   Eigen::VectorXd m_r, m_z, m_p, m_q;
   std::array<double, kParts> m_dotA{}, m_dotB{};  ///< per-part partial dot products
   // The rank-one terms' scratch (sized once, in resize()).
-  RankOneTermDiagonals m_termDiagonals;  ///< the terms' diagonal blocks, for B
+  RankOneTermDiagonals m_termDiagonals;                 ///< the terms' diagonal blocks, for B
   std::vector<std::array<Eigen::Vector3d, 3>> m_termW;  ///< per term, W's blocks at its nodes
   Eigen::MatrixXd m_capacitance;  ///< kMaxExactTerms square; S's Cholesky factor in its corner
   Eigen::VectorXd m_termT, m_termSolved;  ///< kMaxExactTerms each: U^T z and S^-1 U^T z

@@ -8,7 +8,8 @@ namespace tissuesim {
 
 NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi& edges) {
   std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(nodeCount));
-  for (Eigen::Index v = 0; v < nodeCount; ++v) neighbours[static_cast<std::size_t>(v)].push_back(static_cast<int>(v));
+  for (Eigen::Index v = 0; v < nodeCount; ++v)
+    neighbours[static_cast<std::size_t>(v)].push_back(static_cast<int>(v));
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
     neighbours[static_cast<std::size_t>(edges(0, e))].push_back(edges(1, e));
     neighbours[static_cast<std::size_t>(edges(1, e))].push_back(edges(0, e));
@@ -38,7 +39,8 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
   }
   m_matrix.finalize();
   m_diagonalStart.reserve(static_cast<std::size_t>(nodeCount));
-  for (Eigen::Index j = 0; j < nodeCount; ++j) m_diagonalStart.push_back(blockStart(static_cast<int>(j), static_cast<int>(j)));
+  for (Eigen::Index j = 0; j < nodeCount; ++j)
+    m_diagonalStart.push_back(blockStart(static_cast<int>(j), static_cast<int>(j)));
   // Per edge, one search for each end's slot: it gives both the blocks' offsets and the
   // assignment's edge map.
   m_edgeSlots.reserve(static_cast<std::size_t>(edges.cols()));
@@ -56,24 +58,29 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
       m_neighbourEdge[at] = static_cast<int>(e);
     }
   }
-  m_partBounds = balancedPartBounds(this->nodeCount(), [this](Eigen::Index j) { return valuesBefore(j); });
+  m_partBounds =
+      balancedPartBounds(this->nodeCount(), [this](Eigen::Index j) { return valuesBefore(j); });
 }
 
 void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
                                           ForkJoinPool* pool) {
-  assignEdges(k.cols(), [&](Eigen::Index e) { return Eigen::Map<const Eigen::Matrix3d>(k.col(e).data()); },
-              pool);
+  assignEdges(
+      k.cols(), [&](Eigen::Index e) { return Eigen::Map<const Eigen::Matrix3d>(k.col(e).data()); },
+      pool);
 }
 
 void NodeBlockMatrix::assignAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* pool) {
-  assignEdges(k.cols(), [&](Eigen::Index e) { return axialBlock(k.col(e).data()); }, pool);
+  assignEdges(
+      k.cols(), [&](Eigen::Index e) { return axialBlock(k.col(e).data()); }, pool);
 }
 
 template <typename BlockOf>
-void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockOf, ForkJoinPool* pool) {
+void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockOf,
+                                  ForkJoinPool* pool) {
   if (blockCount != edgeCount()) {
-    throw std::invalid_argument("NodeBlockMatrix::assignEdgeStiffness: " + std::to_string(blockCount) +
-                                " blocks for " + std::to_string(edgeCount()) + " edges");
+    throw std::invalid_argument(
+        "NodeBlockMatrix::assignEdgeStiffness: " + std::to_string(blockCount) + " blocks for " +
+        std::to_string(edgeCount()) + " edges");
   }
   if (m_hasRepeatedEdges) {  // two edges share a block: they must be summed
     setZero();
@@ -93,7 +100,8 @@ void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockO
 }
 
 template <typename BlockOf>
-void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin, Eigen::Index end) {
+void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin,
+                                        Eigen::Index end) {
   double* const values = m_matrix.valuePtr();
   const int* const outer = m_matrix.outerIndexPtr();
   for (Eigen::Index j = begin; j < end; ++j) {
@@ -137,11 +145,14 @@ std::size_t NodeBlockMatrix::neighbourSlot(int i, int j) const {
 }
 
 Eigen::Index NodeBlockMatrix::slotStart(std::size_t slot, int j) const {
-  const auto position = static_cast<Eigen::Index>(slot) - m_neighbourStart[static_cast<std::size_t>(j)];
+  const auto position =
+      static_cast<Eigen::Index>(slot) - m_neighbourStart[static_cast<std::size_t>(j)];
   return m_matrix.outerIndexPtr()[3 * j] + 3 * position;
 }
 
-Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const { return slotStart(neighbourSlot(i, j), j); }
+Eigen::Index NodeBlockMatrix::blockStart(int i, int j) const {
+  return slotStart(neighbourSlot(i, j), j);
+}
 
 void NodeBlockMatrix::addBlock(int i, int j, const Eigen::Matrix3d& block) {
   const Eigen::Index start = blockStart(i, j);

@@ -76,14 +76,16 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   }
   /// What the product kernels read (pointers into this matrix).
   NodeBlockRows rows() const {
-    return {m_matrix.valuePtr(), m_matrix.outerIndexPtr(), m_neighbourStart.data(), m_neighbourIndex.data()};
+    return {m_matrix.valuePtr(), m_matrix.outerIndexPtr(), m_neighbourStart.data(),
+            m_neighbourIndex.data()};
   }
 
   /// BlockLinearOperator: node ranges of about equal stored values, each part's rows by
   /// multiplyNodes().
   const PartBounds& partBounds() const override { return m_partBounds; }
   void multiplyPart(int part, const double* x, double* y) const override {
-    multiplyNodes(m_partBounds[static_cast<std::size_t>(part)], m_partBounds[static_cast<std::size_t>(part) + 1], x, y);
+    multiplyNodes(m_partBounds[static_cast<std::size_t>(part)],
+                  m_partBounds[static_cast<std::size_t>(part) + 1], x, y);
   }
 
   /// Block (j, j), 3x3.
@@ -98,7 +100,9 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   }
 
   /// #V.
-  Eigen::Index nodeCount() const override { return static_cast<Eigen::Index>(m_neighbourStart.size()) - 1; }
+  Eigen::Index nodeCount() const override {
+    return static_cast<Eigen::Index>(m_neighbourStart.size()) - 1;
+  }
   /// Stored values in the columns of nodes [0, j): a cost measure for cutting node ranges.
   Eigen::Index valuesBefore(Eigen::Index j) const { return m_matrix.outerIndexPtr()[3 * j]; }
 
@@ -127,7 +131,7 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   /// Where edge (a, b)'s four blocks start in the value array; column c of a block in node j's
   /// columns is `stride` values after column c - 1.
   struct EdgeSlots {
-    Eigen::Index aa, bb, ab, ba;  ///< starts of blocks (a, a), (b, b), (a, b) and (b, a)
+    Eigen::Index aa, bb, ab, ba;    ///< starts of blocks (a, a), (b, b), (a, b) and (b, a)
     Eigen::Index strideA, strideB;  ///< 3 x neighbour count of a and of b
   };
 
@@ -137,15 +141,15 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   std::vector<int> m_neighbourStart;  ///< #V + 1
   std::vector<int> m_neighbourIndex;
   std::vector<Eigen::Index> m_diagonalStart;  ///< per node j, where block (j, j) starts
-  std::vector<EdgeSlots> m_edgeSlots;          ///< per edge of the constructor's list
+  std::vector<EdgeSlots> m_edgeSlots;         ///< per edge of the constructor's list
   /// Per entry of m_neighbourIndex, the edge joining the two nodes (-1 on the diagonal).
   std::vector<int> m_neighbourEdge;
   /// Node ranges of equal shares of the stored values: the product's parts and the assignment's.
   PartBounds m_partBounds{};
   bool m_hasRepeatedEdges = false;  ///< an edge listed twice: assignEdgeStiffness() must add
-  std::vector<char> m_fixedFlags;              ///< the flags m_fixedEntries were listed for
-  std::vector<Eigen::Index> m_fixedEntries;    ///< values zeroed by applyFixedDofs
-  std::vector<Eigen::Index> m_fixedDiagonal;   ///< values set to 1 by applyFixedDofs
+  std::vector<char> m_fixedFlags;   ///< the flags m_fixedEntries were listed for
+  std::vector<Eigen::Index> m_fixedEntries;   ///< values zeroed by applyFixedDofs
+  std::vector<Eigen::Index> m_fixedDiagonal;  ///< values set to 1 by applyFixedDofs
 };
 
 }  // namespace tissuesim

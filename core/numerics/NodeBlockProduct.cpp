@@ -37,7 +37,8 @@ inline Eigen::Index gather(const NodeBlockRows& rows, Eigen::Index j, const doub
   const int first = rows.neighbourStart[j];
   const int count = rows.neighbourStart[j + 1] - first;
   for (int p = 0; p < count; ++p) {
-    std::memcpy(g + 3 * p, x + 3 * static_cast<Eigen::Index>(rows.neighbourIndex[first + p]), 3 * sizeof(double));
+    std::memcpy(g + 3 * p, x + 3 * static_cast<Eigen::Index>(rows.neighbourIndex[first + p]),
+                3 * sizeof(double));
   }
   const Eigen::Index n = 3 * static_cast<Eigen::Index>(count);
   g[n] = g[n + 1] = g[n + 2] = 0.0;
@@ -57,7 +58,8 @@ namespace {
 /// The walk both kernels share: per row, the plain loop past the gather buffer, else the
 /// neighbours' x gathered and dotColumns(first column, 3 n_j, g, y_j) for the three rows.
 template <void (*dotColumns)(const double*, Eigen::Index, const double*, double*)>
-void multiplyRows(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end, const double* x, double* y) {
+void multiplyRows(const NodeBlockRows& rows, Eigen::Index begin, Eigen::Index end, const double* x,
+                  double* y) {
   alignas(32) double g[3 * kMaxGatheredNeighbours + 4];
   for (Eigen::Index j = begin; j < end; ++j) {
     if (!isGathered(rows, j)) {
@@ -99,8 +101,8 @@ __attribute__((target("avx,fma"))) inline double sum4(__m256d v) {
 }
 
 /// The same four at a time with FMA (g is 32-byte aligned and zero past n).
-__attribute__((target("avx,fma"))) void dotColumnsAvxFma(const double* column, Eigen::Index n, const double* g,
-                                                         double* y) {
+__attribute__((target("avx,fma"))) void dotColumnsAvxFma(const double* column, Eigen::Index n,
+                                                         const double* g, double* y) {
   // Lane masks for the last 1 to 3 values of a column.
   alignas(32) static constexpr long long kFirstLanes[4][4] = {
       {0, 0, 0, 0}, {-1, 0, 0, 0}, {-1, -1, 0, 0}, {-1, -1, -1, 0}};

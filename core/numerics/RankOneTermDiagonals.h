@@ -27,8 +27,8 @@ class RankOneTermDiagonals {
   }
 
  private:
-  std::vector<int> m_slot;               ///< #V: index into m_sums, or -1
-  std::vector<int> m_nodes;              ///< the nodes the terms touch
+  std::vector<int> m_slot;              ///< #V: index into m_sums, or -1
+  std::vector<int> m_nodes;             ///< the nodes the terms touch
   std::vector<Eigen::Matrix3d> m_sums;  ///< D_j per such node
 };
 

@@ -29,7 +29,9 @@ class UniformHermiteSpline {
   UniformHermiteSpline() = default;
   /// @param origin x_0; @param spacing h > 0; @param nodes n >= 2 values and slopes.
   UniformHermiteSpline(double origin, double spacing, std::vector<HermiteNode> nodes)
-      : m_origin(origin), m_spacing(spacing), m_inverseSpacing(1.0 / spacing),
+      : m_origin(origin),
+        m_spacing(spacing),
+        m_inverseSpacing(1.0 / spacing),
         m_nodes(std::move(nodes)) {}
 
   double value(double x) const {

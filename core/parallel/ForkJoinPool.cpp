@@ -36,8 +36,8 @@ ForkJoinPool::~ForkJoinPool() {
 
 void ForkJoinPool::runErased(int parts, Function function, const void* context) {
   if (parts < 1 || parts > kMaxParts) {
-    throw std::invalid_argument("ForkJoinPool::run: " + std::to_string(parts) + " parts (expected 1 to " +
-                                std::to_string(kMaxParts) + ")");
+    throw std::invalid_argument("ForkJoinPool::run: " + std::to_string(parts) +
+                                " parts (expected 1 to " + std::to_string(kMaxParts) + ")");
   }
   if (m_workers.empty()) {
     for (int part = 0; part < parts; ++part) function(context, part);

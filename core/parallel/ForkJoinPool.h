@@ -41,8 +41,9 @@ class ForkJoinPool {
   /// not throw, and must not call run() on the same pool.
   template <typename Task>
   void run(int parts, const Task& task) {
-    runErased(parts, [](const void* context, int part) { (*static_cast<const Task*>(context))(part); },
-              &task);
+    runErased(
+        parts, [](const void* context, int part) { (*static_cast<const Task*>(context))(part); },
+        &task);
   }
 
  private:

@@ -42,7 +42,9 @@ inline Eigen::Index nodeRangeStart(Eigen::Index count, int r) { return count * r
 /// must not throw or use the pool itself.
 template <typename Task>
 void forEachNodeRange(ForkJoinPool* pool, Eigen::Index count, const Task& task) {
-  const auto range = [&](int r) { task(r, nodeRangeStart(count, r), nodeRangeStart(count, r + 1)); };
+  const auto range = [&](int r) {
+    task(r, nodeRangeStart(count, r), nodeRangeStart(count, r + 1));
+  };
   runParts(count >= kParallelNodePassMinimum ? pool : nullptr, kNodeRanges, range);
 }
 

@@ -21,10 +21,12 @@ void Grasp::apply(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, const In
   }
   m_wasClosed = pose.isGrasping;
   if (m_held.empty()) return;
-  const Eigen::Matrix3d turn = Eigen::Quaterniond::FromTwoVectors(m_closingDirection, pose.direction).toRotationMatrix();
+  const Eigen::Matrix3d turn =
+      Eigen::Quaterniond::FromTwoVectors(m_closingDirection, pose.direction).toRotationMatrix();
   for (std::size_t i = 0; i < m_held.size(); ++i) {
     const int node = m_held[i];
-    const Eigen::Vector3d f = m_stiffness * (pose.tip_m + turn * m_offsets[i] - x.col(node)) - m_damping * v.col(node);
+    const Eigen::Vector3d f =
+        m_stiffness * (pose.tip_m + turn * m_offsets[i] - x.col(node)) - m_damping * v.col(node);
     forces.col(node) += f;
     result.toolForce_N -= f;
     result.toolTorque_Nm -= (x.col(node) - pose.tip_m).cross(f);

@@ -19,7 +19,9 @@ class Grasp {
   /// @param reach_m nodes within this distance of the tip are caught when the jaws close.
   Grasp(std::vector<int> candidateNodes, double reach_m, double stiffness_N_m = 200.0,
         double damping_N_s_m = 0.5)
-      : m_candidates(std::move(candidateNodes)), m_reach_m(reach_m), m_stiffness(stiffness_N_m),
+      : m_candidates(std::move(candidateNodes)),
+        m_reach_m(reach_m),
+        m_stiffness(stiffness_N_m),
         m_damping(damping_N_s_m) {}
 
   /// Captures on closing, releases on opening, and adds the holding forces.

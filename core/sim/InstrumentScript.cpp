@@ -10,11 +10,14 @@
 
 namespace tissuesim {
 
-InstrumentScript::InstrumentScript(std::vector<Keyframe> keyframes) : m_keyframes(std::move(keyframes)) {
-  if (m_keyframes.empty()) throw std::invalid_argument("an instrument script needs at least one pose");
+InstrumentScript::InstrumentScript(std::vector<Keyframe> keyframes)
+    : m_keyframes(std::move(keyframes)) {
+  if (m_keyframes.empty())
+    throw std::invalid_argument("an instrument script needs at least one pose");
   for (std::size_t i = 1; i < m_keyframes.size(); ++i) {
     if (!(m_keyframes[i].time_s > m_keyframes[i - 1].time_s)) {
-      throw std::invalid_argument("instrument script: pose " + std::to_string(i) + "'s time must exceed the previous one's");
+      throw std::invalid_argument("instrument script: pose " + std::to_string(i) +
+                                  "'s time must exceed the previous one's");
     }
   }
 }
@@ -34,7 +37,8 @@ InstrumentPose InstrumentScript::poseAt(double time_s) const {
   return pose;
 }
 
-InstrumentScript InstrumentScript::poke(const InstrumentPose& start, double depth_m, double pressTime_s) {
+InstrumentScript InstrumentScript::poke(const InstrumentPose& start, double depth_m,
+                                        double pressTime_s) {
   InstrumentPose deepest = start;
   deepest.tip_m += depth_m * start.direction;
   return InstrumentScript({{0.0, start}, {pressTime_s, deepest}, {2.0 * pressTime_s, start}});
@@ -50,18 +54,21 @@ InstrumentScript InstrumentScript::load(const std::filesystem::path& path) {
   } catch (const nlohmann::json::exception&) {
     throw std::invalid_argument(name + ": not valid JSON; expected {\"poses\": [...]}");
   }
-  if (!root.is_object() || !root.contains("poses") || !root["poses"].is_array() || root["poses"].empty()) {
+  if (!root.is_object() || !root.contains("poses") || !root["poses"].is_array() ||
+      root["poses"].empty()) {
     throw std::invalid_argument(name + ": expected an object with a non-empty array 'poses'");
   }
   std::vector<Keyframe> keyframes;
   const auto vector = [&](const nlohmann::json& pose, const char* key, std::size_t index) {
     if (!pose.contains(key) || !pose[key].is_array() || pose[key].size() != 3) {
-      throw std::invalid_argument(name + ": pose " + std::to_string(index) + ": '" + key + "' must be three numbers");
+      throw std::invalid_argument(name + ": pose " + std::to_string(index) + ": '" + key +
+                                  "' must be three numbers");
     }
     Eigen::Vector3d v;
     for (int i = 0; i < 3; ++i) {
       if (!pose[key][static_cast<std::size_t>(i)].is_number()) {
-        throw std::invalid_argument(name + ": pose " + std::to_string(index) + ": '" + key + "' must be three numbers");
+        throw std::invalid_argument(name + ": pose " + std::to_string(index) + ": '" + key +
+                                    "' must be three numbers");
       }
       v[i] = pose[key][static_cast<std::size_t>(i)].get<double>();
     }
@@ -70,15 +77,20 @@ InstrumentScript InstrumentScript::load(const std::filesystem::path& path) {
   for (std::size_t i = 0; i < root["poses"].size(); ++i) {
     const nlohmann::json& pose = root["poses"][i];
     if (!pose.is_object() || !pose.contains("time_s") || !pose["time_s"].is_number()) {
-      throw std::invalid_argument(name + ": pose " + std::to_string(i) + ": 'time_s' must be a number");
+      throw std::invalid_argument(name + ": pose " + std::to_string(i) +
+                                  ": 'time_s' must be a number");
     }
     InstrumentPose p;
     p.tip_m = vector(pose, "tip_m", i);
-    p.direction = pose.contains("direction") ? vector(pose, "direction", i) : Eigen::Vector3d(0, 0, -1);
-    if (p.direction.norm() < 1e-9) throw std::invalid_argument(name + ": pose " + std::to_string(i) + ": zero direction");
+    p.direction =
+        pose.contains("direction") ? vector(pose, "direction", i) : Eigen::Vector3d(0, 0, -1);
+    if (p.direction.norm() < 1e-9)
+      throw std::invalid_argument(name + ": pose " + std::to_string(i) + ": zero direction");
     p.direction.normalize();
     if (pose.contains("grasp")) {
-      if (!pose["grasp"].is_boolean()) throw std::invalid_argument(name + ": pose " + std::to_string(i) + ": 'grasp' must be true or false");
+      if (!pose["grasp"].is_boolean())
+        throw std::invalid_argument(name + ": pose " + std::to_string(i) +
+                                    ": 'grasp' must be true or false");
       p.isGrasping = pose["grasp"].get<bool>();
     }
     keyframes.push_back({pose["time_s"].get<double>(), p});

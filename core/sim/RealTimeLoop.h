@@ -6,12 +6,12 @@
 //
 // Pacing: step n is due at start + n dt (steady clock); a step done early sleeps until its
 // successor is due. A step that finishes late is made up by the next steps running back to back
-// while the loop is at most kMaxLagSteps periods behind (an occasional slow step: a new contact,
-// a stall by the scheduler): simulated time stays on wall-clock time, so the tissue moves at the speed of
-// the tool the trainee moves. Further behind than that, the lag is dropped (no spiral of
+// while the loop is at most kMaxLagSteps periods behind (an occasional slow step: a new contact, a
+// stall by the scheduler): simulated time stays on wall-clock time, so the tissue moves at the
+// speed of the tool the trainee moves. Further behind than that, the lag is dropped (no spiral of
 // death) and simulated time falls behind wall-clock time for good. Each late step is counted
-// (overruns) and the measured real-time factor (simulated / wall seconds) says how much time
-// was dropped. Nothing is dropped silently.
+// (overruns) and the measured real-time factor (simulated / wall seconds) says how much time was
+// dropped. Nothing is dropped silently.
 
 #include <atomic>
 #include <thread>
@@ -52,7 +52,7 @@ class LiveInstrument final : public InstrumentSource {
 
 struct LoopStatistics {
   long steps = 0;
-  long overruns = 0;        ///< steps that finished after their due time
+  long overruns = 0;  ///< steps that finished after their due time
   double wall_s = 0.0;
   double simulated_s = 0.0;
   double realtimeFactor() const { return wall_s > 0.0 ? simulated_s / wall_s : 0.0; }

@@ -15,7 +15,8 @@ using Json = nlohmann::json;
 /// Reads one JSON object's fields with messages naming the file and the dotted field path.
 class Fields {
  public:
-  Fields(const Json& object, std::string path, const std::string& source, std::set<std::string> allowed)
+  Fields(const Json& object, std::string path, const std::string& source,
+         std::set<std::string> allowed)
       : m_object(object), m_path(std::move(path)), m_source(source) {
     if (!object.is_object()) fail(m_path.empty() ? "the scene" : m_path, "must be a JSON object");
     for (const auto& item : object.items()) {
@@ -32,24 +33,29 @@ class Fields {
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
     throw SceneFileError(m_source + ": field '" + field + "' " + what);
   }
-  std::string name(const std::string& key) const { return m_path.empty() ? key : m_path + "." + key; }
+  std::string name(const std::string& key) const {
+    return m_path.empty() ? key : m_path + "." + key;
+  }
 
   const Json& require(const char* key) const {
     if (!has(key)) fail(name(key), "is missing");
     return at(key);
   }
-  double number(const char* key, double fallback, double lower, bool isStrict, bool isRequired = false) const {
+  double number(const char* key, double fallback, double lower, bool isStrict,
+                bool isRequired = false) const {
     if (!has(key)) {
       if (isRequired) fail(name(key), "is missing");
       return fallback;
     }
     const Json& value = at(key);
-    if (!value.is_number()) fail(name(key), "must be a number, found " + std::string(value.type_name()));
+    if (!value.is_number())
+      fail(name(key), "must be a number, found " + std::string(value.type_name()));
     const double x = value.get<double>();
     if (!std::isfinite(x) || (isStrict ? !(x > lower) : !(x >= lower))) {
       std::ostringstream bound;
       bound << (isStrict ? "> " : ">= ") << lower;
-      fail(name(key), "= " + value.dump() + " is out of range; expected a finite number " + bound.str());
+      fail(name(key),
+           "= " + value.dump() + " is out of range; expected a finite number " + bound.str());
     }
     return x;
   }
@@ -58,7 +64,8 @@ class Fields {
       if (isRequired) fail(name(key), "is missing");
       return fallback;
     }
-    if (!at(key).is_string()) fail(name(key), "must be a string, found " + std::string(at(key).type_name()));
+    if (!at(key).is_string())
+      fail(name(key), "must be a string, found " + std::string(at(key).type_name()));
     return at(key).get<std::string>();
   }
   bool boolean(const char* key, bool fallback) const {
@@ -66,16 +73,19 @@ class Fields {
     if (!at(key).is_boolean()) fail(name(key), "must be true or false");
     return at(key).get<bool>();
   }
-  Eigen::Vector3d vector(const char* key, const Eigen::Vector3d& fallback, bool isRequired = false) const {
+  Eigen::Vector3d vector(const char* key, const Eigen::Vector3d& fallback,
+                         bool isRequired = false) const {
     if (!has(key)) {
       if (isRequired) fail(name(key), "is missing");
       return fallback;
     }
     const Json& value = at(key);
-    if (!value.is_array() || value.size() != 3) fail(name(key), "must be an array of three numbers");
+    if (!value.is_array() || value.size() != 3)
+      fail(name(key), "must be an array of three numbers");
     Eigen::Vector3d v;
     for (int i = 0; i < 3; ++i) {
-      if (!value[static_cast<std::size_t>(i)].is_number()) fail(name(key), "must be an array of three numbers");
+      if (!value[static_cast<std::size_t>(i)].is_number())
+        fail(name(key), "must be an array of three numbers");
       v[i] = value[static_cast<std::size_t>(i)].get<double>();
     }
     if (!v.allFinite()) fail(name(key), "must hold finite numbers");
@@ -88,11 +98,13 @@ class Fields {
   const std::string& m_source;
 };
 
-std::filesystem::path resolveFile(const Fields& fields, const char* key, const std::filesystem::path& folder) {
+std::filesystem::path resolveFile(const Fields& fields, const char* key,
+                                  const std::filesystem::path& folder) {
   const std::filesystem::path file = folder / fields.string(key, "", true);
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) {
-    fields.fail(fields.name(key), "names " + file.string() + ", which does not exist or is not a file");
+    fields.fail(fields.name(key),
+                "names " + file.string() + ", which does not exist or is not a file");
   }
   return file;
 }
@@ -122,15 +134,18 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   buffer << in.rdbuf();
   const std::string text = buffer.str();
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
-    throw SceneFileError(source + ": the file is empty; expected a JSON object (see docs/scene-file.md)");
+    throw SceneFileError(source +
+                         ": the file is empty; expected a JSON object (see docs/scene-file.md)");
   }
   Json root;
   try {
     root = Json::parse(text);
   } catch (const Json::exception& parseError) {
     std::string detail = parseError.what();
-    if (const auto colon = detail.find("] "); colon != std::string::npos) detail = detail.substr(colon + 2);
-    if (const auto lastRead = detail.find("; last read"); lastRead != std::string::npos) detail = detail.substr(0, lastRead);
+    if (const auto colon = detail.find("] "); colon != std::string::npos)
+      detail = detail.substr(colon + 2);
+    if (const auto lastRead = detail.find("; last read"); lastRead != std::string::npos)
+      detail = detail.substr(0, lastRead);
     throw SceneFileError(source + ": not valid JSON (" + detail + ")");
   }
   const std::filesystem::path folder = path.parent_path();
@@ -141,10 +156,13 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   scene.source = path;
   scene.name = fields.string("name", path.stem().string());
   scene.tissue = resolveFile(fields, "tissue", folder);
-  if (fields.has("surface")) scene.surface = meshSource(fields.at("surface"), "surface", source, folder, true);
-  if (fields.has("tet_mesh")) scene.tetMesh = meshSource(fields.at("tet_mesh"), "tet_mesh", source, folder, false);
+  if (fields.has("surface"))
+    scene.surface = meshSource(fields.at("surface"), "surface", source, folder, true);
+  if (fields.has("tet_mesh"))
+    scene.tetMesh = meshSource(fields.at("tet_mesh"), "tet_mesh", source, folder, false);
   if (fields.has("generate_tet_mesh")) {
-    const Fields generate(fields.at("generate_tet_mesh"), "generate_tet_mesh", source, {"target_springs"});
+    const Fields generate(fields.at("generate_tet_mesh"), "generate_tet_mesh", source,
+                          {"target_springs"});
     scene.targetSprings = static_cast<int>(generate.number("target_springs", 0, 6, false, true));
     if (!scene.surface) fields.fail("generate_tet_mesh", "needs a 'surface' to mesh");
   }
@@ -155,18 +173,21 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     fields.fail("tet_mesh", "is missing (or give 'generate_tet_mesh' with a 'surface')");
   }
   if (fields.has("fixed_region")) {
-    const Fields fixed(fields.at("fixed_region"), "fixed_region", source, {"box_min_m", "box_max_m", "nodes"});
+    const Fields fixed(fields.at("fixed_region"), "fixed_region", source,
+                       {"box_min_m", "box_max_m", "nodes"});
     if (fixed.has("box_min_m") || fixed.has("box_max_m")) {
       const Eigen::Vector3d lower = fixed.vector("box_min_m", Eigen::Vector3d::Zero(), true);
       const Eigen::Vector3d upper = fixed.vector("box_max_m", Eigen::Vector3d::Zero(), true);
-      if ((lower.array() >= upper.array()).any()) fixed.fail("fixed_region.box_max_m", "must exceed box_min_m on every axis");
+      if ((lower.array() >= upper.array()).any())
+        fixed.fail("fixed_region.box_max_m", "must exceed box_min_m on every axis");
       scene.fixed.box_m = Eigen::AlignedBox3d(lower, upper);
     }
     if (fixed.has("nodes")) {
       const Json& nodes = fixed.at("nodes");
       if (!nodes.is_array()) fixed.fail("fixed_region.nodes", "must be an array of node indices");
       for (const Json& node : nodes) {
-        if (!node.is_number_integer() || node.get<long long>() < 0) fixed.fail("fixed_region.nodes", "must hold non-negative integers");
+        if (!node.is_number_integer() || node.get<long long>() < 0)
+          fixed.fail("fixed_region.nodes", "must hold non-negative integers");
         scene.fixed.nodes.push_back(node.get<int>());
       }
     }
@@ -185,22 +206,27 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     scene.instrument = instrument;
   }
   if (fields.has("effects")) {
-    const Fields effects(fields.at("effects"), "effects", source, {"softening", "volume_term_kpa", "spring_law", "stiffness_scale"});
+    const Fields effects(fields.at("effects"), "effects", source,
+                         {"softening", "volume_term_kpa", "spring_law", "stiffness_scale"});
     scene.isSoftening = effects.boolean("softening", true);
     scene.bulkModulus_Pa = effects.number("volume_term_kpa", 0.0, 0.0, false) * 1000.0;
     scene.springLaw = effects.string("spring_law", "eesm");
     scene.stiffnessScale = effects.number("stiffness_scale", 0.0, 0.0, false);
     if (scene.springLaw != "eesm" && scene.springLaw != "eesm-paper" && scene.springLaw != "smm") {
-      effects.fail("effects.spring_law", "= \"" + scene.springLaw + "\"; expected eesm, eesm-paper or smm");
+      effects.fail("effects.spring_law",
+                   "= \"" + scene.springLaw + "\"; expected eesm, eesm-paper or smm");
     }
   }
   if (fields.has("physics")) {
-    const Fields physics(fields.at("physics"), "physics", source, {"time_step_ms", "integrator", "mass_damping_per_s",
-                                                                   "newton_iterations", "cg_tolerance", "threads"});
+    const Fields physics(fields.at("physics"), "physics", source,
+                         {"time_step_ms", "integrator", "mass_damping_per_s", "newton_iterations",
+                          "cg_tolerance", "threads"});
     scene.timeStep_s = physics.number("time_step_ms", 1.0, 0.0, true) / 1000.0;
     scene.integrator = physics.string("integrator", "implicit");
-    if (scene.integrator != "explicit" && scene.integrator != "implicit" && scene.integrator != "quasi-newton") {
-      physics.fail("physics.integrator", "= \"" + scene.integrator + "\"; expected explicit, implicit or quasi-newton");
+    if (scene.integrator != "explicit" && scene.integrator != "implicit" &&
+        scene.integrator != "quasi-newton") {
+      physics.fail("physics.integrator",
+                   "= \"" + scene.integrator + "\"; expected explicit, implicit or quasi-newton");
     }
     scene.massDamping_1_s = physics.number("mass_damping_per_s", 0.0, 0.0, false);
     scene.newtonIterations = static_cast<int>(physics.number("newton_iterations", 2, 1, false));
@@ -210,7 +236,8 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     if (threads != std::floor(threads) || threads > 64) {
       std::ostringstream given;
       given << threads;
-      physics.fail("physics.threads", "= " + given.str() + "; expected a whole number from 1 to 64");
+      physics.fail("physics.threads",
+                   "= " + given.str() + "; expected a whole number from 1 to 64");
     }
     scene.threads = static_cast<int>(threads);
   }

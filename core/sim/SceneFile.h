@@ -23,9 +23,9 @@ class SceneFileError : public std::runtime_error {
 };
 
 struct SceneMeshSource {
-  std::filesystem::path file;   ///< resolved against the scene's folder
+  std::filesystem::path file;  ///< resolved against the scene's folder
   double metresPerUnit = 1.0;
-  std::string part;             ///< surfaces only: one named part, or all
+  std::string part;  ///< surfaces only: one named part, or all
 };
 
 /// How the fixed nodes are chosen: nodes inside an axis-aligned box (m), or listed indices.
@@ -60,9 +60,9 @@ struct SceneDescription {
   double massDamping_1_s = 0.0;
   // Implicit: the speed/accuracy trade, measured on the bundled poke (README): 2 iterations and
   // 1e-6 give the converged peak tool force within 0.2 %; 1 iteration is 1.8x faster but 48 % off.
-  int newtonIterations = 2;         ///< Newton iterations per step
-  double linearTolerance = 1e-6;    ///< CG relative tolerance per Newton iteration
-  int threads = 1;                  ///< threads for the spring passes (results do not depend on it)
+  int newtonIterations = 2;       ///< Newton iterations per step
+  double linearTolerance = 1e-6;  ///< CG relative tolerance per Newton iteration
+  int threads = 1;                ///< threads for the spring passes (results do not depend on it)
 };
 
 /// Reads and validates a scene; paths resolved, files checked to exist.

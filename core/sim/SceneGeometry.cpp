@@ -14,7 +14,8 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
   SceneGeometry geometry;
   try {
     if (scene.surface) {
-      TriangleSurface surface = readSurface(scene.surface->file, {scene.surface->metresPerUnit, scene.surface->part});
+      TriangleSurface surface =
+          readSurface(scene.surface->file, {scene.surface->metresPerUnit, scene.surface->part});
       weldVertices(surface, 1e-6 * inspectSurface(surface).boundingDiagonal_m);
       geometry.surface = std::move(surface);
     }
@@ -26,8 +27,8 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
         throw SceneFileError(name + ": field 'generate_tet_mesh' needs a closed surface; " +
                              scene.surface->file.string() + " has " + report.summary());
       }
-      geometry.mesh = meshInterior(*geometry.surface,
-                                   {edgeLengthForSpringCount(*geometry.surface, scene.targetSprings)});
+      geometry.mesh = meshInterior(
+          *geometry.surface, {edgeLengthForSpringCount(*geometry.surface, scene.targetSprings)});
     }
   } catch (const MeshFileError& error) {
     throw SceneFileError(name + ": " + error.what());
@@ -38,15 +39,17 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
 
   for (const int node : scene.fixed.nodes) {
     if (node >= geometry.mesh.nodeCount()) {
-      throw SceneFileError(name + ": field 'fixed_region.nodes' lists node " + std::to_string(node) +
-                           ", but the mesh has " + std::to_string(geometry.mesh.nodeCount()) + " nodes");
+      throw SceneFileError(name + ": field 'fixed_region.nodes' lists node " +
+                           std::to_string(node) + ", but the mesh has " +
+                           std::to_string(geometry.mesh.nodeCount()) + " nodes");
     }
     geometry.fixedNodes.push_back(node);
   }
   if (scene.fixed.box_m) {
     const std::size_t before = geometry.fixedNodes.size();
     for (Eigen::Index i = 0; i < geometry.mesh.nodeCount(); ++i) {
-      if (scene.fixed.box_m->contains(geometry.mesh.nodes_m.col(i))) geometry.fixedNodes.push_back(static_cast<int>(i));
+      if (scene.fixed.box_m->contains(geometry.mesh.nodes_m.col(i)))
+        geometry.fixedNodes.push_back(static_cast<int>(i));
     }
     if (geometry.fixedNodes.size() == before) {
       throw SceneFileError(name + ": field 'fixed_region' box selects no node of the mesh");

@@ -14,9 +14,9 @@ namespace tissuesim {
 
 struct SceneGeometry {
   TetMesh mesh;
-  std::optional<TriangleSurface> surface;        ///< welded; only when the scene names one
-  std::optional<SurfaceEmbedding> embedding;     ///< idem
-  std::vector<int> fixedNodes;                   ///< sorted, unique
+  std::optional<TriangleSurface> surface;     ///< welded; only when the scene names one
+  std::optional<SurfaceEmbedding> embedding;  ///< idem
+  std::vector<int> fixedNodes;                ///< sorted, unique
 };
 
 /// @throws SceneFileError naming the scene (and MeshFileError's text for its meshes): bad mesh,

@@ -40,7 +40,9 @@ void Simulation::setSoftening(bool isOn) {
   replaceTissue(TissueParameters(*m_parameters));
 }
 
-void Simulation::setGravity(const Eigen::Vector3d& gravity_m_s2) { m_system->gravity_m_s2 = gravity_m_s2; }
+void Simulation::setGravity(const Eigen::Vector3d& gravity_m_s2) {
+  m_system->gravity_m_s2 = gravity_m_s2;
+}
 Eigen::Vector3d Simulation::gravity() const { return m_system->gravity_m_s2; }
 
 void Simulation::buildPhysics(const TissueParameters& parameters) {
@@ -86,16 +88,18 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   double linearModulus = 0.0;
   if (law == SpringLaw::Smm) {
     const UniaxialTest continuum(*m_energy, *m_table);
-    linearModulus =
-        UniaxialTest::fitLinearModulus(continuum.run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
+    linearModulus = UniaxialTest::fitLinearModulus(
+        continuum.run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
   }
-  m_law = std::make_unique<SpringForceLaw>(law, *m_table, *m_parameters, linearModulus, scene.isSoftening);
+  m_law = std::make_unique<SpringForceLaw>(law, *m_table, *m_parameters, linearModulus,
+                                           scene.isSoftening);
   m_springs = std::make_unique<SpringForceField>(*m_springMesh, *m_law);
   if (scene.threads > 1) {
     m_pool = std::make_unique<ForkJoinPool>(scene.threads);
     m_springs->setThreadPool(m_pool.get());
   }
-  if (scene.bulkModulus_Pa > 0.0) m_volume = std::make_unique<VolumeForceField>(*m_springMesh, scene.bulkModulus_Pa);
+  if (scene.bulkModulus_Pa > 0.0)
+    m_volume = std::make_unique<VolumeForceField>(*m_springMesh, scene.bulkModulus_Pa);
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
   m_system->gravity_m_s2 = scene.gravity_m_s2;
   for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);
@@ -110,7 +114,8 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   } else if (scene.integrator == "quasi-newton") {
     m_integrator = std::make_unique<QuasiNewtonSolver>(settings);
   } else {
-    m_integrator = std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
+    m_integrator =
+        std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
   }
   if (scene.instrument) {
     // The grasper reaches surface nodes within two shaft radii of the tip.
@@ -118,10 +123,10 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     std::vector<int> surfaceNodes(faces.data(), faces.data() + faces.size());
     std::sort(surfaceNodes.begin(), surfaceNodes.end());
     surfaceNodes.erase(std::unique(surfaceNodes.begin(), surfaceNodes.end()), surfaceNodes.end());
-    m_grasp = std::make_unique<Grasp>(std::move(surfaceNodes), 2.0 * scene.instrument->shaftRadius_m);
+    m_grasp =
+        std::make_unique<Grasp>(std::move(surfaceNodes), 2.0 * scene.instrument->shaftRadius_m);
   }
 }
-
 
 Simulation::~Simulation() = default;
 
@@ -149,8 +154,10 @@ StepOutcome Simulation::step() {
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
   m_system->externalForces_N.setZero();
   m_system->contacts.clear();
-  if (m_contact != nullptr && m_scene.instrument) m_contact->findContacts(m_state.x, m_pose, m_system->contacts);
-  if (m_grasp) m_grasp->apply(m_state.x, m_state.v, m_pose, m_system->externalForces_N, outcome.contact);
+  if (m_contact != nullptr && m_scene.instrument)
+    m_contact->findContacts(m_state.x, m_pose, m_system->contacts);
+  if (m_grasp)
+    m_grasp->apply(m_state.x, m_state.v, m_pose, m_system->externalForces_N, outcome.contact);
   outcome.integrator = m_integrator->step(*m_system, m_state, m_timeStep_s);
   // What the instrument feels: the contacts at the state the step reached (the last good one
   // after a failed step), plus the grasp's pull.
@@ -177,14 +184,17 @@ StepOutcome Simulation::step() {
   check(!r.converged && r.isFinite && r.residual_N > kUnconvergedResidual_N, "unconverged",
         [&] { return "residual " + std::to_string(r.residual_N) + " N"; });
   check(r.forces.springs.beyondRangeCount > 0, "locking", [&] {
-    return std::to_string(r.forces.springs.beyondRangeCount) + " springs past the usable stretch range";
+    return std::to_string(r.forces.springs.beyondRangeCount) +
+           " springs past the usable stretch range";
   });
-  check(r.forces.springs.collapsedCount > 0, "collapsed",
-        [&] { return std::to_string(r.forces.springs.collapsedCount) + " springs of zero length"; });
+  check(r.forces.springs.collapsedCount > 0, "collapsed", [&] {
+    return std::to_string(r.forces.springs.collapsedCount) + " springs of zero length";
+  });
   // Without the volume term nothing else counts inverted tets: look (O(#T), 30 us at the liver's
   // size on one thread; on the pool).
-  const int inverted = m_volume ? r.forces.volume.invertedTetCount
-                                : VolumeForceField::inspect(*m_springMesh, m_state.x, m_pool.get()).invertedTetCount;
+  const int inverted =
+      m_volume ? r.forces.volume.invertedTetCount
+               : VolumeForceField::inspect(*m_springMesh, m_state.x, m_pool.get()).invertedTetCount;
   check(inverted > 0, "inverted", [&] { return std::to_string(inverted) + " inverted tets"; });
   m_activeConditions.swap(m_conditionsNow);  // a condition that ended may fire again when it recurs
 

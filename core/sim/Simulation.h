@@ -29,7 +29,7 @@ namespace tissuesim {
 struct InstabilityEvent {
   long step;
   double time_s;
-  std::string kind;    ///< refused, non-finite, unconverged, locking, collapsed, inverted
+  std::string kind;  ///< refused, non-finite, unconverged, locking, collapsed, inverted
   std::string detail;
 };
 
@@ -112,8 +112,9 @@ class Simulation {
   double m_time_s = 0.0;
   long m_steps = 0;
   std::vector<InstabilityEvent> m_events;
-  std::vector<std::string_view> m_activeConditions;  ///< kinds on at the last step (events fire on onset)
-  std::vector<std::string_view> m_conditionsNow;     ///< scratch, capacity kept between steps
+  /// The kinds on at the last step (events fire on their onset).
+  std::vector<std::string_view> m_activeConditions;
+  std::vector<std::string_view> m_conditionsNow;  ///< scratch, capacity kept between steps
 };
 
 }  // namespace tissuesim

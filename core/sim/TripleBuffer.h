@@ -25,7 +25,8 @@ class TripleBuffer {
   /// Makes the back slot the newest value (acquire-release: its contents are visible to the
   /// reader that takes it).
   void publish() {
-    const std::uint8_t previous = m_middle.exchange(static_cast<std::uint8_t>(m_back | kFresh), std::memory_order_acq_rel);
+    const std::uint8_t previous =
+        m_middle.exchange(static_cast<std::uint8_t>(m_back | kFresh), std::memory_order_acq_rel);
     m_back = previous & kIndexMask;
   }
 
@@ -42,9 +43,9 @@ class TripleBuffer {
   static constexpr std::uint8_t kFresh = 0x4;
   static constexpr std::uint8_t kIndexMask = 0x3;
   std::array<T, 3> m_slots{};
-  std::uint8_t m_back = 0;                  ///< writer only
-  std::atomic<std::uint8_t> m_middle{1};    ///< shared: index | fresh flag
-  std::uint8_t m_front = 2;                 ///< reader only
+  std::uint8_t m_back = 0;                ///< writer only
+  std::atomic<std::uint8_t> m_middle{1};  ///< shared: index | fresh flag
+  std::uint8_t m_front = 2;               ///< reader only
 };
 
 }  // namespace tissuesim

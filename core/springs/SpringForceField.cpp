@@ -30,8 +30,10 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
     NodeSpan& touched = m_partNodes[static_cast<std::size_t>(p)];
     touched = {mesh.nodeCount(), 0};
     for (Eigen::Index s = partStart(p); s < partStart(p + 1); ++s) {
-      touched.begin = std::min<Eigen::Index>(touched.begin, std::min(mesh.springs(0, s), mesh.springs(1, s)));
-      touched.end = std::max<Eigen::Index>(touched.end, std::max(mesh.springs(0, s), mesh.springs(1, s)) + 1);
+      touched.begin =
+          std::min<Eigen::Index>(touched.begin, std::min(mesh.springs(0, s), mesh.springs(1, s)));
+      touched.end =
+          std::max<Eigen::Index>(touched.end, std::max(mesh.springs(0, s), mesh.springs(1, s)) + 1);
     }
     touched.begin = std::min(touched.begin, touched.end);  // a part without springs: empty
   }
@@ -50,8 +52,7 @@ void SpringForceField::resetStretchHistory() {
 
 template <bool withBlocks, bool withNodeStiffness>
 SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                                               AxialBlocks* blocks,
-                                               Eigen::VectorXd* nodeStiffness,
+                                               AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,
                                                bool isProjected) const {
   std::array<SpringFieldReport, kSpringParts> reports;
   // Part 0 adds into the caller's arrays; every other part into its own buffer, cleared only
@@ -60,10 +61,10 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
     const Eigen::Index begin = partStart(p);
     const Eigen::Index end = partStart(p + 1);
     const auto range = [&](Eigen::Matrix3Xd& rangeForces, Eigen::VectorXd* rangeStiffness) {
-      return m_isBatched ? accumulateRangeBatched<withBlocks, withNodeStiffness>(begin, end, x, rangeForces, blocks,
-                                                                                rangeStiffness, isProjected)
-                         : accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, rangeForces, blocks,
-                                                                         rangeStiffness, isProjected);
+      return m_isBatched ? accumulateRangeBatched<withBlocks, withNodeStiffness>(
+                               begin, end, x, rangeForces, blocks, rangeStiffness, isProjected)
+                         : accumulateRange<withBlocks, withNodeStiffness>(
+                               begin, end, x, rangeForces, blocks, rangeStiffness, isProjected);
     };
     if (p == 0) {
       if constexpr (withNodeStiffness) nodeStiffness->setZero();
@@ -73,7 +74,8 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
     const auto q = static_cast<std::size_t>(p - 1);
     const NodeSpan touched = m_partNodes[static_cast<std::size_t>(p)];
     m_partForces[q].middleCols(touched.begin, touched.size()).setZero();
-    if constexpr (withNodeStiffness) m_partNodeStiffness[q].segment(touched.begin, touched.size()).setZero();
+    if constexpr (withNodeStiffness)
+      m_partNodeStiffness[q].segment(touched.begin, touched.size()).setZero();
     reports[static_cast<std::size_t>(p)] = range(m_partForces[q], &m_partNodeStiffness[q]);
   };
   runParts(m_pool, kSpringParts, part);
@@ -92,7 +94,8 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
       const auto q = static_cast<std::size_t>(p - 1);
       forces.middleCols(begin, end - begin) += m_partForces[q].middleCols(begin, end - begin);
       if constexpr (withNodeStiffness) {
-        nodeStiffness->segment(begin, end - begin) += m_partNodeStiffness[q].segment(begin, end - begin);
+        nodeStiffness->segment(begin, end - begin) +=
+            m_partNodeStiffness[q].segment(begin, end - begin);
       }
     }
     if constexpr (!withNodeStiffness) {
@@ -109,8 +112,7 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
 template <bool withBlocks, bool withNodeStiffness>
 SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::Index end,
                                                     const Eigen::Matrix3Xd& x,
-                                                    Eigen::Matrix3Xd& forces,
-                                                    AxialBlocks* blocks,
+                                                    Eigen::Matrix3Xd& forces, AxialBlocks* blocks,
                                                     Eigen::VectorXd* nodeStiffness,
                                                     bool isProjected) const {
   SpringFieldReport report;
@@ -130,11 +132,11 @@ SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::I
     report.minStretch = std::min(report.minStretch, lambda);
     report.maxStretch = std::max(report.maxStretch, lambda);
     // The force-only pass asks the law for the stress alone (the same value to the bit).
-    const SpringStress p =
-        m_law.evaluate<withBlocks || withNodeStiffness>(lambda, m_peaks[static_cast<std::size_t>(s)]);
+    const SpringStress p = m_law.evaluate < withBlocks ||
+                           withNodeStiffness > (lambda, m_peaks[static_cast<std::size_t>(s)]);
     report.beyondRangeCount += p.isBeyondRange ? 1 : 0;
-    applyStress<withBlocks, withNodeStiffness>(s, a, b, d, length, p.stress, p.slope, forces, blocks,
-                                               nodeStiffness, isProjected);
+    applyStress<withBlocks, withNodeStiffness>(s, a, b, d, length, p.stress, p.slope, forces,
+                                               blocks, nodeStiffness, isProjected);
   }
   return report;
 }
@@ -142,8 +144,7 @@ SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::I
 template <bool withBlocks, bool withNodeStiffness>
 inline void SpringForceField::applyStress(Eigen::Index s, int a, int b, const Eigen::Vector3d& d,
                                           double length, double stress, double slope,
-                                          Eigen::Matrix3Xd& forces,
-                                          AxialBlocks* blocks,
+                                          Eigen::Matrix3Xd& forces, AxialBlocks* blocks,
                                           Eigen::VectorXd* nodeStiffness, bool isProjected) const {
   const double inverseRestLength = m_inverseRestLength[s];
   const double areaOverLength = m_areaOverLength[s];  // V_e / L0 (m^2)
@@ -181,11 +182,11 @@ template <bool withBlocks, bool withNodeStiffness>
 #if defined(__x86_64__)
 __attribute__((target("avx,fma")))
 #endif
-SpringFieldReport SpringForceField::accumulateRangeBatched(Eigen::Index begin, Eigen::Index end,
-                                                           const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                                                           AxialBlocks* blocks,
-                                                           Eigen::VectorXd* nodeStiffness,
-                                                           bool isProjected) const {
+SpringFieldReport
+SpringForceField::accumulateRangeBatched(Eigen::Index begin, Eigen::Index end,
+                                         const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                         AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,
+                                         bool isProjected) const {
 #if defined(__x86_64__)
   constexpr bool kWithSlope = withBlocks || withNodeStiffness;
   const SpringStressBatchCoefficients coefficients(m_law);
@@ -223,28 +224,29 @@ SpringFieldReport SpringForceField::accumulateRangeBatched(Eigen::Index begin, E
     if (s + 8 <= end) measure(s + 4, groups[current ^ 1]);
     if (group.isInside) {
       alignas(32) std::array<double, 4> stress{}, slope{};
-      evaluateStressBatch<kWithSlope>(coefficients, group.lambda.data(), m_lambdaMax.data() + s, m_peaks.data() + s,
-                                      stress.data(), slope.data());
+      evaluateStressBatch<kWithSlope>(coefficients, group.lambda.data(), m_lambdaMax.data() + s,
+                                      m_peaks.data() + s, stress.data(), slope.data());
       for (std::size_t k = 0; k < 4; ++k) {
         const double lambda = group.lambda[k];
         if constexpr (!withNodeStiffness) m_passStretch[s + static_cast<Eigen::Index>(k)] = lambda;
         report.minStretch = std::min(report.minStretch, lambda);
         report.maxStretch = std::max(report.maxStretch, lambda);
-        applyStress<withBlocks, withNodeStiffness>(s + static_cast<Eigen::Index>(k), group.a[k], group.b[k],
-                                                   group.d[k], group.length[k], stress[k], slope[k], forces,
-                                                   blocks, nodeStiffness, isProjected);
+        applyStress<withBlocks, withNodeStiffness>(
+            s + static_cast<Eigen::Index>(k), group.a[k], group.b[k], group.d[k], group.length[k],
+            stress[k], slope[k], forces, blocks, nodeStiffness, isProjected);
       }
       continue;
     }
     // A spring outside what the batch handles: the scalar pass for the four.
-    report.include(accumulateRange<withBlocks, withNodeStiffness>(s, s + 4, x, forces, blocks, nodeStiffness,
-                                                                  isProjected));
+    report.include(accumulateRange<withBlocks, withNodeStiffness>(s, s + 4, x, forces, blocks,
+                                                                  nodeStiffness, isProjected));
   }
-  report.include(accumulateRange<withBlocks, withNodeStiffness>(s, end, x, forces, blocks, nodeStiffness,
-                                                                isProjected));
+  report.include(accumulateRange<withBlocks, withNodeStiffness>(s, end, x, forces, blocks,
+                                                                nodeStiffness, isProjected));
   return report;
 #else
-  return accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, forces, blocks, nodeStiffness, isProjected);
+  return accumulateRange<withBlocks, withNodeStiffness>(begin, end, x, forces, blocks,
+                                                        nodeStiffness, isProjected);
 #endif
 }
 
@@ -253,15 +255,15 @@ SpringFieldReport SpringForceField::addForces(const Eigen::Matrix3Xd& x,
   return accumulate<false, false>(x, forces, nullptr, nullptr, true);
 }
 
-SpringFieldReport SpringForceField::addForcesAndStiffness(
-    const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-    AxialBlocks& blocks, bool isProjected) const {
+SpringFieldReport SpringForceField::addForcesAndStiffness(const Eigen::Matrix3Xd& x,
+                                                          Eigen::Matrix3Xd& forces,
+                                                          AxialBlocks& blocks,
+                                                          bool isProjected) const {
   return accumulate<true, false>(x, forces, &blocks, nullptr, isProjected);
 }
 
-SpringFieldReport SpringForceField::addForcesAndNodeStiffness(const Eigen::Matrix3Xd& x,
-                                                              Eigen::Matrix3Xd& forces,
-                                                              Eigen::VectorXd& nodeStiffness) const {
+SpringFieldReport SpringForceField::addForcesAndNodeStiffness(
+    const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces, Eigen::VectorXd& nodeStiffness) const {
   return accumulate<false, true>(x, forces, nullptr, &nodeStiffness, true);
 }
 
@@ -304,7 +306,8 @@ void SpringForceField::commitStretchHistory(const Eigen::Matrix3Xd& x) {
       const double lambdaMax = m_lambdaMax[s];
       // Most springs, most steps, are clearly below their peak: decided on squares, without a
       // square root, with a margin (1e-9) far above the rounding of either side.
-      if (d.squaredNorm() * inverseRestLength * inverseRestLength < lambdaMax * lambdaMax * (1.0 - 1e-9)) {
+      if (d.squaredNorm() * inverseRestLength * inverseRestLength <
+          lambdaMax * lambdaMax * (1.0 - 1e-9)) {
         continue;
       }
       // The rest by the force pass's own expression, to the last bit: a peak recorded even one

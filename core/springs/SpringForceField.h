@@ -97,28 +97,26 @@ class SpringForceField {
  private:
   template <bool withBlocks, bool withNodeStiffness>
   SpringFieldReport accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                               AxialBlocks* blocks,
-                               Eigen::VectorXd* nodeStiffness, bool isProjected) const;
+                               AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,
+                               bool isProjected) const;
   /// Springs [begin, end) into forces and nodeStiffness (both added to).
   template <bool withBlocks, bool withNodeStiffness>
   SpringFieldReport accumulateRange(Eigen::Index begin, Eigen::Index end, const Eigen::Matrix3Xd& x,
-                                    Eigen::Matrix3Xd& forces,
-                                    AxialBlocks* blocks,
+                                    Eigen::Matrix3Xd& forces, AxialBlocks* blocks,
                                     Eigen::VectorXd* nodeStiffness, bool isProjected) const;
 
   /// The same, the law taken four springs at a time where it can be (SpringStressBatch.h).
   template <bool withBlocks, bool withNodeStiffness>
-  SpringFieldReport accumulateRangeBatched(Eigen::Index begin, Eigen::Index end, const Eigen::Matrix3Xd& x,
-                                           Eigen::Matrix3Xd& forces,
-                                           AxialBlocks* blocks,
-                                           Eigen::VectorXd* nodeStiffness, bool isProjected) const;
+  SpringFieldReport accumulateRangeBatched(Eigen::Index begin, Eigen::Index end,
+                                           const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                           AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,
+                                           bool isProjected) const;
   /// Spring s's force (and stiffness) from its stress P and slope (Pa) at the stretch
   /// lambda = length / L0 of d = x_b - x_a: what every pass does after the law.
   template <bool withBlocks, bool withNodeStiffness>
   void applyStress(Eigen::Index s, int a, int b, const Eigen::Vector3d& d, double length,
-                   double stress, double slope, Eigen::Matrix3Xd& forces,
-                   AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,
-                   bool isProjected) const;
+                   double stress, double slope, Eigen::Matrix3Xd& forces, AxialBlocks* blocks,
+                   Eigen::VectorXd* nodeStiffness, bool isProjected) const;
 
   /// First spring of part p of the parallel passes (p = kSpringParts: the spring count).
   Eigen::Index partStart(int p) const { return m_mesh.springCount() * p / kSpringParts; }
@@ -127,7 +125,7 @@ class SpringForceField {
   const SpringForceLaw& m_law;
   Eigen::VectorXd m_inverseRestLength;  ///< #S, 1 / L0 (1/m)
   Eigen::VectorXd m_areaOverLength;     ///< #S, V_e / L0 (m^2)
-  std::vector<SofteningPeak> m_peaks;  ///< #S: lambda_max and what softening derives from it
+  std::vector<SofteningPeak> m_peaks;   ///< #S: lambda_max and what softening derives from it
   /// #S: the peaks' lambda_max again, contiguous: the commit reads only these (42 kB at 5k
   /// springs, not the 250 kB of the peaks).
   Eigen::VectorXd m_lambdaMax;

@@ -12,7 +12,8 @@ SpringForceLaw::SpringForceLaw(SpringLaw law, const StiffnessTable& table,
       m_softening(parameters),
       m_linearModulus_Pa(linearModulus_Pa),
       m_inverseArea(1.0 / parameters.springArea_m2),
-      m_isSoftening(isSoftening && law != SpringLaw::Smm && StressSoftening(parameters).isEnabled()),
+      m_isSoftening(isSoftening && law != SpringLaw::Smm &&
+                    StressSoftening(parameters).isEnabled()),
       m_range(table.range()) {}
 
 SofteningPeak SpringForceLaw::peak(double lambdaMax) const {

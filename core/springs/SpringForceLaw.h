@@ -31,9 +31,9 @@ namespace tissuesim {
 enum class SpringLaw { Eesm, EesmPaper, Smm };
 
 struct SpringStress {
-  double stress;        ///< P (Pa)
-  double slope;         ///< dP/dlambda (Pa)
-  bool isBeyondRange;   ///< lambda was outside the material's usable range
+  double stress;       ///< P (Pa)
+  double slope;        ///< dP/dlambda (Pa)
+  bool isBeyondRange;  ///< lambda was outside the material's usable range
 };
 
 class SpringForceLaw {

@@ -35,10 +35,10 @@ struct SpringStressBatchCoefficients {
   double origin;             ///< its first node's stretch
   double spacing;
   double inverseSpacing;
-  double maxCell;            ///< last cell's index (nodes - 2)
+  double maxCell;  ///< last cell's index (nodes - 2)
   bool isSoftening;
-  double b;                  ///< softening's b (Eq. 20)
-  double residualScale_Pa;   ///< softening's (mu / 2C) * 1 kPa (Eq. 17)
+  double b;                 ///< softening's b (Eq. 20)
+  double residualScale_Pa;  ///< softening's (mu / 2C) * 1 kPa (Eq. 17)
 
   explicit SpringStressBatchCoefficients(const SpringForceLaw& law)
       : nodes(law.table().stressSpline().nodes().data()),
@@ -58,7 +58,8 @@ namespace batch {
 /// built in the exponent bits.
 __attribute__((target("avx,fma"))) inline __m256d exp(__m256d x) {
   x = _mm256_max_pd(x, _mm256_set1_pd(-700.0));
-  const __m256d k = _mm256_floor_pd(_mm256_fmadd_pd(x, _mm256_set1_pd(1.4426950408889634), _mm256_set1_pd(0.5)));
+  const __m256d k =
+      _mm256_floor_pd(_mm256_fmadd_pd(x, _mm256_set1_pd(1.4426950408889634), _mm256_set1_pd(0.5)));
   // ln 2 in two parts (Cody-Waite): k * ln2Hi is exact for |k| < 2^11.
   __m256d r = _mm256_fnmadd_pd(k, _mm256_set1_pd(0.693147180369123816490), x);
   r = _mm256_fnmadd_pd(k, _mm256_set1_pd(1.90821492927058770002e-10), r);
@@ -83,8 +84,10 @@ __attribute__((target("avx,fma"))) inline __m256d exp(__m256d x) {
   const __m128i k32 = _mm256_cvtpd_epi32(k);
   const __m128i bias = _mm_set1_epi64x(1023);
   const __m128i low = _mm_slli_epi64(_mm_add_epi64(_mm_cvtepi32_epi64(k32), bias), 52);
-  const __m128i high = _mm_slli_epi64(_mm_add_epi64(_mm_cvtepi32_epi64(_mm_srli_si128(k32, 8)), bias), 52);
-  const __m256d scale = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_castsi128_pd(low)), _mm_castsi128_pd(high), 1);
+  const __m128i high =
+      _mm_slli_epi64(_mm_add_epi64(_mm_cvtepi32_epi64(_mm_srli_si128(k32, 8)), bias), 52);
+  const __m256d scale = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_castsi128_pd(low)),
+                                             _mm_castsi128_pd(high), 1);
   return _mm256_mul_pd(p, scale);
 }
 
@@ -94,11 +97,9 @@ __attribute__((target("avx,fma"))) inline __m256d exp(__m256d x) {
 /// lambda[0..3] and peaks peaks[0..3] (their lambda_max also in lambdaMax[0..3]). Every stretch
 /// must be inside the usable range.
 template <bool kWithSlope>
-__attribute__((target("avx,fma"))) inline void evaluateStressBatch(const SpringStressBatchCoefficients& c,
-                                                                   const double* lambda,
-                                                                   const double* lambdaMax,
-                                                                   const SofteningPeak* peaks,
-                                                                   double* stress, double* slope) {
+__attribute__((target("avx,fma"))) inline void evaluateStressBatch(
+    const SpringStressBatchCoefficients& c, const double* lambda, const double* lambdaMax,
+    const SofteningPeak* peaks, double* stress, double* slope) {
   const __m256d l = _mm256_loadu_pd(lambda);
   const __m256d one = _mm256_set1_pd(1.0);
   const __m256d zero = _mm256_setzero_pd();
@@ -107,14 +108,17 @@ __attribute__((target("avx,fma"))) inline void evaluateStressBatch(const SpringS
   if (c.isSoftening) {
     maxima = _mm256_loadu_pd(lambdaMax);
     // Softening applies below lambda_max on a spring once stretched (StressSoftening's rules).
-    softened = _mm256_and_pd(_mm256_cmp_pd(maxima, one, _CMP_GT_OQ), _mm256_cmp_pd(l, maxima, _CMP_LT_OQ));
+    softened =
+        _mm256_and_pd(_mm256_cmp_pd(maxima, one, _CMP_GT_OQ), _mm256_cmp_pd(l, maxima, _CMP_LT_OQ));
     tension = _mm256_and_pd(softened, _mm256_cmp_pd(l, one, _CMP_GE_OQ));
   }
 
   // The virgin stress: the spline's cell and the two nodes around it, one 32-byte load per
   // spring, transposed into values and slopes at the cell's ends.
-  const __m256d u = _mm256_mul_pd(_mm256_sub_pd(l, _mm256_set1_pd(c.origin)), _mm256_set1_pd(c.inverseSpacing));
-  const __m256d cell = _mm256_min_pd(_mm256_max_pd(_mm256_floor_pd(u), zero), _mm256_set1_pd(c.maxCell));
+  const __m256d u =
+      _mm256_mul_pd(_mm256_sub_pd(l, _mm256_set1_pd(c.origin)), _mm256_set1_pd(c.inverseSpacing));
+  const __m256d cell =
+      _mm256_min_pd(_mm256_max_pd(_mm256_floor_pd(u), zero), _mm256_set1_pd(c.maxCell));
   const __m256d t = _mm256_sub_pd(u, cell);
   alignas(16) int index[4];
   _mm_store_si128(reinterpret_cast<__m128i*>(index), _mm256_cvttpd_epi32(cell));
@@ -147,19 +151,25 @@ __attribute__((target("avx,fma"))) inline void evaluateStressBatch(const SpringS
   if constexpr (kWithSlope) {
     // (6t^2 - 6t) / h (a - b) + (3t^2 - 4t + 1) a' + (3t^2 - 2t) b'
     const __m256d six = _mm256_set1_pd(6.0);
-    const __m256d g = _mm256_mul_pd(_mm256_mul_pd(six, _mm256_sub_pd(t2, t)), _mm256_set1_pd(c.inverseSpacing));
+    const __m256d g =
+        _mm256_mul_pd(_mm256_mul_pd(six, _mm256_sub_pd(t2, t)), _mm256_set1_pd(c.inverseSpacing));
     valueSlope = _mm256_mul_pd(g, _mm256_sub_pd(av, bv));
-    valueSlope = _mm256_fmadd_pd(_mm256_add_pd(_mm256_fnmadd_pd(_mm256_set1_pd(4.0), t, _mm256_mul_pd(three, t2)), one), as, valueSlope);
-    valueSlope = _mm256_fmadd_pd(_mm256_fnmadd_pd(two, t, _mm256_mul_pd(three, t2)), bs, valueSlope);
+    valueSlope = _mm256_fmadd_pd(
+        _mm256_add_pd(_mm256_fnmadd_pd(_mm256_set1_pd(4.0), t, _mm256_mul_pd(three, t2)), one), as,
+        valueSlope);
+    valueSlope =
+        _mm256_fmadd_pd(_mm256_fnmadd_pd(two, t, _mm256_mul_pd(three, t2)), bs, valueSlope);
   }
 
   if (_mm256_movemask_pd(softened) != 0) {
     const __m256d inverseMeasure = _mm256_set_pd(peaks[3].inverseMeasure, peaks[2].inverseMeasure,
                                                  peaks[1].inverseMeasure, peaks[0].inverseMeasure);
-    const __m256d axial = _mm256_set_pd(peaks[3].axial, peaks[2].axial, peaks[1].axial, peaks[0].axial);
-    const __m256d lateral = _mm256_set_pd(peaks[3].lateral, peaks[2].lateral, peaks[1].lateral, peaks[0].lateral);
-    const __m256d offset = _mm256_set_pd(peaks[3].offsetAtRest, peaks[2].offsetAtRest, peaks[1].offsetAtRest,
-                                         peaks[0].offsetAtRest);
+    const __m256d axial =
+        _mm256_set_pd(peaks[3].axial, peaks[2].axial, peaks[1].axial, peaks[0].axial);
+    const __m256d lateral =
+        _mm256_set_pd(peaks[3].lateral, peaks[2].lateral, peaks[1].lateral, peaks[0].lateral);
+    const __m256d offset = _mm256_set_pd(peaks[3].offsetAtRest, peaks[2].offsetAtRest,
+                                         peaks[1].offsetAtRest, peaks[0].offsetAtRest);
     const __m256d scale = _mm256_set1_pd(c.residualScale_Pa);
     const __m256d four = _mm256_set1_pd(4.0);
     const __m256d inverse = _mm256_div_pd(one, l);
@@ -168,11 +178,13 @@ __attribute__((target("avx,fma"))) inline void evaluateStressBatch(const SpringS
     // R = s [ -4 l^2 (A - l^2) + 4 / l (B - 1 / l) ]                                  (Eq. 17)
     const __m256d residual = _mm256_mul_pd(
         scale, _mm256_fmadd_pd(_mm256_mul_pd(four, inverse), _mm256_sub_pd(lateral, inverse),
-                               _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(-4.0), l2), _mm256_sub_pd(axial, l2))));
+                               _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(-4.0), l2),
+                                             _mm256_sub_pd(axial, l2))));
     const __m256d total = _mm256_fmadd_pd(residual, inverse, value);  // T = P_v + R / lambda
     // m = sqrt(l^4 + 2 / l^2), q = (1 - m / M) m, F = exp(-b sqrt(q))                 (Eq. 20)
     const __m256d m = _mm256_sqrt_pd(_mm256_fmadd_pd(l2, l2, _mm256_mul_pd(two, inverse2)));
-    const __m256d q = _mm256_max_pd(zero, _mm256_mul_pd(_mm256_fnmadd_pd(m, inverseMeasure, one), m));
+    const __m256d q =
+        _mm256_max_pd(zero, _mm256_mul_pd(_mm256_fnmadd_pd(m, inverseMeasure, one), m));
     const __m256d rootQ = _mm256_sqrt_pd(q);
     const __m256d f = batch::exp(_mm256_mul_pd(_mm256_set1_pd(-c.b), rootQ));
     const __m256d softenedValue = _mm256_mul_pd(total, f);
@@ -183,12 +195,13 @@ __attribute__((target("avx,fma"))) inline void evaluateStressBatch(const SpringS
     const __m256d inBlend = _mm256_and_pd(tension, _mm256_cmp_pd(below, width, _CMP_LT_OQ));
     __m256d jump = zero, fade = zero;
     if (_mm256_movemask_pd(inBlend) != 0) {
-      jump = _mm256_and_pd(inBlend, _mm256_set_pd(peaks[3].jumpAtPeak, peaks[2].jumpAtPeak, peaks[1].jumpAtPeak,
-                                                  peaks[0].jumpAtPeak));
+      jump = _mm256_and_pd(inBlend, _mm256_set_pd(peaks[3].jumpAtPeak, peaks[2].jumpAtPeak,
+                                                  peaks[1].jumpAtPeak, peaks[0].jumpAtPeak));
       fade = _mm256_sub_pd(one, _mm256_div_pd(below, width));
       value = _mm256_blendv_pd(value, softenedValue, tension);
-      value = _mm256_fnmadd_pd(jump, _mm256_mul_pd(_mm256_mul_pd(fade, fade), _mm256_fnmadd_pd(two, fade, three)),
-                               value);
+      value = _mm256_fnmadd_pd(
+          jump, _mm256_mul_pd(_mm256_mul_pd(fade, fade), _mm256_fnmadd_pd(two, fade, three)),
+          value);
     } else {
       value = _mm256_blendv_pd(value, softenedValue, tension);
     }
@@ -196,18 +209,21 @@ __attribute__((target("avx,fma"))) inline void evaluateStressBatch(const SpringS
     if constexpr (kWithSlope) {
       // dR/dlambda = s [ -8 l A + 16 l^3 - 4 B / l^2 + 8 / l^3 ]
       const __m256d residualSlope = _mm256_mul_pd(
-          scale, _mm256_add_pd(_mm256_fmsub_pd(_mm256_set1_pd(16.0), _mm256_mul_pd(l2, l),
-                                               _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(8.0), l), axial)),
-                               _mm256_fmsub_pd(_mm256_set1_pd(8.0), _mm256_mul_pd(inverse2, inverse),
-                                               _mm256_mul_pd(_mm256_mul_pd(four, lateral), inverse2))));
+          scale, _mm256_add_pd(
+                     _mm256_fmsub_pd(_mm256_set1_pd(16.0), _mm256_mul_pd(l2, l),
+                                     _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(8.0), l), axial)),
+                     _mm256_fmsub_pd(_mm256_set1_pd(8.0), _mm256_mul_pd(inverse2, inverse),
+                                     _mm256_mul_pd(_mm256_mul_pd(four, lateral), inverse2))));
       const __m256d dTotal =
           _mm256_fnmadd_pd(residual, inverse2, _mm256_fmadd_pd(residualSlope, inverse, valueSlope));
       // dF/dlambda = -b F (1 - 2 m / M) 2 (l^3 - l^-3) / (2 m max(1e-6, sqrt q)): the cap as
       // StressSoftening's, for the vertical tangent at lambda_max.
-      const __m256d dqTimesM = _mm256_mul_pd(_mm256_mul_pd(_mm256_fnmadd_pd(_mm256_mul_pd(two, m), inverseMeasure, one), two),
-                                             _mm256_sub_pd(_mm256_mul_pd(l2, l), _mm256_mul_pd(inverse2, inverse)));
-      const __m256d df = _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(-c.b), f), dqTimesM),
-                                       _mm256_mul_pd(_mm256_mul_pd(two, m), _mm256_max_pd(_mm256_set1_pd(1e-6), rootQ)));
+      const __m256d dqTimesM = _mm256_mul_pd(
+          _mm256_mul_pd(_mm256_fnmadd_pd(_mm256_mul_pd(two, m), inverseMeasure, one), two),
+          _mm256_sub_pd(_mm256_mul_pd(l2, l), _mm256_mul_pd(inverse2, inverse)));
+      const __m256d df = _mm256_div_pd(
+          _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(-c.b), f), dqTimesM),
+          _mm256_mul_pd(_mm256_mul_pd(two, m), _mm256_max_pd(_mm256_set1_pd(1e-6), rootQ)));
       const __m256d softenedSlope = _mm256_fmadd_pd(total, df, _mm256_mul_pd(dTotal, f));
       valueSlope = _mm256_blendv_pd(valueSlope, softenedSlope, tension);
       // jump is zero outside the blend: these lanes are unchanged.

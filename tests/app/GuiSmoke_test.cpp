@@ -6,15 +6,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkRenderWindow.h>
 #include <QAction>
 #include <QApplication>
 #include <QMessageBox>
 #include <QSurfaceFormat>
 #include <QTemporaryDir>
-#include <QVTKOpenGLNativeWidget.h>
 #include <QWheelEvent>
 #include <QtTest/QtTest>
-#include <vtkRenderWindow.h>
 
 #include "HeadlessDisplay.h"
 #include "gui/MainWindow.h"
@@ -33,8 +33,9 @@ class GuiSmokeTest : public QObject {
     // What the mouse wheel sends, one notch at a time, to the 3D view.
     const QPoint centre = view()->rect().center();
     for (int i = 0; i < std::abs(notches); ++i) {
-      QWheelEvent event(centre, view()->mapToGlobal(centre), QPoint(), QPoint(0, notches > 0 ? 120 : -120),
-                        Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+      QWheelEvent event(centre, view()->mapToGlobal(centre), QPoint(),
+                        QPoint(0, notches > 0 ? 120 : -120), Qt::NoButton, Qt::NoModifier,
+                        Qt::NoScrollPhase, false);
       QApplication::sendEvent(view(), &event);
       QTest::qWait(25);
     }
@@ -43,7 +44,8 @@ class GuiSmokeTest : public QObject {
 
  private slots:
   void initTestCase() {
-    m_window = std::make_unique<MainWindow>(QString(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
+    m_window =
+        std::make_unique<MainWindow>(QString(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
     m_window->show();
     QVERIFY(QTest::qWaitForWindowExposed(m_window.get()));
     QVERIFY(view() != nullptr);
@@ -71,7 +73,8 @@ class GuiSmokeTest : public QObject {
     const Eigen::Vector3d after = m_window->instrumentPose().tip_m;
     QVERIFY2((after - before).norm() > 1e-3, "the tip did not follow the cursor");
     // Back over the poke point, for the next test.
-    QMouseEvent back(QEvent::MouseMove, view()->rect().center(), Qt::NoButton, Qt::NoButton, Qt::NoModifier);
+    QMouseEvent back(QEvent::MouseMove, view()->rect().center(), Qt::NoButton, Qt::NoButton,
+                     Qt::NoModifier);
     QApplication::sendEvent(view(), &back);
   }
 
@@ -93,8 +96,10 @@ class GuiSmokeTest : public QObject {
     QCOMPARE(right.tip_m, before.tip_m);
     // 5 degrees about the viewing axis: the shaft turns by up to that (all of it when it lies
     // across the view).
-    const double degrees = std::acos(std::clamp(right.direction.dot(before.direction), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
-    QVERIFY2(degrees > 1.0 && degrees <= 5.0 + 1e-9, qPrintable(QString("Right tilted the shaft %1 degrees").arg(degrees)));
+    const double degrees = std::acos(std::clamp(right.direction.dot(before.direction), -1.0, 1.0)) *
+                           180.0 / 3.14159265358979323846;
+    QVERIFY2(degrees > 1.0 && degrees <= 5.0 + 1e-9,
+             qPrintable(QString("Right tilted the shaft %1 degrees").arg(degrees)));
     QVERIFY(press(Qt::Key_Up));
     QVERIFY(m_window->instrumentPose().direction.dot(right.direction) < 1.0 - 1e-6);
     // Back: Down and Left undo them (the view has not turned meanwhile).
@@ -124,7 +129,8 @@ class GuiSmokeTest : public QObject {
 
   void aBadTissueFileShowsAnErrorAndTheSimulationGoesOn() {
     const std::string before = m_window->simulation()->parameters().name;
-    QVERIFY(!m_window->loadTissue(QString(TISSUESIM_TEST_DATA_DIR) + "/tissues/negative-modulus.json"));
+    QVERIFY(
+        !m_window->loadTissue(QString(TISSUESIM_TEST_DATA_DIR) + "/tissues/negative-modulus.json"));
     QMessageBox* dialog = errorDialog();
     QVERIFY(dialog != nullptr);
     QVERIFY(dialog->isVisible());
@@ -136,7 +142,8 @@ class GuiSmokeTest : public QObject {
   }
 
   void aGoodTissueFileIsApplied() {
-    QVERIFY(m_window->loadTissue(QString(TISSUESIM_TEST_DATA_DIR) + "/tissues/valid-exact-n2.json"));
+    QVERIFY(
+        m_window->loadTissue(QString(TISSUESIM_TEST_DATA_DIR) + "/tissues/valid-exact-n2.json"));
     QCOMPARE(QString::fromStdString(m_window->simulation()->parameters().name), QString("test"));
     const long stepsThen = steps();
     QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(), steps() > stepsThen + 20), 10000);
@@ -144,7 +151,8 @@ class GuiSmokeTest : public QObject {
 
   void aBadSceneKeepsTheOldOne() {
     const Simulation* before = m_window->simulation();
-    QVERIFY(!m_window->loadScene(QString(TISSUESIM_TEST_DATA_DIR) + "/scenes/unknown-integrator.json"));
+    QVERIFY(
+        !m_window->loadScene(QString(TISSUESIM_TEST_DATA_DIR) + "/scenes/unknown-integrator.json"));
     QCOMPARE(m_window->simulation(), before);
     if (QMessageBox* dialog = errorDialog()) dialog->close();
   }

@@ -39,7 +39,8 @@ class ImageRegression : public ::testing::Test {
   static vtkSmartPointer<vtkImageData> render(int frames, bool isColourMap) {
     SceneSession session(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json", "",
                          InstrumentDriver::Script);
-    const SceneSnapshot snapshot = takeSceneSnapshot(session, {frames, {kWidth, kHeight}, isColourMap, false});
+    const SceneSnapshot snapshot =
+        takeSceneSnapshot(session, {frames, {kWidth, kHeight}, isColourMap, false});
     EXPECT_EQ(snapshot.badSteps, 0);
     return snapshot.image;
   }
@@ -50,15 +51,18 @@ class ImageRegression : public ::testing::Test {
 
   static void expectMatchesReference(const std::string& name, vtkImageData* actual) {
     const std::filesystem::path reference = referencePath(name);
-    if (const char* update = std::getenv("TISSUESIM_UPDATE_IMAGES"); update != nullptr && std::string(update) == "1") {
+    if (const char* update = std::getenv("TISSUESIM_UPDATE_IMAGES");
+        update != nullptr && std::string(update) == "1") {
       writePng(actual, reference);
       GTEST_SKIP() << "recorded " << reference;
     }
     ASSERT_TRUE(std::filesystem::exists(reference)) << reference << " is missing";
     vtkSmartPointer<vtkImageData> diff;
-    const ImageDifference difference = compareImages(actual, readPng(reference), ImageTolerance{}, &diff);
+    const ImageDifference difference =
+        compareImages(actual, readPng(reference), ImageTolerance{}, &diff);
     if (!difference.matches(ImageTolerance{})) {
-      const std::filesystem::path failures = std::filesystem::path(TISSUESIM_BUILD_DIR) / "image-failures";
+      const std::filesystem::path failures =
+          std::filesystem::path(TISSUESIM_BUILD_DIR) / "image-failures";
       std::filesystem::create_directories(failures);
       writePng(actual, failures / (name + "-actual.png"));
       if (diff) writePng(diff, failures / (name + "-diff.png"));
@@ -72,9 +76,13 @@ std::unique_ptr<HeadlessDisplay> ImageRegression::s_display;
 
 TEST_F(ImageRegression, LiverAtRest) { expectMatchesReference("liver-rest", render(0, false)); }
 
-TEST_F(ImageRegression, LiverMidPoke) { expectMatchesReference("liver-mid-poke", render(36, false)); }
+TEST_F(ImageRegression, LiverMidPoke) {
+  expectMatchesReference("liver-mid-poke", render(36, false));
+}
 
-TEST_F(ImageRegression, LiverMidPokeColourMap) { expectMatchesReference("liver-mid-poke-colour-map", render(36, true)); }
+TEST_F(ImageRegression, LiverMidPokeColourMap) {
+  expectMatchesReference("liver-mid-poke-colour-map", render(36, true));
+}
 
 TEST_F(ImageRegression, RenderingIsDeterministic) {
   const auto first = render(30, true);
@@ -98,9 +106,11 @@ TEST_F(ImageRegression, TheDefaultViewDrawsNothingTranslucent) {
   // Any translucent actor makes VTK 9.1 run its order-independent transparency passes over the
   // whole window every frame: with llvmpipe a 60 ms frame instead of 30 at 1280 x 800 for the
   // tool's small shadow alone. Drawn once first, so that every mapper has its input.
-  SceneSession session(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json", "", InstrumentDriver::Script);
+  SceneSession session(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json", "",
+                       InstrumentDriver::Script);
   Simulation& simulation = session.simulation();
-  TissueSceneView view(simulation.geometry(), simulation.springMesh(), &*session.scene().instrument);
+  TissueSceneView view(simulation.geometry(), simulation.springMesh(),
+                       &*session.scene().instrument);
   view.update(simulation.state().x, simulation.instrumentPose());
   renderOffscreen(view.renderer(), kWidth, kHeight);
   vtkActorCollection* actors = view.renderer()->GetActors();
@@ -109,8 +119,8 @@ TEST_F(ImageRegression, TheDefaultViewDrawsNothingTranslucent) {
   while (vtkActor* actor = actors->GetNextActor()) {
     if (actor->GetVisibility() == 0) continue;
     ++visible;
-    EXPECT_EQ(actor->HasTranslucentPolygonalGeometry(), 0) << "a visible actor with opacity "
-                                                           << actor->GetProperty()->GetOpacity();
+    EXPECT_EQ(actor->HasTranslucentPolygonalGeometry(), 0)
+        << "a visible actor with opacity " << actor->GetProperty()->GetOpacity();
   }
   EXPECT_GE(visible, 4);  // the liver, the tray, the tool's shaft and tip, its shadow
 }
@@ -126,7 +136,8 @@ TEST(HeadlessDisplay, SaysHowToInstallXvfbWhenItIsMissing) {
     HeadlessDisplay headless(true);
     ADD_FAILURE() << "expected an error";
   } catch (const CommandError& error) {
-    EXPECT_NE(std::string(error.what()).find("apt-get install xvfb"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("apt-get install xvfb"), std::string::npos)
+        << error.what();
   }
   ::setenv("PATH", savedPath.c_str(), 1);
   if (!savedDisplay.empty()) ::setenv("DISPLAY", savedDisplay.c_str(), 1);

@@ -17,7 +17,8 @@ namespace {
 
 /// The bundled liver scene, with the integrator named (the scene's when empty).
 SceneDescription pokeScene(const std::string& integrator) {
-  SceneDescription scene = loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
+  SceneDescription scene =
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
   if (!integrator.empty()) scene.integrator = integrator;
   return scene;
 }
@@ -34,8 +35,9 @@ struct ScriptedPoke {
   ScriptedPoke(double depth_m, double pressTime_s, const std::string& integrator = "",
                const std::optional<InstrumentPose>& start = std::nullopt)
       : simulation(pokeScene(integrator)),
-        script(InstrumentScript::poke(start ? *start : InstrumentPose{tool.tipStart_m, tool.direction},
-                                      depth_m, pressTime_s)) {
+        script(
+            InstrumentScript::poke(start ? *start : InstrumentPose{tool.tipStart_m, tool.direction},
+                                   depth_m, pressTime_s)) {
     simulation.setContactProvider(&contact);
     simulation.setInstrumentSource(&script);
   }
@@ -89,7 +91,8 @@ TEST(Simulation, APokeIsBitIdenticalOnOneAndTwoThreads) {
     simulation.setContactProvider(&contact);
     simulation.setInstrumentSource(&script);
     PokeRun result;
-    for (int n = 0; n < 520; ++n) result.forces.push_back(simulation.step().contact.toolForce_N.norm());
+    for (int n = 0; n < 520; ++n)
+      result.forces.push_back(simulation.step().contact.toolForce_N.norm());
     result.finalPositions = simulation.state().x;
     return result;
   };
@@ -101,9 +104,11 @@ TEST(Simulation, APokeIsBitIdenticalOnOneAndTwoThreads) {
 }
 
 TEST(Simulation, NonFiniteContactIsReportedAndTheStateKept) {
-  Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+  Simulation simulation(
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
   struct BrokenContact final : ContactProvider {
-    void findContacts(const Eigen::Matrix3Xd&, const InstrumentPose&, PenaltyContactSet& contacts) override {
+    void findContacts(const Eigen::Matrix3Xd&, const InstrumentPose&,
+                      PenaltyContactSet& contacts) override {
       PenaltyContact nan;
       nan.nodes = {0, 0, 0};
       nan.weights = {1.0, 0.0, 0.0};
@@ -221,7 +226,8 @@ TEST(Simulation, ContactIsFoundWhereverTheToolPokes) {
       }
     }
     EXPECT_GT(peak, 0.05) << "node " << target;
-    EXPECT_LT(forceAtPeak.normalized().dot(direction), -0.5) << "node " << target;  // pushes the tool back
+    EXPECT_LT(forceAtPeak.normalized().dot(direction), -0.5)
+        << "node " << target;  // pushes the tool back
     EXPECT_LT(deepest, 0.001) << "node " << target;
   }
 }
@@ -286,7 +292,8 @@ TEST(Simulation, AFastPokeCarriesTheSurfaceAheadOfTheTip) {
 }
 
 TEST(Simulation, SofteningCanBeSwitchedOffWhileRunning) {
-  Simulation simulation(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+  Simulation simulation(
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
   EXPECT_TRUE(simulation.isSoftening());
   for (int n = 0; n < 5; ++n) simulation.step();
   const Eigen::Matrix3Xd before = simulation.state().x;

@@ -99,7 +99,7 @@ TEST(SurfaceBvh, RefittedTreeFindsWhatANewTreeFinds) {
         probesTouching += expected.empty() ? 0 : 1;
       }
     }
-    EXPECT_GT(probesTouching, 20);  // the surface's crests reach the probes
+    EXPECT_GT(probesTouching, 20);       // the surface's crests reach the probes
     EXPECT_LT(probesTouching, 13 * 13);  // and its troughs do not
   }
 }

@@ -5,7 +5,9 @@
 namespace tissuesim {
 namespace {
 
-std::string meshPath(const std::string& name) { return std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/" + name; }
+std::string meshPath(const std::string& name) {
+  return std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/" + name;
+}
 
 TEST(VtkMeshFiles, ReadsAnUnstructuredGridKeepingTets) {
   TetMeshReadReport report;
@@ -33,10 +35,10 @@ TEST(VtkMeshFiles, ReadsTheXmlFormats) {
 }
 
 TEST(VtkMeshFiles, RefusesWithOneLine) {
-  for (const auto& [file, expected] : {std::pair{"cube.obj", "not a legacy VTK file"},
-                                       std::pair{"missing.vtu", "cannot open"},
-                                       std::pair{"cube-polydata.vtk", "no tetrahedra"},
-                                       std::pair{"cube.vtp", "no tetrahedra (6 other cells)"}}) {
+  for (const auto& [file, expected] :
+       {std::pair{"cube.obj", "not a legacy VTK file"}, std::pair{"missing.vtu", "cannot open"},
+        std::pair{"cube-polydata.vtk", "no tetrahedra"},
+        std::pair{"cube.vtp", "no tetrahedra (6 other cells)"}}) {
     try {
       readVtkTetMesh(meshPath(file));
       ADD_FAILURE() << file << " accepted";

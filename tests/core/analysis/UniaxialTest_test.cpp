@@ -98,8 +98,8 @@ TEST_F(UniaxialTestTest, RejectsBadProtocols) {
 
 TEST_F(UniaxialTestTest, JustBelowLockingStaysFinite) {
   const UniaxialProtocol extreme{{m_table.range().upper}, 200};
-  for (const UniaxialModel model : {UniaxialModel::Sedf, UniaxialModel::Eesm,
-                                    UniaxialModel::EesmPaper, UniaxialModel::Smm}) {
+  for (const UniaxialModel model :
+       {UniaxialModel::Sedf, UniaxialModel::Eesm, UniaxialModel::EesmPaper, UniaxialModel::Smm}) {
     for (const CurveBranch& branch : m_test.run(model, extreme)) {
       for (const double stress : branch.stress_Pa) EXPECT_TRUE(std::isfinite(stress));
     }

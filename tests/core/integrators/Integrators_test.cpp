@@ -5,8 +5,8 @@
 #include <memory>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "TestSystems.h"
 #include "integrators/ImplicitEulerSolver.h"
@@ -20,10 +20,13 @@ namespace {
 
 const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
 
-std::unique_ptr<TimeIntegrator> makeIntegrator(const std::string& name, IntegratorSettings settings) {
+std::unique_ptr<TimeIntegrator> makeIntegrator(const std::string& name,
+                                               IntegratorSettings settings) {
   if (name == "explicit") return std::make_unique<SymplecticEulerSolver>(settings);
-  if (name == "implicit") return std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::Cholesky);
-  if (name == "implicit-cg") return std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
+  if (name == "implicit")
+    return std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::Cholesky);
+  if (name == "implicit-cg")
+    return std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
   return std::make_unique<QuasiNewtonSolver>(settings);
 }
 
@@ -52,7 +55,10 @@ TEST_P(EachIntegrator, FreeFallFollowsTheDiscreteAndAnalyticTrajectory) {
   EXPECT_NEAR(drop, 9.81 * t * t / 2.0, 9.81 * dt * t / 2.0 + 1e-9);
   // A rigid fall does not deform.
   EXPECT_LT((state.x.colwise() - centreOfMass(block.mesh, state.x) -
-             (block.mesh.restPositions_m.colwise() - start)).cwiseAbs().maxCoeff(), 1e-9);
+             (block.mesh.restPositions_m.colwise() - start))
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-9);
 }
 
 TEST_P(EachIntegrator, NonFiniteInputIsDetectedAndTheStateKept) {
@@ -93,8 +99,10 @@ TEST(SymplecticEuler, OscillationPeriodMatchesTheLinearisedSystem) {
   Eigen::Matrix3d k33 = Eigen::Matrix3d::Zero();
   for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
     if (mesh.springs(1, s) != 3) continue;
-    const Eigen::Vector3d n = (mesh.restPositions_m.col(3) - mesh.restPositions_m.col(mesh.springs(0, s))).normalized();
-    k33 += mesh.volume_m3[s] * 5000.0 / (mesh.restLength_m[s] * mesh.restLength_m[s]) * n * n.transpose();
+    const Eigen::Vector3d n =
+        (mesh.restPositions_m.col(3) - mesh.restPositions_m.col(mesh.springs(0, s))).normalized();
+    k33 += mesh.volume_m3[s] * 5000.0 / (mesh.restLength_m[s] * mesh.restLength_m[s]) * n *
+           n.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> modes(k33);
   const double omega = std::sqrt(modes.eigenvalues()[0] / mesh.nodeMass_kg[3]);
@@ -108,7 +116,8 @@ TEST(SymplecticEuler, OscillationPeriodMatchesTheLinearisedSystem) {
   std::vector<double> crossings;
   for (int n = 1; n < 2000 * 5; ++n) {
     integrator.step(system, state, dt);
-    const double now = modes.eigenvectors().col(0).dot(state.x.col(3) - mesh.restPositions_m.col(3));
+    const double now =
+        modes.eigenvectors().col(0).dot(state.x.col(3) - mesh.restPositions_m.col(3));
     if (previous > 0 && now <= 0) crossings.push_back(n * dt - dt * now / (now - previous));
     previous = now;
   }
@@ -186,7 +195,8 @@ TEST(SymplecticEuler, TheStableStepIsTheSmallestOfTheNodesBounds) {
     SymplecticEulerSolver integrator(settings);
     MechanicalState copy = state;
     const StepReport report = integrator.step(block.system, copy, 1e-9);
-    EXPECT_NEAR(report.stableTimeStep_s, settings.stabilitySafety * smallest, 1e-9 * smallest) << alpha;
+    EXPECT_NEAR(report.stableTimeStep_s, settings.stabilitySafety * smallest, 1e-9 * smallest)
+        << alpha;
   }
 }
 
@@ -198,7 +208,8 @@ TEST(SymplecticEuler, RefusesAStepItCannotTakeStably) {
   MechanicalState state = block.system.restState();
   state.x.row(0) *= 1.1;
   const MechanicalState before = state;
-  const double stable = SymplecticEulerSolver::stableTimeStep(block.system, state.x, settings.stabilitySafety);
+  const double stable =
+      SymplecticEulerSolver::stableTimeStep(block.system, state.x, settings.stabilitySafety);
   const StepReport big = integrator.step(block.system, state, 100 * stable);
   EXPECT_TRUE(big.refused);
   EXPECT_FALSE(big.reason.empty());
@@ -245,8 +256,9 @@ TEST(ImplicitEuler, NewtonConvergesQuadraticallyWithTheExactHessian) {
     settings.maxIterations = iterations;
     settings.forceTolerance_N = 0.0;
     MechanicalState state = start;
-    residuals.push_back(
-        ImplicitEulerSolver(settings, LinearSolverKind::Cholesky).step(block.system, state, dt).residual_N);
+    residuals.push_back(ImplicitEulerSolver(settings, LinearSolverKind::Cholesky)
+                            .step(block.system, state, dt)
+                            .residual_N);
   }
   const double first = residuals[0];
   ASSERT_GT(first, 1e-3);
@@ -360,15 +372,17 @@ TEST(ParallelPasses, AMeshAboveTheNodePassMinimumStepsBitIdenticallyOnAnyThreadC
     settings.maxIterations = 2;
     auto integrator = makeIntegrator(name, settings);
     MechanicalState state = block.system.restState();
-    const double dt =
-        name == "explicit" ? SymplecticEulerSolver::stableTimeStep(block.system, state.x, 0.8) : 1e-3;
+    const double dt = name == "explicit"
+                          ? SymplecticEulerSolver::stableTimeStep(block.system, state.x, 0.8)
+                          : 1e-3;
     StepReport report;
     for (int n = 0; n < 4; ++n) {
       report = integrator->step(block.system, state, dt);
       EXPECT_TRUE(report.isFinite && !report.refused) << name << " step " << n;
     }
     block.springs.setThreadPool(nullptr);
-    return std::tuple{state.x, state.v, Eigen::VectorXd(block.springs.lambdaMax()), report.residual_N};
+    return std::tuple{state.x, state.v, Eigen::VectorXd(block.springs.lambdaMax()),
+                      report.residual_N};
   };
   for (const std::string name : {"explicit", "implicit-cg"}) {
     const auto serial = run(name, nullptr);
@@ -378,10 +392,14 @@ TEST(ParallelPasses, AMeshAboveTheNodePassMinimumStepsBitIdenticallyOnAnyThreadC
     for (const int threads : {2, 3}) {
       ForkJoinPool pool(threads);
       const auto parallel = run(name, &pool);
-      EXPECT_TRUE(std::get<0>(parallel) == std::get<0>(serial)) << name << ", " << threads << " threads";
-      EXPECT_TRUE(std::get<1>(parallel) == std::get<1>(serial)) << name << ", " << threads << " threads";
-      EXPECT_TRUE(std::get<2>(parallel) == std::get<2>(serial)) << name << ", " << threads << " threads";
-      EXPECT_EQ(std::get<3>(parallel), std::get<3>(serial)) << name << ", " << threads << " threads";
+      EXPECT_TRUE(std::get<0>(parallel) == std::get<0>(serial))
+          << name << ", " << threads << " threads";
+      EXPECT_TRUE(std::get<1>(parallel) == std::get<1>(serial))
+          << name << ", " << threads << " threads";
+      EXPECT_TRUE(std::get<2>(parallel) == std::get<2>(serial))
+          << name << ", " << threads << " threads";
+      EXPECT_EQ(std::get<3>(parallel), std::get<3>(serial))
+          << name << ", " << threads << " threads";
     }
   }
 }

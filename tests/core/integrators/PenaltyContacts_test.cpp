@@ -1,7 +1,7 @@
 #include "integrators/PenaltyContacts.h"
 
-#include <Eigen/SVD>
 #include <gtest/gtest.h>
+#include <Eigen/SVD>
 
 namespace tissuesim {
 namespace {
@@ -11,7 +11,8 @@ struct Triangle {
   Eigen::Matrix2Xi edges = (Eigen::Matrix2Xi(2, 3) << 0, 1, 2, 1, 2, 0).finished();
   Eigen::Matrix3Xd x = (Eigen::Matrix3Xd(3, 3) << 0.0, 0.01, 0.0,  //
                         0.0, 0.0, 0.01,                            //
-                        0.001, 0.0012, 0.0008).finished();
+                        0.001, 0.0012, 0.0008)
+                           .finished();
   PenaltyContactSet set;
   Triangle() {
     PenaltyContact c;

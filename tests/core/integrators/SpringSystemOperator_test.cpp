@@ -45,14 +45,16 @@ struct OperatorCase {
     fixed.assign(static_cast<std::size_t>(3 * nodes), 0);
     for (int axis = 0; axis < 3; ++axis) fixed[static_cast<std::size_t>(3 * 7 + axis)] = 1;
     fixed[static_cast<std::size_t>(3 * (nodes / 2) + 1)] = 1;
-    const auto term = [&](std::array<int, 3> at, Eigen::Vector3d weights, Eigen::Vector3d normal, double k) {
+    const auto term = [&](std::array<int, 3> at, Eigen::Vector3d weights, Eigen::Vector3d normal,
+                          double k) {
       RankOneTerm t;
       t.nodes = at;
       t.stiffness_N_m = k;
       for (std::size_t i = 0; i < 3; ++i) {
         for (int axis = 0; axis < 3; ++axis) {
           const bool isFree = fixed[static_cast<std::size_t>(3 * at[i] + axis)] == 0;
-          t.blocks[i][axis] = isFree ? weights[static_cast<Eigen::Index>(i)] * normal.normalized()[axis] : 0.0;
+          t.blocks[i][axis] =
+              isFree ? weights[static_cast<Eigen::Index>(i)] * normal.normalized()[axis] : 0.0;
         }
       }
       terms.push_back(t);
@@ -98,12 +100,14 @@ struct OperatorCase {
     std::mt19937 random(seed);
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     Eigen::VectorXd x(static_cast<Eigen::Index>(fixed.size()));
-    for (Eigen::Index d = 0; d < x.size(); ++d) x[d] = fixed[static_cast<std::size_t>(d)] != 0 ? 0.0 : uniform(random);
+    for (Eigen::Index d = 0; d < x.size(); ++d)
+      x[d] = fixed[static_cast<std::size_t>(d)] != 0 ? 0.0 : uniform(random);
     return x;
   }
 };
 
-Eigen::VectorXd multiply(const SpringSystemOperator& a, const Eigen::VectorXd& x, bool isReversed = false) {
+Eigen::VectorXd multiply(const SpringSystemOperator& a, const Eigen::VectorXd& x,
+                         bool isReversed = false) {
   Eigen::VectorXd y = Eigen::VectorXd::Constant(x.size(), std::nan(""));
   for (int p = 0; p < BlockLinearOperator::kParts; ++p) {
     a.multiplyPart(isReversed ? BlockLinearOperator::kParts - 1 - p : p, x.data(), y.data());
@@ -151,7 +155,8 @@ TEST(SpringSystemOperator, PartsAreIndependentOfOrderAndThreads) {
   for (const int threads : {2, 4}) {
     ForkJoinPool pool(threads);
     Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
-    runParts(&pool, BlockLinearOperator::kParts, [&](int p) { a.multiplyPart(p, x.data(), y.data()); });
+    runParts(&pool, BlockLinearOperator::kParts,
+             [&](int p) { a.multiplyPart(p, x.data(), y.data()); });
     EXPECT_EQ(y, expected) << threads << " threads";
   }
 }
@@ -171,7 +176,8 @@ TEST(SpringSystemOperator, NewtonWithItMatchesCholesky) {
     for (Eigen::Index t = 0; t < block.mesh.tets.cols(); ++t) {
       std::vector<int> onTop;
       for (int i = 0; i < 4; ++i) {
-        if (block.mesh.restPositions_m(2, block.mesh.tets(i, t)) > zTop - 1e-9) onTop.push_back(block.mesh.tets(i, t));
+        if (block.mesh.restPositions_m(2, block.mesh.tets(i, t)) > zTop - 1e-9)
+          onTop.push_back(block.mesh.tets(i, t));
       }
       if (onTop.size() == 3) {
         contact.nodes = {onTop[0], onTop[1], onTop[2]};
@@ -189,9 +195,10 @@ TEST(SpringSystemOperator, NewtonWithItMatchesCholesky) {
     settings.forceTolerance_N = 1e-10;
     settings.linearTolerance = 1e-12;
     MechanicalState cholesky = start, cg = start;
-    const StepReport exact = ImplicitEulerSolver(settings, LinearSolverKind::Cholesky).step(block.system, cholesky, 1e-3);
-    const StepReport iterative =
-        ImplicitEulerSolver(settings, LinearSolverKind::ConjugateGradient).step(block.system, cg, 1e-3);
+    const StepReport exact = ImplicitEulerSolver(settings, LinearSolverKind::Cholesky)
+                                 .step(block.system, cholesky, 1e-3);
+    const StepReport iterative = ImplicitEulerSolver(settings, LinearSolverKind::ConjugateGradient)
+                                     .step(block.system, cg, 1e-3);
     ASSERT_TRUE(exact.converged) << bulkModulus;
     ASSERT_TRUE(iterative.converged) << bulkModulus;
     const double moved = (cholesky.x - start.x).cwiseAbs().maxCoeff();

@@ -41,12 +41,13 @@ TEST_P(StiffnessTableTest, LookupsMatchTheClosedFormToOnePartPerMillion) {
     if (lambda == 1.0) return;
     const UniaxialResponse exact = m_energy.uniaxial(lambda);
     const double exactStiffness = StiffnessTable::closedFormStiffness(m_energy, lambda).value;
-    worstStress = std::max(worstStress,
-                           std::abs(m_table.stress(lambda) - exact.stress) / std::abs(exact.stress));
-    worstStiffness = std::max(worstStiffness, std::abs(m_table.springStiffness(lambda) -
-                                                       exactStiffness) / std::abs(exactStiffness));
-    worstEnergy = std::max(worstEnergy,
-                           std::abs(m_table.energy(lambda) - exact.energy) / exact.energy);
+    worstStress = std::max(
+        worstStress, std::abs(m_table.stress(lambda) - exact.stress) / std::abs(exact.stress));
+    worstStiffness =
+        std::max(worstStiffness, std::abs(m_table.springStiffness(lambda) - exactStiffness) /
+                                     std::abs(exactStiffness));
+    worstEnergy =
+        std::max(worstEnergy, std::abs(m_table.energy(lambda) - exact.energy) / exact.energy);
   };
   for (int i = 0; i < 20000; ++i) check(uniform(random));
   // The hard places: next to rest (values through zero) and next to the table ends (poles).

@@ -55,7 +55,8 @@ TEST_P(StrainEnergyTest, SmallStrainLimitIsLinearWithYoungsModulusThreeMu0) {
   const StrainEnergy energy(parameters());
   const double mu0 = energy.initialShearModulus();
   ASSERT_GT(mu0, 0.0);
-  // Series about rest (model.md): W = 3/2 mu0 e^2 - mu0 e^3 + O(e^4), P = 3 mu0 e - 3 mu0 e^2 + O(e^3).
+  // Series about rest (model.md):
+  //   W = 3/2 mu0 e^2 - mu0 e^3 + O(e^4),  P = 3 mu0 e - 3 mu0 e^2 + O(e^3).
   // The liver's large A2 makes the next terms about 1500 e^2 relative: keep e small.
   for (const double e : {2e-5, -2e-5, 1e-6, -1e-7}) {
     EXPECT_NEAR(energy.stress(1.0 + e), 3.0 * mu0 * (e - e * e), 1e-5 * std::abs(3.0 * mu0 * e));

@@ -29,7 +29,8 @@ TEST(LatticeMesher, FillsTheSurfaceWithGoodTets) {
     double longest = 0.0;
     for (int i = 0; i < 4; ++i) {
       for (int j = i + 1; j < 4; ++j) {
-        const Eigen::Vector3d a = mesh.nodes_m.col(mesh.tets(i, t)), b = mesh.nodes_m.col(mesh.tets(j, t));
+        const Eigen::Vector3d a = mesh.nodes_m.col(mesh.tets(i, t)),
+                              b = mesh.nodes_m.col(mesh.tets(j, t));
         if ((b - a).norm() > longest) {
           longest = (b - a).norm();
           centre = (a + b) / 2.0;

@@ -12,7 +12,9 @@
 namespace tissuesim {
 namespace {
 
-std::string meshPath(const std::string& name) { return std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/" + name; }
+std::string meshPath(const std::string& name) {
+  return std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/" + name;
+}
 
 /// The message of the MeshFileError `read` throws, or a test failure.
 template <typename Read>
@@ -36,7 +38,8 @@ TEST(SurfaceReader, ReadsAScaledClosedSurface) {
 }
 
 TEST(SurfaceReader, SelectsPartsOfAMultiPartFile) {
-  const std::string glb = std::string(TISSUESIM_TEST_DATA_DIR) + "/../../assets/meshes/liver-smooth.obj";
+  const std::string glb =
+      std::string(TISSUESIM_TEST_DATA_DIR) + "/../../assets/meshes/liver-smooth.obj";
   const std::vector<std::string> parts = listSurfaceParts(glb);
   ASSERT_FALSE(parts.empty());
   EXPECT_NO_THROW(readSurface(glb, {0.03, parts.front()}));
@@ -45,25 +48,39 @@ TEST(SurfaceReader, SelectsPartsOfAMultiPartFile) {
 }
 
 TEST(SurfaceReader, RefusesBadFiles) {
-  EXPECT_NE(errorOf([] { readSurface(meshPath("empty.obj"), {}); }).find("empty.obj: the file is empty"), std::string::npos);
-  EXPECT_NE(errorOf([] { readSurface(meshPath("missing.obj"), {}); }).find("missing.obj: cannot open"), std::string::npos);
-  EXPECT_NE(errorOf([] { readSurface(meshPath("garbage.stl"), {}); }).find("garbage.stl: "), std::string::npos);
-  EXPECT_NE(errorOf([] { readSurface(meshPath("gmsh-in-disguise.obj"), {}); }).find("gmsh-in-disguise.obj: "), std::string::npos);
-  EXPECT_NE(errorOf([] { readSurface(meshPath("nan.obj"), {}); }).find("not finite"), std::string::npos);
-  EXPECT_NE(errorOf([] { readSurface(meshPath("huge.obj"), {}); }).find("check the units"), std::string::npos);
-  EXPECT_NE(errorOf([] { readSurface(meshPath("cube.obj"), {-1.0, ""}); }).find("scale"), std::string::npos);
+  EXPECT_NE(
+      errorOf([] { readSurface(meshPath("empty.obj"), {}); }).find("empty.obj: the file is empty"),
+      std::string::npos);
+  EXPECT_NE(
+      errorOf([] { readSurface(meshPath("missing.obj"), {}); }).find("missing.obj: cannot open"),
+      std::string::npos);
+  EXPECT_NE(errorOf([] { readSurface(meshPath("garbage.stl"), {}); }).find("garbage.stl: "),
+            std::string::npos);
+  EXPECT_NE(errorOf([] {
+              readSurface(meshPath("gmsh-in-disguise.obj"), {});
+            }).find("gmsh-in-disguise.obj: "),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { readSurface(meshPath("nan.obj"), {}); }).find("not finite"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { readSurface(meshPath("huge.obj"), {}); }).find("check the units"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] {
+              readSurface(meshPath("cube.obj"), {-1.0, ""});
+            }).find("scale"),
+            std::string::npos);
 }
 
 TEST(MeshFiles, FarTooLargeFilesAreRefusedBeforeReading) {
-  const std::filesystem::path big = std::filesystem::temp_directory_path() / "tissuesim-too-big.stl";
-  {
-    std::ofstream out(big);
-  }
+  const std::filesystem::path big =
+      std::filesystem::temp_directory_path() / "tissuesim-too-big.stl";
+  { std::ofstream out(big); }
   std::filesystem::resize_file(big, kMaxMeshFileBytes + 1);  // sparse: costs no disk
-  EXPECT_NE(errorOf([&] { readSurface(big, {}); }).find("beyond the limit of 256 MiB"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readSurface(big, {}); }).find("beyond the limit of 256 MiB"),
+            std::string::npos);
   const std::filesystem::path bigMsh = big.parent_path() / "tissuesim-too-big.msh";
   std::filesystem::rename(big, bigMsh);
-  EXPECT_NE(errorOf([&] { readTetMesh(bigMsh); }).find("beyond the limit of 256 MiB"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readTetMesh(bigMsh); }).find("beyond the limit of 256 MiB"),
+            std::string::npos);
   std::filesystem::remove(bigMsh);
 }
 
@@ -80,11 +97,12 @@ TEST_P(EachTetFormat, ReadsTheSameTwoTets) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, EachTetFormat,
-                         ::testing::Values("two-tets-v1.msh", "two-tets-v22.msh", "two-tets-v41.msh",
-                                           "two-tets.node", "two-tets.ele"),
+                         ::testing::Values("two-tets-v1.msh", "two-tets-v22.msh",
+                                           "two-tets-v41.msh", "two-tets.node", "two-tets.ele"),
                          [](const auto& format) {
                            std::string name = format.param;
-                           for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           for (char& c : name)
+                             c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
                            return name;
                          });
 
@@ -98,17 +116,29 @@ TEST(TetMeshFile, SkipsOtherElementsAndReorientsAWholeFlippedFile) {
 }
 
 TEST(TetMeshFile, RefusesBrokenMeshes) {
-  EXPECT_NE(errorOf([] { readTetMesh(meshPath("inverted-one.msh")); }).find("1 of 2 tets are inverted"), std::string::npos);
-  EXPECT_NE(errorOf([] { readTetMesh(meshPath("index-out-of-range.msh")); }).find("refers to node 99"), std::string::npos);
-  EXPECT_NE(errorOf([] { readTetMesh(meshPath("no-tets.msh")); }).find("no tetrahedra (only 1 other elements"), std::string::npos);
-  EXPECT_NE(errorOf([] { readTetMesh(meshPath("truncated.msh")); }).find("truncated.msh:7: ended early"), std::string::npos);
-  EXPECT_NE(errorOf([] { readTetMesh(meshPath("cube.obj")); }).find("unknown tet mesh extension"), std::string::npos);
-  EXPECT_NE(errorOf([] { readTetMesh(meshPath("garbage.msh")); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(
+      errorOf([] { readTetMesh(meshPath("inverted-one.msh")); }).find("1 of 2 tets are inverted"),
+      std::string::npos);
+  EXPECT_NE(
+      errorOf([] { readTetMesh(meshPath("index-out-of-range.msh")); }).find("refers to node 99"),
+      std::string::npos);
+  EXPECT_NE(errorOf([] {
+              readTetMesh(meshPath("no-tets.msh"));
+            }).find("no tetrahedra (only 1 other elements"),
+            std::string::npos);
+  EXPECT_NE(
+      errorOf([] { readTetMesh(meshPath("truncated.msh")); }).find("truncated.msh:7: ended early"),
+      std::string::npos);
+  EXPECT_NE(errorOf([] { readTetMesh(meshPath("cube.obj")); }).find("unknown tet mesh extension"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { readTetMesh(meshPath("garbage.msh")); }).find("cannot open"),
+            std::string::npos);
 }
 
 TEST(TetMeshFile, WritesGmshThatReadsBack) {
   const TetMesh mesh = readTetMesh(meshPath("two-tets-v41.msh"));
-  const std::filesystem::path out = std::filesystem::temp_directory_path() / "tissuesim-roundtrip.msh";
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() / "tissuesim-roundtrip.msh";
   writeGmsh(out, mesh);
   const TetMesh back = readTetMesh(out);
   EXPECT_EQ(back.tets, mesh.tets);
@@ -150,7 +180,8 @@ TEST(SurfaceInspection, CountsUnusedAndDegenerate) {
   ASSERT_EQ(surface.vertexCount(), 8);
   surface.vertices_m.conservativeResize(3, 10);
   surface.vertices_m.col(8) << 5, 5, 5;
-  surface.vertices_m.col(9) = (surface.vertices_m.col(0) + surface.vertices_m.col(1)) / 2;  // zero area
+  surface.vertices_m.col(9) =
+      (surface.vertices_m.col(0) + surface.vertices_m.col(1)) / 2;  // zero area
   surface.triangles.conservativeResize(3, 13);
   surface.triangles.col(12) << 0, 1, 9;
   const SurfaceReport report = inspectSurface(surface);

@@ -28,7 +28,8 @@ TEST_F(SurfaceEmbeddingTest, RestPositionsAreReproduced) {
 }
 
 TEST_F(SurfaceEmbeddingTest, RigidMotionMovesTheSurfaceRigidly) {
-  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const Eigen::Vector3d translation(0.1, -0.2, 0.05);
   const Eigen::Matrix3Xd moved = (rotation * m_mesh.nodes_m).colwise() + translation;
   Eigen::Matrix3Xd surface(3, m_surface.vertexCount());

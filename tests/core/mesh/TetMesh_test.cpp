@@ -73,7 +73,9 @@ TEST(TetMesh, BoundaryFacesAreTheClosedOutwardSurface) {
   // Outward orientation: the divergence theorem gives the block's volume, positive.
   double volume = 0.0;
   for (Eigen::Index f = 0; f < faces.cols(); ++f) {
-    volume += block.nodes_m.col(faces(0, f)).dot(block.nodes_m.col(faces(1, f)).cross(block.nodes_m.col(faces(2, f)))) / 6.0;
+    volume += block.nodes_m.col(faces(0, f))
+                  .dot(block.nodes_m.col(faces(1, f)).cross(block.nodes_m.col(faces(2, f)))) /
+              6.0;
   }
   EXPECT_NEAR(volume, 0.02 * 0.01 * 0.03, 1e-15);
 }

@@ -7,8 +7,8 @@
 
 #include <Eigen/LU>
 
-#include <Eigen/IterativeLinearSolvers>
 #include <gtest/gtest.h>
+#include <Eigen/IterativeLinearSolvers>
 
 namespace tissuesim {
 namespace {
@@ -60,9 +60,13 @@ class EigenBlockJacobi {
   enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic };
 
   template <typename Matrix>
-  EigenBlockJacobi& analyzePattern(const Matrix&) { return *this; }
+  EigenBlockJacobi& analyzePattern(const Matrix&) {
+    return *this;
+  }
   template <typename Matrix>
-  EigenBlockJacobi& factorize(const Matrix& a) { return compute(a); }
+  EigenBlockJacobi& factorize(const Matrix& a) {
+    return compute(a);
+  }
   template <typename Matrix>
   EigenBlockJacobi& compute(const Matrix& a) {
     const Eigen::MatrixXd dense(a);
@@ -122,7 +126,9 @@ TEST(BlockConjugateGradient, SolvesLikeEigensConjugateGradientWithBlockJacobi) {
   EXPECT_NEAR(report.relativeResidual, residual, 1e-9);  // the recurrence tracks the true one
 
   // The same method in Eigen: its CG with the 3x3 blocks' inverses as the preconditioner.
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, EigenBlockJacobi> eigenCg;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                           EigenBlockJacobi>
+      eigenCg;
   eigenCg.setTolerance(1e-8);
   eigenCg.compute(a.matrix());
   const Eigen::VectorXd expected = eigenCg.solve(b);
@@ -141,12 +147,14 @@ TEST(BlockConjugateGradient, SolvesLikeEigensConjugateGradientWithBlockJacobi) {
 }
 
 /// Adds k u u^T to the matrix (its nodes must be joined by edges) and returns it as a term.
-RankOneTerm addRankOneTerm(NodeBlockMatrix& a, std::array<int, 3> nodes, const Eigen::Vector3d& weights,
-                           const Eigen::Vector3d& normal, double stiffness) {
+RankOneTerm addRankOneTerm(NodeBlockMatrix& a, std::array<int, 3> nodes,
+                           const Eigen::Vector3d& weights, const Eigen::Vector3d& normal,
+                           double stiffness) {
   RankOneTerm term;
   term.nodes = nodes;
   term.stiffness_N_m = stiffness;
-  for (std::size_t i = 0; i < 3; ++i) term.blocks[i] = weights[static_cast<Eigen::Index>(i)] * normal.normalized();
+  for (std::size_t i = 0; i < 3; ++i)
+    term.blocks[i] = weights[static_cast<Eigen::Index>(i)] * normal.normalized();
   for (std::size_t i = 0; i < 3; ++i) {
     for (std::size_t j = 0; j < 3; ++j) {
       a.addBlock(nodes[i], nodes[j], stiffness * term.blocks[i] * term.blocks[j].transpose());
@@ -160,9 +168,9 @@ RankOneTerm addRankOneTerm(NodeBlockMatrix& a, std::array<int, 3> nodes, const E
 // terms converges in one product; without them, block Jacobi takes several.
 TEST(BlockConjugateGradient, RankOneTermsAreInvertedExactly) {
   // Triangles (0, 1, 2), (1, 2, 3), (4, 5, 6), joined pairwise.
-  const Eigen::Matrix2Xi edges =
-      (Eigen::Matrix2Xi(2, 8) << 0, 0, 1, 1, 2, 4, 4, 5,  //
-       1, 2, 2, 3, 3, 5, 6, 6).finished();
+  const Eigen::Matrix2Xi edges = (Eigen::Matrix2Xi(2, 8) << 0, 0, 1, 1, 2, 4, 4, 5,  //
+                                  1, 2, 2, 3, 3, 5, 6, 6)
+                                     .finished();
   NodeBlockMatrix a(7, edges);
   std::mt19937 random(11);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);

@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <vector>
 #include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -56,7 +56,8 @@ TEST(NodeBlockMatrix, BothProductKernelsMatchTheSparseProduct) {
   std::vector<int> pairs;
   for (int i = 0; i + 1 < 40; ++i) pairs.insert(pairs.end(), {i, i + 1});
   for (int i = 0; i < 100; ++i) pairs.insert(pairs.end(), {120, i + 20});
-  const Eigen::Matrix2Xi edges = Eigen::Map<Eigen::Matrix2Xi>(pairs.data(), 2, static_cast<Eigen::Index>(pairs.size() / 2));
+  const Eigen::Matrix2Xi edges =
+      Eigen::Map<Eigen::Matrix2Xi>(pairs.data(), 2, static_cast<Eigen::Index>(pairs.size() / 2));
   NodeBlockMatrix matrix(nodes, edges);
   std::srand(3);
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
@@ -96,7 +97,9 @@ TEST(NodeBlockMatrix, EdgeIndexedAssemblyMatchesTheSearchedOne) {
     byNodes.addEdgeStiffness(edges(0, e), edges(1, e), k);
     byEdge.addEdgeStiffness(e, k.data());
   }
-  EXPECT_EQ((Eigen::MatrixXd(byNodes.matrix()) - Eigen::MatrixXd(byEdge.matrix())).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(
+      (Eigen::MatrixXd(byNodes.matrix()) - Eigen::MatrixXd(byEdge.matrix())).cwiseAbs().maxCoeff(),
+      0.0);
   EXPECT_NE(Eigen::MatrixXd(byEdge.matrix()).cwiseAbs().maxCoeff(), 0.0);
 }
 
@@ -139,7 +142,8 @@ TEST(NodeBlockMatrix, ResultsDoNotDependOnTheThreadCount) {
   for (int i = 0; i + 7 < kNodes; ++i) edges.middleCols<3>(3 * i) << i, i, i, i + 1, i + 3, i + 7;
   Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, edges.cols());
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
-    for (int v = 0; v < 9; ++v) blocks(v, e) = std::sin(0.37 * static_cast<double>(e) + v) + 0.01 * v;
+    for (int v = 0; v < 9; ++v)
+      blocks(v, e) = std::sin(0.37 * static_cast<double>(e) + v) + 0.01 * v;
   }
   NodeBlockMatrix serial(kNodes, edges);
   serial.assignEdgeStiffness(blocks);
@@ -149,8 +153,10 @@ TEST(NodeBlockMatrix, ResultsDoNotDependOnTheThreadCount) {
     for (int i = 0; i < kNodes; ++i) parallel.addToDiagonal(i, 1e3);  // stale values to overwrite
     parallel.assignEdgeStiffness(blocks * 2.0, &pool);
     parallel.assignEdgeStiffness(blocks, &pool);
-    const Eigen::Map<const Eigen::VectorXd> expected(serial.matrix().valuePtr(), serial.matrix().nonZeros());
-    const Eigen::Map<const Eigen::VectorXd> actual(parallel.matrix().valuePtr(), parallel.matrix().nonZeros());
+    const Eigen::Map<const Eigen::VectorXd> expected(serial.matrix().valuePtr(),
+                                                     serial.matrix().nonZeros());
+    const Eigen::Map<const Eigen::VectorXd> actual(parallel.matrix().valuePtr(),
+                                                   parallel.matrix().nonZeros());
     EXPECT_EQ(actual, expected) << threads << " threads";
   }
 }

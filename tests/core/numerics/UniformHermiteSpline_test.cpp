@@ -35,7 +35,8 @@ TEST(UniformHermiteSpline, ErrorFallsAsTheFourthPowerOfSpacing) {
     const double h = 0.1 / (1 << k);
     const UniformHermiteSpline spline = tabulate(f, df, 0.0, h, static_cast<int>(2.0 / h) + 1);
     double worst = 0;
-    for (double x = 0.0; x < 2.0; x += 0.001) worst = std::max(worst, std::abs(spline.value(x) - f(x)));
+    for (double x = 0.0; x < 2.0; x += 0.001)
+      worst = std::max(worst, std::abs(spline.value(x) - f(x)));
     errors[k] = worst;
   }
   EXPECT_NEAR(errors[0] / errors[1], 16.0, 2.0);

@@ -58,7 +58,12 @@ TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
   RealTimeLoop loop(simulation);
   loop.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  InstrumentPose moved = simulation.scene().instrument ? InstrumentPose{simulation.scene().instrument->tipStart_m + Eigen::Vector3d(0, 0.01, 0), {0, -1, 0}, false} : InstrumentPose{};
+  InstrumentPose moved =
+      simulation.scene().instrument
+          ? InstrumentPose{simulation.scene().instrument->tipStart_m + Eigen::Vector3d(0, 0.01, 0),
+                           {0, -1, 0},
+                           false}
+          : InstrumentPose{};
   instrument.setPose(moved);  // from this (the GUI's) thread while the physics runs
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   const SimulationSnapshot& snapshot = loop.snapshot();
@@ -80,7 +85,8 @@ TEST(RealTimeLoop, CountsOnlyItsOwnSimulatedTime) {
   for (int n = 0; n < 300; ++n) simulation.step();
   const LoopStatistics statistics = runLoopFor(simulation, std::chrono::milliseconds(200));
   ASSERT_GT(statistics.steps, 0);
-  EXPECT_NEAR(statistics.simulated_s, static_cast<double>(statistics.steps) * simulation.timeStep_s(), 1e-9);
+  EXPECT_NEAR(statistics.simulated_s,
+              static_cast<double>(statistics.steps) * simulation.timeStep_s(), 1e-9);
   EXPECT_LE(statistics.realtimeFactor(), 1.05);
 }
 
@@ -105,7 +111,8 @@ SceneDescription sceneWithRoomyBudget() {
   Simulation timing(scene);
   const auto start = std::chrono::steady_clock::now();
   for (int n = 0; n < 20; ++n) timing.step();
-  const double freeStep_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 20;
+  const double freeStep_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 20;
   scene.timeStep_s = std::max(1e-3, 4.0 * freeStep_s);
   return scene;
 }
@@ -188,8 +195,10 @@ TEST(Grasp, TiltingTheToolSwingsTheHeldTissueRoundTheTip) {
   const double angle = 40.0 * 3.14159265358979 / 180.0;
   const Eigen::Vector3d down(0, -1, 0);
   const Eigen::Vector3d tilted(std::sin(angle), -std::cos(angle), 0);
-  const InstrumentScript script({{0.0, {tip, down, true}}, {0.1, {tip, down, true}},
-                                 {0.5, {tip, tilted, true}}, {1.0, {tip, tilted, true}}});
+  const InstrumentScript script({{0.0, {tip, down, true}},
+                                 {0.1, {tip, down, true}},
+                                 {0.5, {tip, tilted, true}},
+                                 {1.0, {tip, tilted, true}}});
   simulation.setInstrumentSource(&script);
   while (simulation.time_s() < 0.05) ASSERT_TRUE(simulation.step().isGood);
   const std::vector<int> held = simulation.heldNodes();

@@ -5,10 +5,13 @@
 namespace tissuesim {
 namespace {
 
-inline std::string scenePath(const std::string& name) { return std::string(TISSUESIM_TEST_DATA_DIR) + "/scenes/" + name; }
+inline std::string scenePath(const std::string& name) {
+  return std::string(TISSUESIM_TEST_DATA_DIR) + "/scenes/" + name;
+}
 
 TEST(SceneFile, TheBundledSceneLoads) {
-  const SceneDescription scene = loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
+  const SceneDescription scene =
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
   EXPECT_EQ(scene.name, "liver poke");
   ASSERT_TRUE(scene.surface.has_value());
   EXPECT_DOUBLE_EQ(scene.surface->metresPerUnit, 0.03);
@@ -58,19 +61,19 @@ TEST_P(BadSceneFile, IsRefusedWithOneLine) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, BadSceneFile,
-    ::testing::Values(BadScene{"empty.json", "the file is empty"},
-                      BadScene{"not-json.json", "not valid JSON"},
-                      BadScene{"missing-tissue.json", "field 'tissue' names"},
-                      BadScene{"short-gravity.json", "field 'gravity_m_s2' must be an array of three numbers"},
-                      BadScene{"empty-box.json", "field 'fixed_region.box_max_m' must exceed box_min_m"},
-                      BadScene{"unknown-integrator.json", "field 'physics.integrator' = \"rk4\""},
-                      BadScene{"fractional-threads.json", "field 'physics.threads' = 2.5"},
-                      BadScene{"unknown-key.json", "field 'gravity' is not a known field"},
-                      BadScene{"negative-scale.json", "field 'surface.metres_per_unit' = -1 is out of range"},
-                      BadScene{"no-tet-mesh.json", "field 'tet_mesh' is missing"},
-                      BadScene{"both-meshes.json", "are both given"},
-                      BadScene{"zero-direction.json", "field 'instrument.direction' must not be the zero vector"},
-                      BadScene{"does-not-exist.json", "cannot open the scene file"}),
+    ::testing::Values(
+        BadScene{"empty.json", "the file is empty"}, BadScene{"not-json.json", "not valid JSON"},
+        BadScene{"missing-tissue.json", "field 'tissue' names"},
+        BadScene{"short-gravity.json", "field 'gravity_m_s2' must be an array of three numbers"},
+        BadScene{"empty-box.json", "field 'fixed_region.box_max_m' must exceed box_min_m"},
+        BadScene{"unknown-integrator.json", "field 'physics.integrator' = \"rk4\""},
+        BadScene{"fractional-threads.json", "field 'physics.threads' = 2.5"},
+        BadScene{"unknown-key.json", "field 'gravity' is not a known field"},
+        BadScene{"negative-scale.json", "field 'surface.metres_per_unit' = -1 is out of range"},
+        BadScene{"no-tet-mesh.json", "field 'tet_mesh' is missing"},
+        BadScene{"both-meshes.json", "are both given"},
+        BadScene{"zero-direction.json", "field 'instrument.direction' must not be the zero vector"},
+        BadScene{"does-not-exist.json", "cannot open the scene file"}),
     [](const auto& scene) {
       std::string name = scene.param.file;
       name = name.substr(0, name.find('.'));
@@ -87,7 +90,8 @@ namespace tissuesim {
 namespace {
 
 TEST(SceneGeometry, TheBundledSceneBuildsItsMeshSurfaceAndClamp) {
-  const SceneDescription scene = loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
+  const SceneDescription scene =
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
   const SceneGeometry geometry = loadSceneGeometry(scene);
   EXPECT_EQ(countUniqueEdges(geometry.mesh), 5296);
   ASSERT_TRUE(geometry.surface.has_value());

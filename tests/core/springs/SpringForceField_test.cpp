@@ -4,8 +4,8 @@
 #include <random>
 #include <tuple>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "TestSystems.h"
 
@@ -61,7 +61,8 @@ TEST(SpringForceField, ForceIsMinusTheEnergyGradient) {
       Eigen::Matrix3Xd up = x, down = x;
       up(a, i) += h;
       down(a, i) -= h;
-      const double gradient = (elasticEnergy(block.mesh, up) - elasticEnergy(block.mesh, down)) / (2 * h);
+      const double gradient =
+          (elasticEnergy(block.mesh, up) - elasticEnergy(block.mesh, down)) / (2 * h);
       worst = std::max(worst, std::abs(f(a, i) + gradient));
     }
   }
@@ -88,8 +89,9 @@ TEST(SpringForceField, StiffnessIsTheForceJacobian) {
       Eigen::Matrix3Xd fu = Eigen::Matrix3Xd::Zero(3, n), fd = Eigen::Matrix3Xd::Zero(3, n);
       block.springs.addForces(up, fu);
       block.springs.addForces(down, fd);
-      const Eigen::VectorXd column =
-          -(Eigen::Map<Eigen::VectorXd>(fu.data(), 3 * n) - Eigen::Map<Eigen::VectorXd>(fd.data(), 3 * n)) / (2 * h);
+      const Eigen::VectorXd column = -(Eigen::Map<Eigen::VectorXd>(fu.data(), 3 * n) -
+                                       Eigen::Map<Eigen::VectorXd>(fd.data(), 3 * n)) /
+                                     (2 * h);
       EXPECT_LT((column - k.col(j)).cwiseAbs().maxCoeff(), 1e-4 * k.cwiseAbs().maxCoeff())
           << "column " << j << " softening " << isSoftening;
     }
@@ -117,9 +119,11 @@ TEST(SpringForceField, FrequencyBoundIsAnUpperBound) {
   block.springs.addForcesAndStiffness(x, f, blocks, false);
   const Eigen::MatrixXd k = denseStiffness(block.mesh, blocks);
   Eigen::VectorXd inverseRootMass(3 * n);
-  for (Eigen::Index i = 0; i < n; ++i) inverseRootMass.segment<3>(3 * i).setConstant(1.0 / std::sqrt(block.mesh.nodeMass_kg[i]));
+  for (Eigen::Index i = 0; i < n; ++i)
+    inverseRootMass.segment<3>(3 * i).setConstant(1.0 / std::sqrt(block.mesh.nodeMass_kg[i]));
   const Eigen::MatrixXd scaled = inverseRootMass.asDiagonal() * k * inverseRootMass.asDiagonal();
-  const double omega2 = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(scaled).eigenvalues().cwiseAbs().maxCoeff();
+  const double omega2 =
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(scaled).eigenvalues().cwiseAbs().maxCoeff();
   const double bound = block.springs.frequencySquaredBound(x);
   EXPECT_GE(bound, omega2);
   EXPECT_LT(bound, 20.0 * omega2);  // and not uselessly loose
@@ -146,8 +150,9 @@ TEST(SpringForceField, AStretchJustAboveThePeakIsRecorded) {
   block.springs.commitStretchHistory(hair);
   int raised = 0;
   for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
-    const double exact = (hair.col(block.mesh.springs(1, s)) - hair.col(block.mesh.springs(0, s))).norm() *
-                         (1.0 / block.mesh.restLength_m[s]);
+    const double exact =
+        (hair.col(block.mesh.springs(1, s)) - hair.col(block.mesh.springs(0, s))).norm() *
+        (1.0 / block.mesh.restLength_m[s]);
     if (first[s] > 1.0) {
       EXPECT_EQ(block.springs.lambdaMax()[s], std::max(first[s], exact)) << "spring " << s;
       raised += block.springs.lambdaMax()[s] > first[s] ? 1 : 0;
@@ -198,7 +203,8 @@ TEST(SpringForceField, TheCommitFromThePassEqualsTheOneComputed) {
       computed.springs.addForces(elsewhere, f);
       computed.springs.commitStretchHistory(x);
       ASSERT_GT(recorded.springs.lambdaMax().maxCoeff(), 1.05) << "the state stretches springs";
-      EXPECT_EQ(recorded.springs.lambdaMax(), computed.springs.lambdaMax()) << seed << " " << isBatched;
+      EXPECT_EQ(recorded.springs.lambdaMax(), computed.springs.lambdaMax())
+          << seed << " " << isBatched;
     }
   }
 }
@@ -231,7 +237,8 @@ TEST(SpringForceField, TheBatchedLawAgreesWithTheScalarOne) {
   // virgin, softened, compressed after stretching, within the jump's fade below the peak (the
   // state just short of the one that set the peaks), and past the usable range (the scalar
   // law for that group). Not to the bit (its own exp and FMAs), to 1e-12 of the largest value.
-  if (!hasAvxAndFma()) GTEST_SKIP() << "this CPU has no AVX with FMA: the batched law is never used";
+  if (!hasAvxAndFma())
+    GTEST_SKIP() << "this CPU has no AVX with FMA: the batched law is never used";
   test::BlockSystem block({0.02, 0.02, 0.02}, {3, 3, 3}, SpringLaw::Eesm, true);
   const Eigen::Matrix3Xd peaks = deformed(block.mesh, 0.25, 5);
   block.springs.commitStretchHistory(peaks);
@@ -241,8 +248,9 @@ TEST(SpringForceField, TheBatchedLawAgreesWithTheScalarOne) {
   const Eigen::Matrix3Xd justShort = rest + (1.0 - 2e-4) * (peaks - rest);
   int fading = 0;
   for (Eigen::Index s = 0; s < block.mesh.springCount(); ++s) {
-    const double lambda = (justShort.col(block.mesh.springs(1, s)) - justShort.col(block.mesh.springs(0, s))).norm() /
-                          block.mesh.restLength_m[s];
+    const double lambda =
+        (justShort.col(block.mesh.springs(1, s)) - justShort.col(block.mesh.springs(0, s))).norm() /
+        block.mesh.restLength_m[s];
     const double below = block.springs.lambdaMax()[s] - lambda;
     fading += lambda > 1.0 && below > 0.0 && below < SpringForceLaw::kJumpBlendWidth ? 1 : 0;
   }
@@ -261,7 +269,8 @@ TEST(SpringForceField, TheBatchedLawAgreesWithTheScalarOne) {
       nodeStiffness[i].resize(x.cols());
       block.springs.addForcesAndNodeStiffness(x, scratch, nodeStiffness[i]);
     }
-    EXPECT_LT((forces[0] - forces[1]).cwiseAbs().maxCoeff(), 1e-12 * forces[1].cwiseAbs().maxCoeff());
+    EXPECT_LT((forces[0] - forces[1]).cwiseAbs().maxCoeff(),
+              1e-12 * forces[1].cwiseAbs().maxCoeff());
     // Compared as full 3x3 blocks: the directions' rows are O(1), the stiffnesses' far larger.
     Eigen::Matrix<double, 9, Eigen::Dynamic> full[2];
     for (int i = 0; i < 2; ++i) {
@@ -271,7 +280,8 @@ TEST(SpringForceField, TheBatchedLawAgreesWithTheScalarOne) {
       }
     }
     EXPECT_LT((full[0] - full[1]).cwiseAbs().maxCoeff(), 1e-12 * full[1].cwiseAbs().maxCoeff());
-    EXPECT_LT((nodeStiffness[0] - nodeStiffness[1]).cwiseAbs().maxCoeff(), 1e-12 * nodeStiffness[1].cwiseAbs().maxCoeff());
+    EXPECT_LT((nodeStiffness[0] - nodeStiffness[1]).cwiseAbs().maxCoeff(),
+              1e-12 * nodeStiffness[1].cwiseAbs().maxCoeff());
     EXPECT_NE(forces[0], forces[1]) << "the batched law ran (it rounds differently)";
   }
 }
@@ -300,7 +310,8 @@ TEST(SpringForceField, ResultsDoNotDependOnTheThreadCount) {
   const Eigen::Matrix3Xd x = deformed(block.mesh, 0.15, 11);
   const auto evaluate = [&](ForkJoinPool* pool) {
     block.springs.setThreadPool(pool);
-    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Constant(3, x.cols(), 0.25);  // added to, not overwritten
+    Eigen::Matrix3Xd f =
+        Eigen::Matrix3Xd::Constant(3, x.cols(), 0.25);  // added to, not overwritten
     Eigen::VectorXd stiffness(x.cols());
     const SpringFieldReport report = block.springs.addForcesAndNodeStiffness(x, f, stiffness);
     Eigen::Matrix3Xd g = Eigen::Matrix3Xd::Zero(3, x.cols());
@@ -329,11 +340,13 @@ TEST(SpringForceField, ResultsDoNotDependOnTheThreadCount) {
     const Eigen::Vector3d d = x.col(b) - x.col(a);
     const double lambda = d.norm() / block.mesh.restLength_m[s];
     const double stress = block.law.evaluate(lambda, block.springs.lambdaMax()[s]).stress;
-    const Eigen::Vector3d f = block.mesh.volume_m3[s] / block.mesh.restLength_m[s] * stress * d.normalized();
+    const Eigen::Vector3d f =
+        block.mesh.volume_m3[s] / block.mesh.restLength_m[s] * stress * d.normalized();
     expected.col(a) += f;
     expected.col(b) -= f;
   }
-  EXPECT_LT((expected - std::get<0>(serial)).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+  EXPECT_LT((expected - std::get<0>(serial)).cwiseAbs().maxCoeff(),
+            1e-12 * expected.cwiseAbs().maxCoeff());
 
   // The stretch history committed on a pool: every spring's peak as the serial commit sets it.
   const auto commitTwice = [&](ForkJoinPool* pool) {

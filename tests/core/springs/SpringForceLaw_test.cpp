@@ -35,9 +35,9 @@ TEST(SpringForceLaw, SlopesMatchFiniteDifferences) {
       const double lambdaMax = 1.25;
       for (const double lambda : {0.8, 0.97, 1.03, 1.1, 1.2, 1.3, 1.45}) {
         const double h = 1e-7;
-        const double fd =
-            (law.evaluate(lambda + h, lambdaMax).stress - law.evaluate(lambda - h, lambdaMax).stress) /
-            (2 * h);
+        const double fd = (law.evaluate(lambda + h, lambdaMax).stress -
+                           law.evaluate(lambda - h, lambdaMax).stress) /
+                          (2 * h);
         const double slope = law.evaluate(lambda, lambdaMax).slope;
         EXPECT_NEAR(slope, fd, 1e-5 * std::abs(fd) + 1e-3)
             << "law " << static_cast<int>(kind) << " softening " << isSoftening << " at " << lambda;

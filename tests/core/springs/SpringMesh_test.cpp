@@ -24,7 +24,8 @@ TEST(SpringMesh, OneTetHasSixSprings) {
   for (Eigen::Index s = 0; s < 6; ++s) {
     EXPECT_LT(mesh.springs(0, s), mesh.springs(1, s));
     EXPECT_NEAR(mesh.volume_m3[s], volume / 6.0, 1e-15);
-    const double expected = (mesh.springs(0, s) == 3 || mesh.springs(1, s) == 3) ? 1.0 : std::sqrt(2.0);
+    const double expected =
+        (mesh.springs(0, s) == 3 || mesh.springs(1, s) == 3) ? 1.0 : std::sqrt(2.0);
     EXPECT_NEAR(mesh.restLength_m[s], expected, 1e-15);
   }
 }
@@ -35,7 +36,8 @@ TEST(SpringMesh, SharedEdgesAreMergedAndVolumeIsConserved) {
   const SpringMesh mesh = buildSpringMesh(tets, 1060.0);
   // Kuhn grid edges: axis edges, one diagonal per face, one per cell.
   const int nx = 3, ny = 2, nz = 1;
-  const int axisEdges = nx * (ny + 1) * (nz + 1) + ny * (nx + 1) * (nz + 1) + nz * (nx + 1) * (ny + 1);
+  const int axisEdges =
+      nx * (ny + 1) * (nz + 1) + ny * (nx + 1) * (nz + 1) + nz * (nx + 1) * (ny + 1);
   const int faceDiagonals = nx * ny * (nz + 1) + ny * nz * (nx + 1) + nz * nx * (ny + 1);
   EXPECT_EQ(mesh.springCount(), axisEdges + faceDiagonals + nx * ny * nz);
   EXPECT_NEAR(mesh.volume_m3.sum(), size.prod(), 1e-15);
@@ -50,7 +52,8 @@ TEST(SpringMesh, RefusesInvertedAndFlatTets) {
     buildSpringMesh(mesh, 1000.0);
     FAIL();
   } catch (const std::invalid_argument& error) {
-    EXPECT_NE(std::string(error.what()).find("tet 4 is inverted"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("tet 4 is inverted"), std::string::npos)
+        << error.what();
   }
   TetMesh flat = makeBlockMesh({1, 1, 1}, {1, 1, 1});
   flat.nodes_m.row(2).setZero();

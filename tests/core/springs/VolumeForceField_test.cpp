@@ -1,7 +1,7 @@
 #include "springs/VolumeForceField.h"
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "mesh/BlockMesher.h"
 
@@ -32,7 +32,8 @@ TEST(VolumeForceField, ForceIsMinusTheEnergyGradientAndHessianIsPsd) {
     Eigen::Matrix3Xd up = x, down = x;
     up.data()[d] += h;
     down.data()[d] -= h;
-    const double gradient = (volumeEnergy(mesh, up, kappa) - volumeEnergy(mesh, down, kappa)) / (2 * h);
+    const double gradient =
+        (volumeEnergy(mesh, up, kappa) - volumeEnergy(mesh, down, kappa)) / (2 * h);
     EXPECT_NEAR(f.data()[d], -gradient, 1e-6 * f.cwiseAbs().maxCoeff());
   }
   for (Eigen::Index t = 0; t < blocks.cols(); ++t) {
