@@ -132,8 +132,8 @@ SpringFieldReport SpringForceField::accumulateRange(Eigen::Index begin, Eigen::I
     report.minStretch = std::min(report.minStretch, lambda);
     report.maxStretch = std::max(report.maxStretch, lambda);
     // The force-only pass asks the law for the stress alone (the same value to the bit).
-    const SpringStress p = m_law.evaluate < withBlocks ||
-                           withNodeStiffness > (lambda, m_peaks[static_cast<std::size_t>(s)]);
+    constexpr bool kWithSlope = withBlocks || withNodeStiffness;
+    const SpringStress p = m_law.evaluate<kWithSlope>(lambda, m_peaks[static_cast<std::size_t>(s)]);
     report.beyondRangeCount += p.isBeyondRange ? 1 : 0;
     applyStress<withBlocks, withNodeStiffness>(s, a, b, d, length, p.stress, p.slope, forces,
                                                blocks, nodeStiffness, isProjected);
