@@ -1,10 +1,9 @@
 #include "ImageSize.h"
 
 #include <charconv>
-#include <filesystem>
-#include <fstream>
 
 #include "CommandError.h"
+#include "OutputFile.h"
 
 namespace tissuesim::app {
 
@@ -32,9 +31,7 @@ void checkPngOutput(const std::string& path, const std::string& option) {
   if (path.size() < 5 || path.substr(path.size() - 4) != ".png") {
     throw CommandError(option + " " + path + ": expected a file name ending in .png");
   }
-  const bool existed = std::filesystem::exists(path);
-  if (!std::ofstream(path, std::ios::app)) throw CommandError("cannot write the image " + path);
-  if (!existed) std::filesystem::remove(path);
+  checkOutputWritable(path, option);
 }
 
 }  // namespace tissuesim::app

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "CommandError.h"
+#include "OutputFile.h"
 #include "VtkMeshFiles.h"
 #include "mesh/LatticeMesher.h"
 #include "mesh/SurfaceInspection.h"
@@ -59,6 +60,12 @@ bool isTetMeshInput(const std::filesystem::path& path) {
 void runMesh(const MeshOptions& options) {
   if (options.edgeLength_mm > 0.0 && options.targetSprings > 0) {
     throw CommandError("give --edge-length or --target-springs, not both");
+  }
+  if (!options.output.empty()) {
+    if (std::filesystem::path(options.output).extension() != ".msh") {
+      throw CommandError("--output " + options.output + ": only Gmsh 2.2 (.msh) is written");
+    }
+    checkOutputWritable(options.output, "--output");
   }
   const std::filesystem::path input(options.input);
   const double scale = metresPerUnit(options);
@@ -127,12 +134,8 @@ void runMesh(const MeshOptions& options) {
     throw CommandError(options.input + ": " + error.what());
   }
   if (!options.output.empty()) {
-    const std::filesystem::path output(options.output);
-    if (output.extension() != ".msh") {
-      throw CommandError("--output " + options.output + ": only Gmsh 2.2 (.msh) is written");
-    }
     try {
-      writeGmsh(output, mesh);
+      writeGmsh(options.output, mesh);
     } catch (const MeshFileError& error) {
       throw CommandError(error.what());
     }

@@ -12,6 +12,7 @@
 
 #include "AssetPaths.h"
 #include "CommandError.h"
+#include "OutputFile.h"
 #include "SceneSession.h"
 #include "material/TissueFile.h"
 #include "mesh/TriangleSurface.h"
@@ -29,6 +30,7 @@ struct RunOptions {
 };
 
 void runSession(const RunOptions& options) {
+  if (!options.reportPath.empty()) checkOutputWritable(options.reportPath, "--report");
   SceneSession session(options.scenePath, options.scriptPath, InstrumentDriver::Script);
   Simulation* simulation = &session.simulation();
   const SceneDescription& scene = simulation->scene();

@@ -12,6 +12,7 @@
 #include "CurvePlot.h"
 #include "ImageSize.h"
 #include "LoadedTissue.h"
+#include "OutputFile.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/TensileTest.h"
 #include "material/TissueFile.h"
@@ -73,6 +74,7 @@ void runTensile(const TensileCommandOptions& options) {
     throw CommandError("unknown --integrator '" + integrator +
                        "'; expected static, implicit, quasi-newton or explicit");
   }
+  if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.plotPath.empty()) checkPngOutput(options.plotPath, "--plot");
   const LoadedTissue tissue(options.tissuePath);
   const StrainEnergy& energy = tissue.energy;

@@ -10,6 +10,7 @@
 #include "CurvePlot.h"
 #include "ImageSize.h"
 #include "LoadedTissue.h"
+#include "OutputFile.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialTest.h"
 #include "material/StiffnessTable.h"
@@ -34,6 +35,7 @@ void runUniaxial(const UniaxialOptions& options) {
     throw CommandError("unknown --model '" + options.modelName + "'; expected one of " +
                        modelNames());
   }
+  if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.plotPath.empty()) checkPngOutput(options.plotPath, "--plot");
   const LoadedTissue tissue(options.tissuePath);
   const TissueParameters& parameters = tissue.parameters;

@@ -1,0 +1,22 @@
+#include "OutputFile.h"
+
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "CommandError.h"
+
+namespace tissuesim::app {
+
+void checkOutputWritable(const std::string& path, const std::string& option) {
+  std::error_code error;
+  const bool existed = std::filesystem::exists(path, error);
+  // Append mode: an existing file is opened without being truncated.
+  if (!std::ofstream(path, std::ios::app)) {
+    throw CommandError("cannot write " + option + " " + path +
+                       " (no such folder, or no permission to write there)");
+  }
+  if (!existed) std::filesystem::remove(path, error);
+}
+
+}  // namespace tissuesim::app
