@@ -175,13 +175,33 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
   return branches;
 }
 
-double TensileTest::smallStrainCalibration(double initialShearModulus_Pa) const {
+double TensileTest::smallStrainCalibration(double initialShearModulus_Pa,
+                                           double bulkModulus_Pa) const {
   TensileOptions options;
   options.isSoftening = false;
+  options.bulkModulus_Pa = bulkModulus_Pa;
   const double strain = 1e-4;
-  const std::vector<CurveBranch> branches = run(options, {{1.0 + strain}, 2});
-  const double networkModulus = branches.front().stress_Pa.back() / strain;
-  return 3.0 * initialShearModulus_Pa / networkModulus;
+  const double target_Pa = 3.0 * initialShearModulus_Pa;
+  const auto modulus = [&](double scale) {
+    options.volumeScale = scale;
+    return run(options, {{1.0 + strain}, 2}).front().stress_Pa.back() / strain;
+  };
+  double scale = target_Pa / modulus(1.0);
+  if (bulkModulus_Pa <= 0.0) return scale;
+  // E(c) rises monotonically and smoothly with c: secant steps on E(c) = 3 mu0 from the springs'
+  // estimate and one fixed-point step c 3 mu0 / E(c) beyond it.
+  double previous = scale;
+  double previousError = modulus(previous) - target_Pa;
+  scale = previous * target_Pa / (previousError + target_Pa);
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    const double error = modulus(scale) - target_Pa;
+    if (std::abs(error) < 1e-6 * target_Pa || error == previousError) break;
+    const double next = scale - error * (scale - previous) / (error - previousError);
+    previous = scale;
+    previousError = error;
+    scale = next > 0.0 ? next : 0.5 * scale;
+  }
+  return scale;
 }
 
 }  // namespace tissuesim

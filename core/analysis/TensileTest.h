@@ -59,10 +59,12 @@ class TensileTest {
   std::vector<CurveBranch> run(const TensileOptions& options, const UniaxialProtocol& protocol,
                                TensilePointStats* stats = nullptr) const;
 
-  /// The stiffness correction for the network's missing Poisson effect: the ratio of the
-  /// continuum's small-strain modulus 3 mu0 to the specimen network's (measured by one
-  /// small stretch of this mesh). Scaling V_e by it matches the initial slope.
-  double smallStrainCalibration(double initialShearModulus_Pa) const;
+  /// The stiffness correction for the network's missing Poisson effect: the factor c on every
+  /// V_e that gives the specimen (springs, and the volume term of bulkModulus_Pa when > 0) the
+  /// continuum's small-strain modulus 3 mu0, measured by one small stretch of this mesh.
+  /// Springs alone are linear in c, so one stretch gives it; with the volume term (which c does
+  /// not scale) the modulus E(c) is not, and E(c) = 3 mu0 is solved by secant steps to 1e-6.
+  double smallStrainCalibration(double initialShearModulus_Pa, double bulkModulus_Pa = 0.0) const;
 
  private:
   const StrainEnergy& m_energy;

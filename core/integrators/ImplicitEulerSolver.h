@@ -15,7 +15,9 @@ namespace tissuesim {
 class ImplicitEulerSolver final : public TimeIntegrator {
  public:
   ImplicitEulerSolver(IntegratorSettings settings, LinearSolverKind linear)
-      : m_settings(settings), m_newton(linear, settings.linearTolerance) {}
+      : m_settings(settings), m_newton(linear, settings.linearTolerance) {
+    m_newton.setExtraIterations(settings.extraIterations, settings.extraIterationResidual_N);
+  }
   StepReport step(MechanicalSystem& system, MechanicalState& state, double dt) override;
   const char* name() const override { return "implicit"; }
 

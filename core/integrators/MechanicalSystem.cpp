@@ -13,7 +13,7 @@ MechanicalSystem::MechanicalSystem(SpringForceField& springs, const VolumeForceF
       m_volume(volume),
       m_isFixed(static_cast<std::size_t>(3 * springs.mesh().nodeCount()), 0),
       m_springBlocks(5, springs.mesh().springCount()),
-      m_tetBlocks(144, volume != nullptr ? springs.mesh().tets.cols() : 0) {}
+      m_volumeBlocks(13, volume != nullptr ? springs.mesh().tets.cols() : 0) {}
 
 MechanicalState MechanicalSystem::restState() const {
   return {mesh().restPositions_m, Eigen::Matrix3Xd::Zero(3, mesh().nodeCount())};
@@ -55,7 +55,7 @@ ForceReport MechanicalSystem::forces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd
   f.setZero();
   ForceReport report;
   report.springs = m_springs.addForces(x, f);
-  if (m_volume != nullptr) report.volume = m_volume->addForces(x, f, nullptr);
+  if (m_volume != nullptr) report.volume = m_volume->addForces(x, f);
   addExternalAndZeroFixed(&x, f);
   return report;
 }
@@ -66,11 +66,8 @@ ForceReport MechanicalSystem::forcesAndNodeStiffness(const Eigen::Matrix3Xd& x, 
   ForceReport report;
   report.springs = m_springs.addForcesAndNodeStiffness(x, f, nodeStiffness);
   if (m_volume != nullptr) {
-    report.volume = m_volume->addForces(x, f, nullptr);
-    for (Eigen::Index t = 0; t < mesh().tets.cols(); ++t) {
-      const double bound = m_volume->stiffnessBound(t, x);
-      for (int i = 0; i < 4; ++i) nodeStiffness[mesh().tets(i, t)] += bound;
-    }
+    report.volume = m_volume->addForces(x, f);
+    m_volume->addNodeStiffnessBound(nodeStiffness);
   }
   addExternalAndZeroFixed(nullptr, f);
   return report;
@@ -90,12 +87,13 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
   // Every value, no clearing first; on the springs' pool.
   stiffness.assignAxialEdgeStiffness(m_springBlocks, m_springs.threadPool());
   if (m_volume != nullptr) {
-    report.volume = m_volume->addForces(x, f, &m_tetBlocks);
+    report.volume = m_volume->addForces(x, f, &m_volumeBlocks);
     for (Eigen::Index t = 0; t < mesh().tets.cols(); ++t) {
-      const Eigen::Map<const Eigen::Matrix<double, 12, 12>> h(m_tetBlocks.col(t).data());
+      const auto g = m_volumeBlocks.col(t);
       for (int i = 0; i < 4; ++i) {
         for (int j = 0; j < 4; ++j) {
-          stiffness.addBlock(mesh().tets(i, t), mesh().tets(j, t), h.block<3, 3>(3 * i, 3 * j));
+          stiffness.addBlock(mesh().tets(i, t), mesh().tets(j, t),
+                             g[12] * g.segment<3>(3 * i) * g.segment<3>(3 * j).transpose());
         }
       }
     }
@@ -105,18 +103,20 @@ ForceReport MechanicalSystem::forcesAndStiffness(const Eigen::Matrix3Xd& x, Eige
   return report;
 }
 
-ForceReport MechanicalSystem::forcesAndSpringBlocks(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
-                                                    AxialBlocks& springBlocks,
-                                                    bool isProjected) const {
-  if (m_volume != nullptr) {
-    throw std::logic_error(
-        "MechanicalSystem::forcesAndSpringBlocks: the volume term's stiffness is assembled only");
-  }
+ForceReport MechanicalSystem::forcesAndLinearization(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                                     SystemLinearization& linearization,
+                                                     bool isProjected) const {
   f.setZero();
   ForceReport report;
-  report.springs = m_springs.addForcesAndStiffness(x, f, springBlocks, isProjected);
+  report.springs = m_springs.addForcesAndStiffness(x, f, linearization.springs, isProjected);
+  if (m_volume != nullptr) report.volume = m_volume->addForces(x, f, &linearization.volume);
   addExternalAndZeroFixed(&x, f);
   return report;
+}
+
+SystemLinearization MechanicalSystem::makeLinearization() const {
+  return {AxialBlocks(5, mesh().springCount()),
+          VolumeBlocks(13, m_volume != nullptr ? mesh().tets.cols() : 0)};
 }
 
 double MechanicalSystem::totalEnergy(const MechanicalState& state) const {
@@ -140,13 +140,7 @@ double MechanicalSystem::totalEnergy(const MechanicalState& state) const {
     }
     energy += m.volume_m3[s] * sum * h / 3.0;
   }
-  if (m_volume != nullptr) {
-    for (Eigen::Index t = 0; t < m.tets.cols(); ++t) {
-      const double ratio = signedTetVolume(state.x, m.tets, t) / m.tetRestVolume_m3[t];
-      energy +=
-          0.5 * m_volume->bulkModulus() * m.tetRestVolume_m3[t] * (ratio - 1.0) * (ratio - 1.0);
-    }
-  }
+  if (m_volume != nullptr) energy += m_volume->energy(state.x);
   return energy;
 }
 

@@ -8,6 +8,10 @@
 //   f(x) = f_springs(x) + f_volume(x) + f_contacts(x) + M g + f_ext                      (N)
 //   K(x) = -df/dx, PSD-projected per spring, Gauss-Newton per tet, exact for contacts  (N/m)
 //
+// Newton's matrix-free operator reads K as its parts' linearisations (SystemLinearization: the
+// springs' axial blocks and the volume term's rank-one tets) and the contacts' rank-one terms;
+// Cholesky reads it assembled.
+//
 // Forces on fixed DOFs are zeroed; so are their rows and columns of K (identity diagonal).
 
 #include <optional>
@@ -32,6 +36,13 @@ struct MechanicalState {
 struct ForceReport {
   SpringFieldReport springs;
   VolumeFieldReport volume;
+};
+
+/// K at one state, as the matrix-free operator reads it: the springs' blocks (5 by #S) and the
+/// volume term's (13 by #T; no columns without the term).
+struct SystemLinearization {
+  AxialBlocks springs;
+  VolumeBlocks volume;
 };
 
 class MechanicalSystem {
@@ -71,12 +82,13 @@ class MechanicalSystem {
   /// yet applied): PSD-projected per spring when `isProjected`, else the springs' exact Hessian.
   ForceReport forcesAndStiffness(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                  NodeBlockMatrix& stiffness, bool isProjected = true) const;
-  /// f, and the springs' stiffness blocks (5 by #S, numerics/AxialBlocks.h) overwritten, in one
-  /// pass: what the matrix-free SpringSystemOperator reads. The contacts' stiffness is left to
-  /// the caller (contacts.rankOneTerms); the volume term's is not computed (its blocks exist
-  /// only assembled), so this throws when the system has one.
-  ForceReport forcesAndSpringBlocks(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
-                                    AxialBlocks& springBlocks, bool isProjected = true) const;
+  /// f, and K's springs and volume term into `linearization` (sized by makeLinearization()), in
+  /// one pass each: what the matrix-free SpringSystemOperator reads. The contacts' stiffness is
+  /// left to the caller (contacts.rankOneTerms).
+  ForceReport forcesAndLinearization(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                     SystemLinearization& linearization,
+                                     bool isProjected = true) const;
+  SystemLinearization makeLinearization() const;
 
   /// A matrix with this system's pattern (springs' edges plus diagonal).
   NodeBlockMatrix makeMatrix() const { return NodeBlockMatrix(mesh().nodeCount(), mesh().springs); }
@@ -93,7 +105,7 @@ class MechanicalSystem {
   std::vector<char> m_isFixed;
   int m_constraintRevision = 0;
   mutable AxialBlocks m_springBlocks;
-  mutable Eigen::Matrix<double, 144, Eigen::Dynamic> m_tetBlocks;
+  mutable VolumeBlocks m_volumeBlocks;
 };
 
 }  // namespace tissuesim

@@ -10,13 +10,13 @@ namespace tissuesim {
 void NewtonSolver::prepare(const MechanicalSystem& system) {
   if (m_preparedFor == &system) return;
   const Eigen::Index nodes = system.mesh().nodeCount();
-  m_isMatrixFree = m_kind == LinearSolverKind::ConjugateGradient && system.volume() == nullptr;
+  m_isMatrixFree = m_kind == LinearSolverKind::ConjugateGradient;
   if (m_isMatrixFree) {
     m_matrix.reset();
     m_trialMatrix.reset();
     m_operator = std::make_unique<SpringSystemOperator>(system.mesh());
-    m_springBlocks.resize(5, system.mesh().springCount());
-    m_trialSpringBlocks.resize(5, system.mesh().springCount());
+    m_linearization = system.makeLinearization();
+    m_trialLinearization = system.makeLinearization();
   } else {
     m_operator.reset();
     m_matrix = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
@@ -37,8 +37,8 @@ ForceReport NewtonSolver::forcesAndStiffness(const MechanicalSystem& system,
                                              const Eigen::Matrix3Xd& x, bool isTrial,
                                              bool isProjected) {
   if (m_isMatrixFree) {
-    return system.forcesAndSpringBlocks(x, m_force, isTrial ? m_trialSpringBlocks : m_springBlocks,
-                                        isProjected);
+    return system.forcesAndLinearization(
+        x, m_force, isTrial ? m_trialLinearization : m_linearization, isProjected);
   }
   return system.forcesAndStiffness(x, m_force, isTrial ? *m_trialMatrix : *m_matrix, isProjected);
 }
@@ -111,14 +111,20 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     norms = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
   }
   report.residual_N = norms.largest_N;
-  while (report.residual_N > tolerance_N && report.iterations < maxIterations &&
-         std::isfinite(report.residual_N)) {
+  // Past the budget, only a residual above the extra iterations' threshold goes on.
+  const auto isWithinBudget = [&] {
+    return report.iterations < maxIterations ||
+           (report.iterations < maxIterations + m_extraIterations &&
+            report.residual_N > m_extraIterationResidual_N);
+  };
+  while (report.residual_N > tolerance_N && isWithinBudget() && std::isfinite(report.residual_N)) {
     ++report.iterations;
     if (!isMatrixCurrent)
       forcesAndStiffness(system, x, /*isTrial=*/false, /*isProjected=*/!isExact);
     isMatrixCurrent = false;  // the shift and constraints below change it in place
     if (m_isMatrixFree) {
-      m_operator->setSpringBlocks(m_springBlocks);
+      m_operator->setSpringBlocks(m_linearization.springs);
+      m_operator->setVolumeBlocks(system.volume() != nullptr ? &m_linearization.volume : nullptr);
       m_operator->setDiagonal(inertiaWeight + rho, shift);
       m_operator->setFixedDofs(fixed);
     } else {
@@ -209,7 +215,8 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     m_r.swap(m_trialR);
     if (isTrialStiffnessWanted) {
       if (m_isMatrixFree) {
-        m_springBlocks.swap(m_trialSpringBlocks);
+        m_linearization.springs.swap(m_trialLinearization.springs);
+        m_linearization.volume.swap(m_trialLinearization.volume);
       } else {
         m_matrix.swap(m_trialMatrix);
       }

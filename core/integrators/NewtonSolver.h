@@ -15,8 +15,8 @@
 // force, say) and reports it. Linear solves: sparse Cholesky (Eigen SimplicialLDLT, symbolic
 // analysis once per pattern) or conjugate gradients (3x3 block-Jacobi preconditioner,
 // BlockConjugateGradient: on the springs' thread pool when they have one). CG runs matrix-free
-// (SpringSystemOperator, on the spring pass's blocks) unless the system has the volume term, whose
-// blocks exist only assembled; Cholesky needs the assembled matrix.
+// (SpringSystemOperator, on the force pass's linearisation: springs and volume term); Cholesky
+// needs the assembled matrix.
 
 #include <array>
 #include <memory>
@@ -54,6 +54,14 @@ class NewtonSolver {
   explicit NewtonSolver(LinearSolverKind kind, double linearTolerance = 1e-6)
       : m_kind(kind), m_linearTolerance(linearTolerance) {}
 
+  /// Up to `count` iterations beyond a solve's budget while max |r| stays above residual_N (a
+  /// real-time step's budget is one iteration; a step that leaves a residual a trainee could
+  /// feel takes more). Default: none.
+  void setExtraIterations(int count, double residual_N) {
+    m_extraIterations = count;
+    m_extraIterationResidual_N = residual_N;
+  }
+
   /// Solves from the initial guess in x (3 by #V), overwriting it; fixed DOFs are not moved.
   NewtonReport solve(const MechanicalSystem& system, Eigen::Matrix3Xd& x,
                      const Eigen::Matrix3Xd& xHat, double inertiaWeight, double regularization,
@@ -76,14 +84,16 @@ class NewtonSolver {
 
   LinearSolverKind m_kind;
   double m_linearTolerance;  ///< CG's relative residual (inexact Newton)
+  int m_extraIterations = 0;
+  double m_extraIterationResidual_N = 0.0;
   const MechanicalSystem* m_preparedFor = nullptr;
   bool m_isMatrixFree = false;  ///< CG on SpringSystemOperator; else on the assembled matrix
-  // Assembled (Cholesky, or CG with the volume term):
+  // Assembled (Cholesky):
   std::unique_ptr<NodeBlockMatrix> m_matrix;
   std::unique_ptr<NodeBlockMatrix> m_trialMatrix;  ///< the line search's trials' stiffness
-  // Matrix-free: the springs' blocks at the iterate and at the line search's trials.
+  // Matrix-free: the linearisation at the iterate and at the line search's trials.
   std::unique_ptr<SpringSystemOperator> m_operator;
-  AxialBlocks m_springBlocks, m_trialSpringBlocks;
+  SystemLinearization m_linearization, m_trialLinearization;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
   BlockConjugateGradient m_cg;
   bool m_isPatternAnalysed = false;

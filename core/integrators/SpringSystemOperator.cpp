@@ -75,6 +75,76 @@ void SpringSystemOperator::setSpringBlocks(const AxialBlocks& blocks) {
   m_blocks = &blocks;
 }
 
+void SpringSystemOperator::setVolumeBlocks(const VolumeBlocks* blocks) {
+  if (blocks != nullptr && blocks->cols() != m_mesh.tets.cols()) {
+    throw std::invalid_argument("SpringSystemOperator: " + std::to_string(blocks->cols()) +
+                                " volume blocks for " + std::to_string(m_mesh.tets.cols()) +
+                                " tets");
+  }
+  if (blocks != nullptr && m_tetIncidence.start.empty()) buildTetLists();
+  m_volumeBlocks = blocks;
+}
+
+void SpringSystemOperator::buildTetLists() {
+  m_tetIncidence = TetIncidence(m_mesh.tets, m_mesh.nodeCount());
+  const auto partOf = [&](int node) {
+    int p = 0;
+    while (node >= m_bounds[static_cast<std::size_t>(p) + 1]) ++p;
+    return p;
+  };
+  std::array<std::array<std::vector<TetEntry>, 2>, kParts> lists;
+  for (Eigen::Index t = 0; t < m_mesh.tets.cols(); ++t) {
+    std::array<int, 4> parts{};
+    TetEntry entry{};
+    entry.tet = static_cast<int>(t);
+    for (std::size_t i = 0; i < 4; ++i) {
+      entry.rows[i] = 3 * m_mesh.tets(static_cast<Eigen::Index>(i), t);
+      parts[i] = partOf(m_mesh.tets(static_cast<Eigen::Index>(i), t));
+    }
+    for (int p = 0; p < kParts; ++p) {
+      entry.ownNodes = 0;
+      for (std::size_t i = 0; i < 4; ++i) {
+        if (parts[i] == p) entry.ownNodes |= 1u << i;
+      }
+      if (entry.ownNodes == 0) continue;
+      lists[static_cast<std::size_t>(p)][entry.ownNodes == 15u ? 0 : 1].push_back(entry);
+    }
+  }
+  for (std::size_t p = 0; p < kParts; ++p) {
+    for (std::size_t list = 0; list < 2; ++list) {
+      m_tetListStart[p][list] = m_tetEntries.size();
+      m_tetEntries.insert(m_tetEntries.end(), lists[p][list].begin(), lists[p][list].end());
+    }
+    m_tetListStart[p][2] = m_tetEntries.size();
+  }
+}
+
+template <bool AllOwn>
+void SpringSystemOperator::addTetProducts(std::size_t begin, std::size_t end, const double* x,
+                                          double* y) const {
+  // c g (g . x) on the tet's own nodes.
+  const double* const blocks = m_volumeBlocks->data();
+  for (std::size_t k = begin; k < end; ++k) {
+    const TetEntry& entry = m_tetEntries[k];
+    const double* const g = blocks + 13 * static_cast<std::ptrdiff_t>(entry.tet);
+    double gx = 0.0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      const double* const xi = x + entry.rows[i];
+      gx += g[3 * i] * xi[0] + g[3 * i + 1] * xi[1] + g[3 * i + 2] * xi[2];
+    }
+    const double scale = g[12] * gx;
+    for (std::size_t i = 0; i < 4; ++i) {
+      if constexpr (!AllOwn) {
+        if ((entry.ownNodes & (1u << i)) == 0) continue;
+      }
+      double* const yi = y + entry.rows[i];
+      yi[0] += scale * g[3 * i];
+      yi[1] += scale * g[3 * i + 1];
+      yi[2] += scale * g[3 * i + 2];
+    }
+  }
+}
+
 void SpringSystemOperator::setFixedDofs(const std::vector<char>& isFixed) {
   if (isFixed.size() != m_isFixed.size()) {
     throw std::invalid_argument("SpringSystemOperator: " + std::to_string(isFixed.size()) +
@@ -114,6 +184,11 @@ void SpringSystemOperator::multiplyPart(int part, const double* x, double* y) co
   addSpringProducts<true, true>(lists[0], lists[1], x, y);
   addSpringProducts<true, false>(lists[1], lists[2], x, y);
   addSpringProducts<false, true>(lists[2], lists[3], x, y);
+  if (m_volumeBlocks != nullptr) {
+    const std::array<std::size_t, 3>& tetLists = m_tetListStart[p];
+    addTetProducts<true>(tetLists[0], tetLists[1], x, y);
+    addTetProducts<false>(tetLists[1], tetLists[2], x, y);
+  }
   if (m_terms != nullptr) {
     // k u (u . x) on this part's nodes of each term.
     for (const RankOneTerm& term : *m_terms) {
@@ -205,6 +280,21 @@ Eigen::Matrix3d SpringSystemOperator::diagonalBlock(Eigen::Index j) const {
     b11 += c1 * ks[1] + ks[4];
     b12 += c1 * ks[2];
     b22 += c2 * ks[2] + ks[4];
+  }
+  if (m_volumeBlocks != nullptr) {
+    for (int e = m_tetIncidence.start[node]; e < m_tetIncidence.start[node + 1]; ++e) {
+      const int entry = m_tetIncidence.entries[static_cast<std::size_t>(e)];
+      const double* const column =
+          m_volumeBlocks->data() + 13 * static_cast<std::ptrdiff_t>(entry >> 2);
+      const double* const g = column + 3 * (entry & 3);
+      const double c = column[12];
+      b00 += c * g[0] * g[0];
+      b01 += c * g[0] * g[1];
+      b02 += c * g[0] * g[2];
+      b11 += c * g[1] * g[1];
+      b12 += c * g[1] * g[2];
+      b22 += c * g[2] * g[2];
+    }
   }
   const double weight = m_massWeight * m_mesh.nodeMass_kg[j] + m_shift_N_m;
   Eigen::Matrix3d block;

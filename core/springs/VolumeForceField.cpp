@@ -4,45 +4,115 @@
 #include <array>
 
 #include "mesh/TetMesh.h"
+#include "parallel/NodeRanges.h"
 
 namespace tissuesim {
-namespace {
-/// dV/dx for the four nodes of a tet, as a 3 by 4 matrix.
-Eigen::Matrix<double, 3, 4> volumeGradient(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                           const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
-  Eigen::Matrix<double, 3, 4> g;
-  g.col(1) = (c - a).cross(d - a) / 6.0;
-  g.col(2) = (d - a).cross(b - a) / 6.0;
-  g.col(3) = (b - a).cross(c - a) / 6.0;
-  g.col(0) = -(g.col(1) + g.col(2) + g.col(3));
-  return g;
-}
-}  // namespace
 
-VolumeForceField::VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa)
-    : m_mesh(mesh), m_bulkModulus_Pa(bulkModulus_Pa) {}
-
-VolumeFieldReport VolumeForceField::addForces(
-    const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-    Eigen::Matrix<double, 144, Eigen::Dynamic>* blocks) const {
-  VolumeFieldReport report;
-  for (Eigen::Index t = 0; t < m_mesh.tets.cols(); ++t) {
-    const auto node = [&](int i) { return m_mesh.tets(i, t); };
-    const double restVolume = m_mesh.tetRestVolume_m3[t];
-    const double ratio = signedTetVolume(x, m_mesh.tets, t) / restVolume;
-    report.minVolumeRatio = std::min(report.minVolumeRatio, ratio);
-    report.invertedTetCount += ratio <= 0.0 ? 1 : 0;
-    const Eigen::Matrix<double, 3, 4> g =
-        volumeGradient(x.col(node(0)), x.col(node(1)), x.col(node(2)), x.col(node(3)));
-    const double pressure = m_bulkModulus_Pa * (ratio - 1.0);  // dE/dV (Pa)
-    for (int i = 0; i < 4; ++i) forces.col(node(i)) -= pressure * g.col(i);
-    if (blocks != nullptr) {
-      const Eigen::Map<const Eigen::Matrix<double, 12, 1>> flat(g.data());
-      Eigen::Map<Eigen::Matrix<double, 12, 12>> h(blocks->col(t).data());
-      h.noalias() = (m_bulkModulus_Pa / restVolume) * flat * flat.transpose();
+TetIncidence::TetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount)
+    : start(static_cast<std::size_t>(nodeCount) + 1, 0) {
+  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
+    for (int i = 0; i < 4; ++i) ++start[static_cast<std::size_t>(tets(i, t)) + 1];
+  }
+  for (std::size_t j = 0; j < static_cast<std::size_t>(nodeCount); ++j) start[j + 1] += start[j];
+  entries.resize(static_cast<std::size_t>(start.back()));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
+    for (int i = 0; i < 4; ++i) {
+      entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(tets(i, t))]++)] =
+          static_cast<int>(4 * t + i);
     }
   }
+}
+
+VolumeForceField::VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa)
+    : m_mesh(mesh),
+      m_bulkModulus_Pa(bulkModulus_Pa),
+      m_incidence(mesh.tets, mesh.nodeCount()),
+      m_inverseRestVolume_1_m3(mesh.tetRestVolume_m3.cwiseInverse()),
+      m_ownBlocks(13, mesh.tets.cols()),
+      m_pressure_Pa(mesh.tets.cols()) {}
+
+VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                              VolumeBlocks* blocks) const {
+  VolumeBlocks& out = blocks != nullptr ? *blocks : m_ownBlocks;
+  m_lastBlocks = &out;
+  const Eigen::Index tets = m_mesh.tets.cols();
+  std::array<VolumeFieldReport, kParts> parts;
+  // Per tet: g, c and the pressure.
+  const auto tetPass = [&](int p) {
+    VolumeFieldReport& report = parts[static_cast<std::size_t>(p)];
+    const Eigen::Index end = tets * (p + 1) / kParts;
+    for (Eigen::Index t = tets * p / kParts; t < end; ++t) {
+      const Eigen::Vector3d a = x.col(m_mesh.tets(0, t));
+      const Eigen::Vector3d ab = x.col(m_mesh.tets(1, t)) - a;
+      const Eigen::Vector3d ac = x.col(m_mesh.tets(2, t)) - a;
+      const Eigen::Vector3d ad = x.col(m_mesh.tets(3, t)) - a;
+      double* const g = out.col(t).data();
+      Eigen::Map<Eigen::Vector3d> g0(g), g1(g + 3), g2(g + 6), g3(g + 9);
+      g1 = ac.cross(ad) / 6.0;
+      g2 = ad.cross(ab) / 6.0;
+      g3 = ab.cross(ac) / 6.0;
+      g0 = -(g1 + g2 + g3);
+      const double inverseRestVolume = m_inverseRestVolume_1_m3[t];
+      const double ratio = ab.dot(g1) * inverseRestVolume;  // V = (x_b - x_a) . g_b
+      g[12] = m_bulkModulus_Pa * inverseRestVolume;
+      m_pressure_Pa[t] = m_bulkModulus_Pa * (ratio - 1.0);  // dE/dV
+      report.minVolumeRatio = std::min(report.minVolumeRatio, ratio);
+      report.maxVolumeRatio = std::max(report.maxVolumeRatio, ratio);
+      report.invertedTetCount += ratio <= 0.0 ? 1 : 0;
+    }
+  };
+  runParts(m_pool, kParts, tetPass);
+  // Each node gathers -p_t g_i from its tets.
+  const int* const start = m_incidence.start.data();
+  const int* const entries = m_incidence.entries.data();
+  const double* const pressure = m_pressure_Pa.data();
+  const double* const blockData = out.data();
+  forEachNodeRange(m_pool, m_mesh.nodeCount(), [&](int, Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index j = begin; j < end; ++j) {
+      double f0 = 0.0, f1 = 0.0, f2 = 0.0;
+      for (int e = start[j]; e < start[j + 1]; ++e) {
+        const int t = entries[e] >> 2;
+        const double* const gi =
+            blockData + 13 * static_cast<std::ptrdiff_t>(t) + 3 * (entries[e] & 3);
+        f0 += pressure[t] * gi[0];
+        f1 += pressure[t] * gi[1];
+        f2 += pressure[t] * gi[2];
+      }
+      forces(0, j) -= f0;
+      forces(1, j) -= f1;
+      forces(2, j) -= f2;
+    }
+  });
+  VolumeFieldReport report;
+  for (const VolumeFieldReport& part : parts) report.include(part);
   return report;
+}
+
+void VolumeForceField::addNodeStiffnessBound(Eigen::VectorXd& nodeStiffness) const {
+  const VolumeBlocks& blocks = *m_lastBlocks;
+  const int* const start = m_incidence.start.data();
+  const int* const entries = m_incidence.entries.data();
+  forEachNodeRange(m_pool, m_mesh.nodeCount(), [&](int, Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index j = begin; j < end; ++j) {
+      double sum = 0.0;
+      for (int e = start[j]; e < start[j + 1]; ++e) {
+        const auto column = blocks.col(entries[e] >> 2);
+        sum += column[12] * column.head<12>().squaredNorm();
+      }
+      nodeStiffness[j] += sum;
+    }
+  });
+}
+
+double VolumeForceField::energy(const Eigen::Matrix3Xd& x) const {
+  double energy = 0.0;
+  for (Eigen::Index t = 0; t < m_mesh.tets.cols(); ++t) {
+    const double restVolume = m_mesh.tetRestVolume_m3[t];
+    const double ratio = signedTetVolume(x, m_mesh.tets, t) / restVolume;
+    energy += 0.5 * m_bulkModulus_Pa * restVolume * (ratio - 1.0) * (ratio - 1.0);
+  }
+  return energy;
 }
 
 VolumeFieldReport VolumeForceField::inspect(const SpringMesh& mesh, const Eigen::Matrix3Xd& x,
@@ -55,23 +125,14 @@ VolumeFieldReport VolumeForceField::inspect(const SpringMesh& mesh, const Eigen:
     for (Eigen::Index t = tets * p / kInspectParts; t < end; ++t) {
       const double ratio = signedTetVolume(x, mesh.tets, t) / mesh.tetRestVolume_m3[t];
       report.minVolumeRatio = std::min(report.minVolumeRatio, ratio);
+      report.maxVolumeRatio = std::max(report.maxVolumeRatio, ratio);
       report.invertedTetCount += ratio <= 0.0 ? 1 : 0;
     }
   };
   runParts(pool, kInspectParts, part);
   VolumeFieldReport report;
-  for (const VolumeFieldReport& r : parts) {
-    report.minVolumeRatio = std::min(report.minVolumeRatio, r.minVolumeRatio);
-    report.invertedTetCount += r.invertedTetCount;
-  }
+  for (const VolumeFieldReport& r : parts) report.include(r);
   return report;
-}
-
-double VolumeForceField::stiffnessBound(Eigen::Index t, const Eigen::Matrix3Xd& x) const {
-  const Eigen::Matrix<double, 3, 4> g =
-      volumeGradient(x.col(m_mesh.tets(0, t)), x.col(m_mesh.tets(1, t)), x.col(m_mesh.tets(2, t)),
-                     x.col(m_mesh.tets(3, t)));
-  return m_bulkModulus_Pa / m_mesh.tetRestVolume_m3[t] * g.squaredNorm();
 }
 
 }  // namespace tissuesim

@@ -1,12 +1,27 @@
 #pragma once
-// The optional near-incompressibility term, per tet (off unless a scene asks for it):
+// The near-incompressibility term, per tet (docs/model.md, "The volume term"):
 //
 //   E_t = 1/2 kappa V0 (J - 1)^2,   J = V / V0,   V = (x_b - x_a) . ((x_c - x_a) x (x_d - x_a)) / 6
-//   f_i = -kappa (J - 1) dV/dx_i                                                         (N)
-//   H  ~= (kappa / V0) g g^T,  g = dV/dx (12)   (Gauss-Newton: the PSD part of the Hessian)
+//   f_i = -kappa (J - 1) g_i,   g_i = dV/dx_i                                             (N)
+//   H_t ~= (kappa / V0) g g^T,  g = dV/dx (12)   (Gauss-Newton: the PSD part of the Hessian)
 //
-// kappa (Pa) is a bulk modulus. It resists volume change, pushes an inverted tet (J < 0) back
-// out, and gives the spring network the lateral contraction it otherwise lacks.
+// kappa (Pa) is a bulk modulus. Why this form and not a log or barrier in J: the energy and its
+// gradient stay finite through J = 0, so a tet that a fast poke has turned inside out is pushed
+// back (E grows as J falls below 1, and g does not vanish on a flat tet), where a log(J) term
+// has no value past J = 0 and no way back. It is the volumetric part of Smith, de Goes and
+// Kim's stable Neo-Hookean energy (2018) at its rest-stable form. The spring network alone has a
+// mirrored equilibrium for a flipped tet; this term has none (E_t(J = -1) = 2 kappa V0).
+//
+// Its stiffness is rank one per tet, so Newton's matrix-free operator applies it as c g (g . x)
+// (SpringSystemOperator) from the 13 numbers a tet this pass stores: no 12x12 block.
+//
+// Passes: the tets in kParts fixed ranges compute g, J and the pressure (on the pool when one is
+// set); then each node gathers its tets' forces in a node-wise pass, over a node-to-tet
+// incidence list in a fixed order. No two threads write one node, and sums run in the same
+// order for any thread count: bit-identical results with 1, 2 or 4 threads.
+
+#include <algorithm>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -18,17 +33,48 @@ namespace tissuesim {
 struct VolumeFieldReport {
   int invertedTetCount = 0;  ///< J <= 0
   double minVolumeRatio = 1.0;
+  double maxVolumeRatio = 1.0;
+
+  void include(const VolumeFieldReport& other) {
+    invertedTetCount += other.invertedTetCount;
+    minVolumeRatio = std::min(minVolumeRatio, other.minVolumeRatio);
+    maxVolumeRatio = std::max(maxVolumeRatio, other.maxVolumeRatio);
+  }
+};
+
+/// The term's linearisation, a column per tet (13 by #T): rows 0-11 g = dV/dx on the tet's four
+/// nodes, node after node (m^2), row 12 c = kappa / V0 (Pa/m^3). The tet's stiffness block is
+/// c g g^T (N/m).
+using VolumeBlocks = Eigen::Matrix<double, 13, Eigen::Dynamic>;
+
+/// Each node's tets: entries tet * 4 + (the node's place in the tet, 0-3), in tet order.
+struct TetIncidence {
+  std::vector<int> start;  ///< #V + 1
+  std::vector<int> entries;
+
+  TetIncidence() = default;
+  TetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount);
 };
 
 class VolumeForceField {
  public:
+  static constexpr int kParts = 4;
+
   /// @param bulkModulus_Pa kappa > 0. `mesh` must outlive this object.
   VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa);
 
-  /// forces (3 by #V) += volume forces at x; blocks (144 by #T, column-major 12x12) overwritten
-  /// when not null.
+  /// Runs the passes on `pool` (which must outlive this object), or on the caller when null.
+  void setThreadPool(ForkJoinPool* pool) { m_pool = pool; }
+
+  /// forces (3 by #V) += volume forces at x; blocks (13 by #T) overwritten when not null.
   VolumeFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
-                              Eigen::Matrix<double, 144, Eigen::Dynamic>* blocks) const;
+                              VolumeBlocks* blocks = nullptr) const;
+  /// nodeStiffness (#V) += sum over each node's tets of ||H_t|| <= c |g|^2 (N/m), from the last
+  /// addForces() pass's blocks: the explicit integrator's stability bound.
+  void addNodeStiffnessBound(Eigen::VectorXd& nodeStiffness) const;
+
+  /// sum_t E_t at x (J).
+  double energy(const Eigen::Matrix3Xd& x) const;
 
   /// Counts tets with J <= 0 at x without computing forces; in kInspectParts tet ranges on
   /// `pool` when given (the report is the same: a count and a minimum).
@@ -37,12 +83,20 @@ class VolumeForceField {
   static constexpr int kInspectParts = 4;
 
   double bulkModulus() const { return m_bulkModulus_Pa; }
-  /// Upper bound of the term's contribution to ||K|| per node (N/m), for the explicit bound.
-  double stiffnessBound(Eigen::Index tet, const Eigen::Matrix3Xd& x) const;
+  const TetIncidence& incidence() const { return m_incidence; }
+  const SpringMesh& mesh() const { return m_mesh; }
 
  private:
   const SpringMesh& m_mesh;
   double m_bulkModulus_Pa;
+  ForkJoinPool* m_pool = nullptr;
+  TetIncidence m_incidence;
+  Eigen::VectorXd m_inverseRestVolume_1_m3;  ///< #T, 1 / V0: no division in the pass
+  // The last pass's blocks when the caller keeps none, and its pressures kappa (J - 1) (Pa).
+  // Mutable: scratch of the const passes, sized at construction.
+  mutable VolumeBlocks m_ownBlocks;
+  mutable const VolumeBlocks* m_lastBlocks = nullptr;
+  mutable Eigen::VectorXd m_pressure_Pa;
 };
 
 }  // namespace tissuesim

@@ -1,9 +1,11 @@
 #include "springs/VolumeForceField.h"
 
 #include <gtest/gtest.h>
-#include <Eigen/Eigenvalues>
+
+#include <cmath>
 
 #include "mesh/BlockMesher.h"
+#include "parallel/NodeRanges.h"
 
 namespace tissuesim {
 namespace {
@@ -17,7 +19,7 @@ double volumeEnergy(const SpringMesh& mesh, const Eigen::Matrix3Xd& x, double ka
   return energy;
 }
 
-TEST(VolumeForceField, ForceIsMinusTheEnergyGradientAndHessianIsPsd) {
+TEST(VolumeForceField, ForceIsMinusTheEnergyGradientAndBlocksHoldTheVolumeGradient) {
   const SpringMesh mesh = buildSpringMesh(makeBlockMesh({0.01, 0.01, 0.01}, {1, 1, 1}), 1000.0);
   const double kappa = 5e4;
   const VolumeForceField field(mesh, kappa);
@@ -25,8 +27,10 @@ TEST(VolumeForceField, ForceIsMinusTheEnergyGradientAndHessianIsPsd) {
   x.row(0) *= 1.2;
   x(2, 7) -= 0.003;
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-  Eigen::Matrix<double, 144, Eigen::Dynamic> blocks(144, mesh.tets.cols());
-  field.addForces(x, f, &blocks);
+  VolumeBlocks blocks(13, mesh.tets.cols());
+  const VolumeFieldReport report = field.addForces(x, f, &blocks);
+  EXPECT_NEAR(field.energy(x), volumeEnergy(mesh, x, kappa), 1e-12 * volumeEnergy(mesh, x, kappa));
+  EXPECT_GT(report.maxVolumeRatio, 1.1);  // stretched 20 % along x
   const double h = 1e-9;
   for (Eigen::Index d = 0; d < x.size(); ++d) {
     Eigen::Matrix3Xd up = x, down = x;
@@ -36,10 +40,50 @@ TEST(VolumeForceField, ForceIsMinusTheEnergyGradientAndHessianIsPsd) {
         (volumeEnergy(mesh, up, kappa) - volumeEnergy(mesh, down, kappa)) / (2 * h);
     EXPECT_NEAR(f.data()[d], -gradient, 1e-6 * f.cwiseAbs().maxCoeff());
   }
+  // Each block: g = dV/dx by central differences (V is linear in each coordinate: exact to
+  // rounding), and c = kappa / V0.
   for (Eigen::Index t = 0; t < blocks.cols(); ++t) {
-    const Eigen::Map<const Eigen::Matrix<double, 12, 12>> hessian(blocks.col(t).data());
-    using Solver = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>>;
-    EXPECT_GE(Solver(hessian).eigenvalues().minCoeff(), -1e-9 * hessian.norm());
+    for (int i = 0; i < 4; ++i) {
+      for (int axis = 0; axis < 3; ++axis) {
+        Eigen::Matrix3Xd up = x, down = x;
+        up(axis, mesh.tets(i, t)) += 1e-6;
+        down(axis, mesh.tets(i, t)) -= 1e-6;
+        const double gradient =
+            (signedTetVolume(up, mesh.tets, t) - signedTetVolume(down, mesh.tets, t)) / 2e-6;
+        EXPECT_NEAR(blocks(3 * i + axis, t), gradient, 1e-9 * blocks.col(t).head<12>().norm());
+      }
+    }
+    EXPECT_DOUBLE_EQ(blocks(12, t), kappa / mesh.tetRestVolume_m3[t]);
+  }
+}
+
+TEST(VolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
+  // Above the node-wise passes' pool threshold (parallel/NodeRanges.h), so both passes split.
+  const SpringMesh mesh = buildSpringMesh(makeBlockMesh({0.2, 0.2, 0.2}, {20, 20, 20}), 1000.0);
+  ASSERT_GE(mesh.nodeCount(), kParallelNodePassMinimum);
+  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += 1e-4 * std::sin(1.7 * i);
+  const VolumeForceField serial(mesh, 3e5);
+  Eigen::Matrix3Xd expected = Eigen::Matrix3Xd::Zero(3, x.cols());
+  VolumeBlocks expectedBlocks(13, mesh.tets.cols());
+  const VolumeFieldReport expectedReport = serial.addForces(x, expected, &expectedBlocks);
+  Eigen::VectorXd expectedBound = Eigen::VectorXd::Zero(x.cols());
+  serial.addNodeStiffnessBound(expectedBound);
+  ASSERT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
+  for (const int threads : {1, 2, 3}) {
+    ForkJoinPool pool(threads);
+    VolumeForceField pooled(mesh, 3e5);
+    pooled.setThreadPool(&pool);
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+    VolumeBlocks blocks(13, mesh.tets.cols());
+    const VolumeFieldReport report = pooled.addForces(x, f, &blocks);
+    EXPECT_EQ(f, expected) << threads << " threads";
+    EXPECT_EQ(blocks, expectedBlocks) << threads << " threads";
+    EXPECT_EQ(report.minVolumeRatio, expectedReport.minVolumeRatio);
+    EXPECT_EQ(report.maxVolumeRatio, expectedReport.maxVolumeRatio);
+    Eigen::VectorXd bound = Eigen::VectorXd::Zero(x.cols());
+    pooled.addNodeStiffnessBound(bound);
+    EXPECT_EQ(bound, expectedBound) << threads << " threads";
   }
 }
 
