@@ -45,6 +45,9 @@ void runSession(const RunOptions& options) {
   double maxForce = 0.0;
   double maxPenetration = 0.0;
   double maxStretch = 1.0;
+  double minVolumeRatio = 1.0;
+  double maxVolumeRatio = 1.0;
+  long linearIterations = 0;
   long badSteps = 0;
   const auto start = std::chrono::steady_clock::now();
   for (long n = 0; n < steps; ++n) {
@@ -52,6 +55,9 @@ void runSession(const RunOptions& options) {
     maxForce = std::max(maxForce, outcome.contact.toolForce_N.norm());
     maxPenetration = std::max(maxPenetration, outcome.contact.maxPenetration_m);
     maxStretch = std::max(maxStretch, outcome.maxStretch);
+    minVolumeRatio = std::min(minVolumeRatio, outcome.integrator.forces.volume.minVolumeRatio);
+    maxVolumeRatio = std::max(maxVolumeRatio, outcome.integrator.forces.volume.maxVolumeRatio);
+    linearIterations += outcome.integrator.linearIterations;
     badSteps += outcome.isGood ? 0 : 1;
   }
   const double wall =
@@ -68,6 +74,14 @@ void runSession(const RunOptions& options) {
   report["max_tool_force_n"] = maxForce;
   report["max_penetration_mm"] = maxPenetration * 1e3;
   report["max_stretch"] = maxStretch;
+  if (simulation->bulkModulus() > 0.0) {
+    // The volume term's kappa and the range of tet volume ratios J = V / V0 it allowed.
+    report["volume_term_kpa"] = simulation->bulkModulus() / 1000.0;
+    report["min_volume_ratio"] = minVolumeRatio;
+    report["max_volume_ratio"] = maxVolumeRatio;
+  }
+  report["cg_products_per_step"] =
+      steps > 0 ? static_cast<double>(linearIterations) / static_cast<double>(steps) : 0.0;
   report["springs"] = simulation->springMesh().springCount();
   report["nodes"] = simulation->springMesh().nodeCount();
   report["integrator"] = scene.integrator;

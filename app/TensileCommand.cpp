@@ -59,9 +59,10 @@ SpringLaw parseLaw(const std::string& name) {
 
 void runTensile(const TensileCommandOptions& options) {
   const SpringLaw law = parseLaw(options.modelName);
-  if (options.calibration != "small-strain" && options.calibration != "none") {
+  if (options.calibration != "small-strain" && options.calibration != "with-volume" &&
+      options.calibration != "none") {
     throw CommandError("unknown --calibration '" + options.calibration +
-                       "'; expected small-strain or none");
+                       "'; expected small-strain, with-volume or none");
   }
   if (options.resolution < 1 || options.resolution > 40) {
     throw CommandError("--resolution " + std::to_string(options.resolution) +
@@ -85,9 +86,12 @@ void runTensile(const TensileCommandOptions& options) {
 
   const TensileSpecimen specimen{parseSize(options.size), options.resolution};
   const TensileTest test(energy, table, specimen);
-  const double calibration = options.calibration == "none"
-                                 ? 1.0
-                                 : test.smallStrainCalibration(energy.initialShearModulus());
+  const double calibration =
+      options.calibration == "none"
+          ? 1.0
+          : test.smallStrainCalibration(
+                energy.initialShearModulus(),
+                options.calibration == "with-volume" ? options.bulkModulus_kPa * 1000.0 : 0.0);
 
   std::vector<SpringLaw> laws = {law};
   if (options.isComparing) {
@@ -179,7 +183,8 @@ void registerTensileCommand(CLI::App& app) {
                       "Also draw the curves and the sedf reference to this PNG");
   command
       ->add_option("--calibration", options->calibration,
-                   "small-strain (scale V_e so the network's initial modulus is 3 mu0) or none")
+                   "small-strain (scale V_e so the springs' initial modulus is 3 mu0, as the "
+                   "simulator does), with-volume (the same with the volume term in place) or none")
       ->capture_default_str();
   command
       ->add_option("--bulk-modulus-kpa", options->bulkModulus_kPa,

@@ -14,9 +14,15 @@ namespace tissuesim {
 namespace {
 /// Events kept per run; past this only the count grows (the report says so).
 constexpr std::size_t kMaxEvents = 100;
-/// Net force left on a node after a step's iterations that counts as an instability (N): a
-/// thousandth of the newton a trainee feels.
+/// Net force left on a node after a step's iterations that counts as an instability: above a
+/// thousandth of the newton a trainee feels (N) and above a hundredth of the force the step
+/// applies (the instrument's, pushing and pulling). A real-time step stops at its iteration
+/// budget, and the linearised step's residual grows with the load; what it leaves is carried
+/// into the next step, not lost. Judged against the absolute threshold alone, a 4 cm poke
+/// reported 18 such steps (residuals of 1-21 mN under a force of 1.9 N), none an instability.
 constexpr double kUnconvergedResidual_N = 1e-3;
+constexpr double kUnconvergedRelativeResidual = 1e-2;
+constexpr int kExtraNewtonIterations = 2;
 }  // namespace
 
 Simulation::Simulation(const SceneDescription& scene)
@@ -53,10 +59,14 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   auto energy = std::make_unique<StrainEnergy>(*newParameters);
   auto table = std::make_unique<StiffnessTable>(*energy);
   SpringMesh springMesh = buildSpringMesh(m_geometry.mesh, newParameters->density_kg_m3);
+  const double bulkModulus_Pa = scene.bulkModulus_Pa;
   // The network's missing Poisson effect: scale V_e so a lattice's small-strain modulus is the
   // continuum's 3 mu0, measured once on the paper's specimen meshed with the same Kuhn lattice
-  // the bundled meshes use (TensileTest::smallStrainCalibration; about 5.8). A scene can set
-  // its own factor (effects.stiffness_scale) for meshes of another structure.
+  // the bundled meshes use (TensileTest::smallStrainCalibration; about 5.8). Springs alone, with
+  // or without the volume term: at large stretch the springs along the pull carry the load, and
+  // a factor lowered to absorb the volume term's small-strain share leaves them 30 % short
+  // there (docs/model.md, "The volume term"). A scene can set its own factor
+  // (effects.stiffness_scale) for meshes of another structure.
   const double stiffnessScale = scene.stiffnessScale > 0.0
                                     ? scene.stiffnessScale
                                     : TensileTest(*energy, *table, TensileSpecimen{})
@@ -74,6 +84,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   m_energy = std::move(energy);
   m_table = std::move(table);
   m_stiffnessScale = stiffnessScale;
+  m_bulkModulus_Pa = bulkModulus_Pa;
   // Rebuilt in place: views of the scene keep a reference to the spring mesh across a new tissue.
   if (m_springMesh) {
     *m_springMesh = std::move(springMesh);
@@ -98,8 +109,10 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_pool = std::make_unique<ForkJoinPool>(scene.threads);
     m_springs->setThreadPool(m_pool.get());
   }
-  if (scene.bulkModulus_Pa > 0.0)
-    m_volume = std::make_unique<VolumeForceField>(*m_springMesh, scene.bulkModulus_Pa);
+  if (bulkModulus_Pa > 0.0) {
+    m_volume = std::make_unique<VolumeForceField>(*m_springMesh, bulkModulus_Pa);
+    m_volume->setThreadPool(m_pool.get());
+  }
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
   m_system->gravity_m_s2 = scene.gravity_m_s2;
   for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);
@@ -109,6 +122,10 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   settings.maxIterations = scene.newtonIterations;
   settings.linearTolerance = scene.linearTolerance;
   settings.forceTolerance_N = 1e-6;
+  // A step whose budget leaves a residual that counts as an event takes up to two more
+  // iterations first: few steps need them (a poke's hardest moments), and they stay in budget.
+  settings.extraIterations = kExtraNewtonIterations;
+  settings.extraIterationResidual_N = kUnconvergedResidual_N;
   if (scene.integrator == "explicit") {
     m_integrator = std::make_unique<SymplecticEulerSolver>(settings);
   } else if (scene.integrator == "quasi-newton") {
@@ -181,8 +198,13 @@ StepOutcome Simulation::step() {
   check(r.refused, "refused", [&] { return r.reason; });
   check(!r.isFinite, "non-finite", [&] { return r.reason; });
   // A real-time step stops at its iteration budget; only a residual that matters is an event.
-  check(!r.converged && r.isFinite && r.residual_N > kUnconvergedResidual_N, "unconverged",
-        [&] { return "residual " + std::to_string(r.residual_N) + " N"; });
+  const double load_N = outcome.contact.toolForce_N.norm();
+  check(!r.converged && r.isFinite && r.residual_N > kUnconvergedResidual_N &&
+            r.residual_N > kUnconvergedRelativeResidual * load_N,
+        "unconverged", [&] {
+          return "residual " + std::to_string(r.residual_N) + " N under an instrument force of " +
+                 std::to_string(load_N) + " N";
+        });
   check(r.forces.springs.beyondRangeCount > 0, "locking", [&] {
     return std::to_string(r.forces.springs.beyondRangeCount) +
            " springs past the usable stretch range";

@@ -75,6 +75,8 @@ class Simulation {
   double timeStep_s() const { return m_timeStep_s; }
   /// The factor applied to every spring's volume share (see the constructor).
   double stiffnessScale() const { return m_stiffnessScale; }
+  /// The volume term's kappa (Pa); 0 when the scene has none.
+  double bulkModulus() const { return m_bulkModulus_Pa; }
   const MechanicalState& state() const { return m_state; }
   const SpringMesh& springMesh() const { return *m_springMesh; }
   const SceneGeometry& geometry() const { return m_geometry; }
@@ -109,6 +111,7 @@ class Simulation {
   InstrumentPose m_pose;
   double m_timeStep_s;
   double m_stiffnessScale = 1.0;
+  double m_bulkModulus_Pa = 0.0;
   double m_time_s = 0.0;
   long m_steps = 0;
   std::vector<InstabilityEvent> m_events;
