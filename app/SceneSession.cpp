@@ -40,9 +40,7 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
     }
     m_simulation->setInstrumentSource(m_script.get());
   }
-  m_contact = std::make_unique<CapsuleContact>(
-      m_simulation->geometry().mesh, CapsuleContactSettings{description.instrument->shaftRadius_m,
-                                                            description.instrument->shaftLength_m});
+  m_contact = makeInstrumentContact(*m_simulation);
   m_simulation->setContactProvider(m_contact.get());
 }
 

@@ -1,5 +1,6 @@
 #include "CapsuleContact.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "SegmentTriangleDistance.h"
@@ -21,21 +22,89 @@ CapsuleContact::CapsuleContact(const TetMesh& mesh, CapsuleContactSettings setti
       m_faces(k, f) = index;
     }
   }
-  m_vertices.resize(static_cast<Eigen::Index>(m_surfaceNodes.size()), 3);
+  Eigen::MatrixX3d rest(static_cast<Eigen::Index>(m_surfaceNodes.size()), 3);
   for (std::size_t i = 0; i < m_surfaceNodes.size(); ++i) {
-    m_vertices.row(static_cast<Eigen::Index>(i)) = mesh.nodes_m.col(m_surfaceNodes[i]).transpose();
+    rest.row(static_cast<Eigen::Index>(i)) = mesh.nodes_m.col(m_surfaceNodes[i]).transpose();
   }
+  buildBvh(rest);
+}
+
+CapsuleContact::CapsuleContact(const TetMesh& mesh, const TriangleSurface& visual,
+                               const SurfaceEmbedding& embedding, CapsuleContactSettings settings)
+    : m_settings(settings),
+      m_faces(visual.triangles),
+      m_embedding(&embedding),
+      m_restVertices(&visual.vertices_m),
+      m_locator(std::make_unique<TetLocator>(mesh)) {
+  // Each face is carried by one tet: the one holding its centroid at rest (among those near the
+  // face and those carrying its corners, which hold it where the surface lies outside the mesh).
+  // One tet a face, not one a contact point: a point sliding across a tet boundary moved its
+  // force to other nodes at once, and the tip's contacts chattered (0.45 -> 0.62 -> 0.56 N from
+  // one 50 ms to the next, pressing steadily).
+  m_faceTet.reserve(static_cast<std::size_t>(m_faces.cols()));
+  std::vector<int> candidates;
+  for (Eigen::Index f = 0; f < m_faces.cols(); ++f) {
+    Eigen::Vector3d lower = visual.vertices_m.col(m_faces(0, f)), upper = lower;
+    for (int k = 1; k < 3; ++k) {
+      lower = lower.cwiseMin(visual.vertices_m.col(m_faces(k, f)));
+      upper = upper.cwiseMax(visual.vertices_m.col(m_faces(k, f)));
+    }
+    candidates.clear();
+    for (int k = 0; k < 3; ++k)
+      candidates.push_back(embedding.tets()[static_cast<std::size_t>(m_faces(k, f))]);
+    m_locator->tetsNear(lower, upper, candidates);
+    const Eigen::Vector3d centroid =
+        (visual.vertices_m.col(m_faces(0, f)) + visual.vertices_m.col(m_faces(1, f)) +
+         visual.vertices_m.col(m_faces(2, f))) /
+        3.0;
+    m_faceTet.push_back(m_locator->locateAmong(candidates, centroid).tet);
+  }
+  buildBvh(visual.vertices_m.transpose());
+}
+
+void CapsuleContact::buildBvh(const Eigen::MatrixX3d& restVertices) {
+  m_vertices = restVertices;
   m_bvh = std::make_unique<SurfaceBvh>(m_vertices, m_faces.transpose());
-  m_isTouched.assign(m_surfaceNodes.size(), 0);
-  m_touched.reserve(m_surfaceNodes.size());
+  m_touched.reserve(static_cast<std::size_t>(m_faces.cols()));
 }
 
 CapsuleContact::~CapsuleContact() = default;
 
+void CapsuleContact::carry(Eigen::Index f, const Eigen::Vector3d& onTriangle,
+                           PenaltyContact& contact) const {
+  if (m_embedding == nullptr) {
+    for (int k = 0; k < 3; ++k) {
+      contact.nodes[static_cast<std::size_t>(k)] =
+          m_surfaceNodes[static_cast<std::size_t>(m_faces(k, f))];
+    }
+    contact.nodes[3] = contact.nodes[0];
+    contact.weights << onTriangle, 0.0;
+    return;
+  }
+  // The point at rest, in the tet that carries its face.
+  const Eigen::Vector3d rest = onTriangle[0] * m_restVertices->col(m_faces(0, f)) +
+                               onTriangle[1] * m_restVertices->col(m_faces(1, f)) +
+                               onTriangle[2] * m_restVertices->col(m_faces(2, f));
+  const int tet = m_faceTet[static_cast<std::size_t>(f)];
+  const Eigen::Vector4d weights = m_locator->weightsIn(tet, rest);
+  const TetMesh& mesh = m_locator->mesh();
+  for (int k = 0; k < 4; ++k) contact.nodes[static_cast<std::size_t>(k)] = mesh.tets(k, tet);
+  // A point outside the tet (the drawn surface reaches past the lattice by up to half a tet on
+  // the bundled liver) is carried by the tet's nearest point: extrapolated weights (as low as
+  // -0.45 there) made each contact a lever on the tet, and the tip's one or two contacts
+  // chattered (0.5 -> 2.3 -> 0 N from step to step) until the contact was lost mid-poke.
+  const Eigen::Vector4d clamped = weights.cwiseMax(0.0);
+  contact.weights = clamped / clamped.sum();
+}
+
 void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
                                   PenaltyContactSet& contacts) {
-  for (std::size_t i = 0; i < m_surfaceNodes.size(); ++i) {
-    m_vertices.row(static_cast<Eigen::Index>(i)) = x.col(m_surfaceNodes[i]).transpose();
+  if (m_embedding != nullptr) {
+    for (Eigen::Index v = 0; v < m_vertices.rows(); ++v)
+      m_vertices.row(v) = m_embedding->position(v, x).transpose();
+  } else {
+    for (std::size_t i = 0; i < m_surfaceNodes.size(); ++i)
+      m_vertices.row(static_cast<Eigen::Index>(i)) = x.col(m_surfaceNodes[i]).transpose();
   }
   m_bvh->refit(m_vertices);
 
@@ -59,10 +128,9 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
   // Taking the direction from the capsule rather than from the triangle's normal keeps a face
   // that the shaft has passed through being pushed back out instead of along the shaft.
   for (const int f : m_touched) {
-    const int ia = m_surfaceNodes[static_cast<std::size_t>(m_faces(0, f))];
-    const int ib = m_surfaceNodes[static_cast<std::size_t>(m_faces(1, f))];
-    const int ic = m_surfaceNodes[static_cast<std::size_t>(m_faces(2, f))];
-    const Eigen::Vector3d a = x.col(ia), b = x.col(ib), c = x.col(ic);
+    const Eigen::Vector3d a = m_vertices.row(m_faces(0, f)).transpose();
+    const Eigen::Vector3d b = m_vertices.row(m_faces(1, f)).transpose();
+    const Eigen::Vector3d c = m_vertices.row(m_faces(2, f)).transpose();
     const Eigen::Vector3d faceNormal = (b - a).cross(c - a);
     if (faceNormal.squaredNorm() == 0.0) continue;  // degenerate: no face to push
     const SegmentTriangleClosest closest = closestSegmentTriangle(axisStart, axisEnd, a, b, c);
@@ -85,13 +153,30 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
       away.normalize();
     }
     // penetration = r - u . (s(x) - c) = n . s(x) - offset with n = -u.
-    contacts.add({{ia, ib, ic},
-                  closest.weights,
-                  -away,
-                  -(radius + away.dot(onAxis)),
-                  m_settings.stiffness_N_m,
-                  m_settings.damping_N_s_m});
+    PenaltyContact contact;
+    carry(f, closest.weights, contact);
+    contact.normal = -away;
+    // The carried point s(x) may lie off the drawn point p (outside the lattice, or where the
+    // drawn triangle and the tet's interpolation differ): the step's contact is s(x) + (p - s(x))
+    // with the gap frozen, so the penetration at the current state is the drawn surface's own.
+    const Eigen::Vector3d gap = closest.onTriangle - contact.point(x);
+    contact.offset_m = -(radius + away.dot(onAxis)) - contact.normal.dot(gap);
+    contact.stiffness_N_m = m_settings.stiffness_N_m;
+    contact.damping_N_s_m = m_settings.damping_N_s_m;
+    contacts.add(contact);
   }
+}
+
+std::unique_ptr<CapsuleContact> makeInstrumentContact(const Simulation& simulation) {
+  const SceneDescription& scene = simulation.scene();
+  const CapsuleContactSettings settings{scene.instrument->shaftRadius_m,
+                                        scene.instrument->shaftLength_m};
+  const SceneGeometry& geometry = simulation.geometry();
+  if (geometry.surface && geometry.embedding) {
+    return std::make_unique<CapsuleContact>(geometry.mesh, *geometry.surface, *geometry.embedding,
+                                            settings);
+  }
+  return std::make_unique<CapsuleContact>(geometry.mesh, settings);
 }
 
 }  // namespace tissuesim

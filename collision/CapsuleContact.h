@@ -2,10 +2,16 @@
 // Contact between the rigid probe (a capsule: shaft of radius r ending in a hemispherical blunt
 // tip) and the deforming tissue, for the engine's ContactProvider.
 //
-// Detection: an FCL AABB hierarchy over the tet mesh's boundary triangles, refitted to the
-// current positions every step (never rebuilt), collided with the capsule fattened by half a
-// radius (FCL's own GJK: libccd's MPR can hang, SurfaceBvh.cpp) to find the triangles it
-// touches or is about to touch.
+// The surface the tool touches is the one the trainee sees: the embedded visual surface
+// (SurfaceEmbedding), moved by the tet mesh, when the scene has one; else the tet mesh's own
+// boundary. The visual surface lies millimetres off the lattice's boundary (on the bundled
+// 5,300-spring liver 2.2 mm mean, 7.5 mm at most), so a tool colliding with the boundary sank
+// visibly into the drawn liver or stopped short of it.
+//
+// Detection: an FCL AABB hierarchy over that surface's triangles, refitted to the current
+// positions every step (never rebuilt), collided with the capsule fattened by half a radius
+// (FCL's own GJK: libccd's MPR can hang, SurfaceBvh.cpp) to find the triangles it touches or is
+// about to touch.
 //
 // Response: one penalty contact (PenaltyContacts.h) per such triangle, frozen for the step: the
 // triangle's point p nearest the capsule's axis (c on the axis; exact segment-triangle closest
@@ -23,12 +29,25 @@
 // impulses, each stepped by backward Euler (with damping c, which symplectic Euler lacks).
 // Tunnelling: the tool moves 0.5 mm a step at 0.5 m/s, a fifth of its radius, so a triangle is
 // always caught before it could pass the tip.
+// Where the force goes: on the visual surface, each drawn triangle is carried by the tet that
+// holds its centroid at rest (TetLocator, at construction), and a contact at the triangle's
+// point p acts on s(x) = sum_k w_k x_k over that tet's four nodes, w the rest point's
+// barycentric weights there (clamped to the tet where the surface lies outside it): the force
+// reaches the nodes through the transpose of the interpolation that moves the drawn surface, as
+// SOFA's mapped collision models apply it, and the contact stays rank one over four nodes that
+// springs join (the implicit solve's terms). The step's penetration is the drawn point's own:
+// the gap p - s(x) at the step's start is frozen into the contact's offset. On the boundary,
+// s(x) is the triangle's own point over its three corners.
 
 #include <memory>
 
 #include "SurfaceBvh.h"
+#include "mesh/SurfaceEmbedding.h"
+#include "mesh/TetLocator.h"
 #include "mesh/TetMesh.h"
+#include "mesh/TriangleSurface.h"
 #include "sim/ContactProvider.h"
+#include "sim/Simulation.h"
 
 namespace tissuesim {
 
@@ -41,23 +60,43 @@ struct CapsuleContactSettings {
 
 class CapsuleContact final : public ContactProvider {
  public:
-  /// @param mesh the tet mesh at rest (its boundary faces are what the tool can touch).
+  /// Contact with the tet mesh's boundary. @param mesh the tet mesh at rest.
   CapsuleContact(const TetMesh& mesh, CapsuleContactSettings settings);
+  /// Contact with the drawn surface `visual` (at rest, welded), embedded in `mesh` by
+  /// `embedding`; all three must outlive this object.
+  CapsuleContact(const TetMesh& mesh, const TriangleSurface& visual,
+                 const SurfaceEmbedding& embedding, CapsuleContactSettings settings);
   ~CapsuleContact() override;
 
   void findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
                     PenaltyContactSet& contacts) override;
 
+  /// The triangles the tool can touch (the drawn surface's, or the boundary's).
   Eigen::Index boundaryTriangleCount() const { return m_faces.cols(); }
+  bool isOnVisualSurface() const { return m_embedding != nullptr; }
 
  private:
+  void buildBvh(const Eigen::MatrixX3d& restVertices);
+  /// The nodes and weights that carry the point with weights `onTriangle` on face f.
+  void carry(Eigen::Index f, const Eigen::Vector3d& onTriangle, PenaltyContact& contact) const;
+
   CapsuleContactSettings m_settings;
-  Eigen::Matrix3Xi m_faces;         ///< boundary faces, local vertex indices
-  std::vector<int> m_surfaceNodes;  ///< local index -> mesh node
-  Eigen::MatrixX3d m_vertices;      ///< #local by 3 scratch for refits
+  Eigen::Matrix3Xi m_faces;  ///< the touchable faces, local vertex indices
+  // The boundary: local index -> mesh node.
+  std::vector<int> m_surfaceNodes;
+  // The drawn surface: its embedding, its vertices at rest (3 by #V), and per face the tet that
+  // carries it.
+  const SurfaceEmbedding* m_embedding = nullptr;
+  const Eigen::Matrix3Xd* m_restVertices = nullptr;
+  std::unique_ptr<TetLocator> m_locator;
+  std::vector<int> m_faceTet;
+  Eigen::MatrixX3d m_vertices;  ///< #local by 3 scratch for refits
   std::unique_ptr<SurfaceBvh> m_bvh;
-  std::vector<int> m_touched;  ///< scratch: local vertices of touched triangles
-  std::vector<char> m_isTouched;
+  std::vector<int> m_touched;  ///< scratch: the touched triangles
 };
+
+/// The instrument's contact for a simulation's scene (which must have an instrument): on the drawn
+/// surface when the scene has one, else on the tet mesh's boundary. `simulation` must outlive it.
+std::unique_ptr<CapsuleContact> makeInstrumentContact(const Simulation& simulation);
 
 }  // namespace tissuesim

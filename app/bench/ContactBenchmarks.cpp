@@ -32,22 +32,21 @@ void registerContactBenchmarks(const std::string& scenePath) {
   benchmark::RegisterBenchmark("Contact/QueryAndResponse/liver5k", [scene](
                                                                        benchmark::State& state) {
     Simulation simulation(scene);
-    CapsuleContact contact(simulation.geometry().mesh,
-                           {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
     LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
-    simulation.setContactProvider(&contact);
+    simulation.setContactProvider(contact.get());
     simulation.setInstrumentSource(&live);
     const InstrumentPose pose = pressToPokeDepth(simulation, scene, live);
     Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, simulation.state().x.cols());
     PenaltyContactSet contacts;
     for (auto _ : state) {
       contacts.clear();
-      contact.findContacts(simulation.state().x, pose, contacts);
+      contact->findContacts(simulation.state().x, pose, contacts);
       contacts.addForces(simulation.state().x, forces);
       benchmark::DoNotOptimize(forces.data());
     }
     state.counters["contacts"] = static_cast<double>(contacts.contacts().size());
-    state.counters["boundary_triangles"] = static_cast<double>(contact.boundaryTriangleCount());
+    state.counters["boundary_triangles"] = static_cast<double>(contact->boundaryTriangleCount());
   })->Unit(benchmark::kMicrosecond);
 
   // Speed against accuracy on the real task: the bundled poke (the tool 4 cm down over 1 s),
@@ -67,11 +66,10 @@ void registerContactBenchmarks(const std::string& scenePath) {
     changed.linearTolerance = setting.linearTolerance;
     changed.threads = setting.threads;
     Simulation simulation(changed);
-    CapsuleContact contact(simulation.geometry().mesh,
-                           {scene.instrument->shaftRadius_m, scene.instrument->shaftLength_m});
+    const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
     const InstrumentScript script = InstrumentScript::poke(
         {scene.instrument->tipStart_m, scene.instrument->direction}, 0.04, 1.0);
-    simulation.setContactProvider(&contact);
+    simulation.setContactProvider(contact.get());
     simulation.setInstrumentSource(&script);
     const auto steps = static_cast<long>(std::lround(seconds / simulation.timeStep_s()));
     std::vector<Eigen::Matrix3Xd> trail;
@@ -130,10 +128,9 @@ void registerContactBenchmarks(const std::string& scenePath) {
           SceneDescription changed = scene;
           changed.threads = threads;
           Simulation simulation(changed);
-          CapsuleContact contact(simulation.geometry().mesh, {scene.instrument->shaftRadius_m,
-                                                              scene.instrument->shaftLength_m});
+          const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
           LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
-          simulation.setContactProvider(&contact);
+          simulation.setContactProvider(contact.get());
           simulation.setInstrumentSource(&live);
           pressToPokeDepth(simulation, scene, live);
           long linearIterations = 0;

@@ -30,6 +30,7 @@ StepReport ImplicitEulerSolver::step(MechanicalSystem& system, MechanicalState& 
   report.iterations = newton.iterations;
   report.linearIterations = newton.linearIterations;
   report.residual_N = newton.residual_N;
+  report.initialResidual_N = newton.initialResidual_N;
   report.converged = newton.converged;
   report.forces = newton.forces;
   // The new velocities, and whether every position is finite, in one node-wise pass.

@@ -111,6 +111,7 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
     norms = residual(system, x, xHat, inertiaWeight, m_r, &report.forces);
   }
   report.residual_N = norms.largest_N;
+  report.initialResidual_N = norms.largest_N;
   // Past the budget, only a residual above the extra iterations' threshold goes on.
   const auto isWithinBudget = [&] {
     return report.iterations < maxIterations ||

@@ -45,6 +45,7 @@ struct NewtonReport {
   int iterations = 0;
   int linearIterations = 0;  ///< CG iterations summed over the Newton iterations (0: Cholesky)
   double residual_N = 0.0;   ///< max |r_i| at the end
+  double initialResidual_N = 0.0;  ///< max |r_i| at the start
   bool converged = false;
   ForceReport forces;
 };

@@ -10,8 +10,8 @@ void PenaltyContactSet::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f
     const double delta = c.penetration(x);
     if (!(delta > 0.0) && !std::isnan(delta)) continue;  // a NaN goes through, to be caught
     const Eigen::Vector3d push = -c.stiffness_N_m * delta * c.normal;
-    for (int k = 0; k < 3; ++k)
-      forces.col(c.nodes[static_cast<std::size_t>(k)]) += c.weights[k] * push;
+    for (std::size_t k = 0; k < kMaxTermNodes; ++k)
+      forces.col(c.nodes[k]) += c.weights[static_cast<Eigen::Index>(k)] * push;
   }
 }
 
@@ -19,9 +19,9 @@ void PenaltyContactSet::applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::Ve
                                       const std::vector<char>& isFixed, double h,
                                       Eigen::Matrix3Xd& v) const {
   for (const PenaltyContact& c : m_contacts) {
-    std::array<double, 3> inverseMass{};
+    std::array<double, kMaxTermNodes> inverseMass{};
     double compliance = 0.0;  // 1 / m_e = sum_k w_k^2 / m_k
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < static_cast<int>(kMaxTermNodes); ++k) {
       const int node = c.nodes[static_cast<std::size_t>(k)];
       const auto dof = static_cast<std::size_t>(3 * node);
       const bool isHeld = isFixed[dof] != 0 || isFixed[dof + 1] != 0 || isFixed[dof + 2] != 0;
@@ -35,7 +35,7 @@ void PenaltyContactSet::applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::Ve
     const double lambda = (h * c.stiffness_N_m * delta + gain * u) / (1.0 + gain * compliance);
     if (!(lambda > 0.0) && !std::isnan(lambda))
       continue;  // push only; a NaN goes through, to be caught
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < static_cast<int>(kMaxTermNodes); ++k) {
       v.col(c.nodes[static_cast<std::size_t>(k)]) -=
           (c.weights[k] * inverseMass[static_cast<std::size_t>(k)] * lambda) * c.normal;
     }
@@ -46,9 +46,9 @@ void PenaltyContactSet::addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix&
   for (const PenaltyContact& c : m_contacts) {
     if (!(c.penetration(x) > 0.0)) continue;
     const Eigen::Matrix3d nn = c.stiffness_N_m * c.normal * c.normal.transpose();
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < static_cast<int>(kMaxTermNodes); ++i) {
       if (c.weights[i] == 0.0) continue;
-      for (int j = 0; j < 3; ++j) {
+      for (int j = 0; j < static_cast<int>(kMaxTermNodes); ++j) {
         if (c.weights[j] == 0.0) continue;
         stiffness.addBlock(c.nodes[static_cast<std::size_t>(i)],
                            c.nodes[static_cast<std::size_t>(j)],
@@ -66,7 +66,7 @@ void PenaltyContactSet::rankOneTerms(const Eigen::Matrix3Xd& x, const std::vecto
     RankOneTerm term;
     term.nodes = c.nodes;
     term.stiffness_N_m = c.stiffness_N_m;
-    for (std::size_t k = 0; k < 3; ++k) {
+    for (std::size_t k = 0; k < kMaxTermNodes; ++k) {
       if (c.weights[static_cast<Eigen::Index>(k)] == 0.0) continue;
       for (int axis = 0; axis < 3; ++axis) {
         const bool isFree = isFixed[static_cast<std::size_t>(3 * c.nodes[k] + axis)] == 0;

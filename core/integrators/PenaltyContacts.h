@@ -4,14 +4,18 @@
 // can be stiff (10^4 N/m and more) where an explicit penalty is capped by stability.
 //
 // Each contact is frozen for one step by the collision code: a point on the tissue
-//   s(x) = sum_k w_k x_k                      (m; a surface triangle's corners, weights >= 0)
+//   s(x) = sum_k w_k x_k                      (m; k over the up to four nodes that carry it)
 // that must stay below the plane n . y = offset (n the surface's outward normal, unit):
 //   delta(x) = n . s(x) - offset             penetration (m), active when > 0
 //   E = k delta^2 / 2,   f_k = -k delta w_k n (N),   K_ij = k w_i w_j n n^T (N/m)
-// An inactive contact (delta <= 0 at the trial state) adds nothing; a contact found a little
-// before touching activates inside the step if the tissue reaches it. The reaction on the
-// instrument is minus the sum of f_k, and its torque is taken about the tip. Nodes of one
-// contact must be joined by springs (a surface triangle's corners are, being tet edges).
+// The carrying nodes are a tet's four for a point on the drawn surface (w: the point's
+// barycentric coordinates in the tet that holds it at rest, the interpolation that moves the
+// drawn surface, so f_k is its transpose, as SOFA's mapped collision models apply forces), or a
+// boundary triangle's three (w_3 = 0) for a point on the tet mesh's own surface. An inactive
+// contact (delta <= 0 at the trial state) adds nothing; a contact found a little before touching
+// activates inside the step if the tissue reaches it. The reaction on the instrument is minus
+// the sum of f_k, and its torque is taken about the tip. Nodes of one contact must be joined by
+// springs (a tet's nodes and a surface triangle's corners are, being tet edges).
 
 #include <array>
 #include <vector>
@@ -33,8 +37,9 @@ struct ContactResult {
 };
 
 struct PenaltyContact {
-  std::array<int, 3> nodes{};
-  Eigen::Vector3d weights = Eigen::Vector3d::Zero();  ///< barycentric, summing to 1
+  /// The carrying nodes; an unused slot (weight 0) repeats nodes[0].
+  std::array<int, kMaxTermNodes> nodes{};
+  Eigen::Vector4d weights = Eigen::Vector4d::Zero();  ///< barycentric, summing to 1
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, out of the tissue
   double offset_m = 0.0;
   double stiffness_N_m = 0.0;
@@ -42,7 +47,7 @@ struct PenaltyContact {
 
   Eigen::Vector3d point(const Eigen::Matrix3Xd& x) const {
     return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) +
-           weights[2] * x.col(nodes[2]);
+           weights[2] * x.col(nodes[2]) + weights[3] * x.col(nodes[3]);
   }
   double penetration(const Eigen::Matrix3Xd& x) const { return normal.dot(point(x)) - offset_m; }
 };
@@ -72,7 +77,7 @@ class PenaltyContactSet {
                      const std::vector<char>& isFixed, double h, Eigen::Matrix3Xd& v) const;
   /// stiffness += the active contacts' blocks k w_i w_j n n^T at x.
   void addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix& stiffness) const;
-  /// The same stiffness as rank-one terms k u u^T, u = (w_0 n, w_1 n, w_2 n), for the CG
+  /// The same stiffness as rank-one terms k u u^T, u = (w_0 n, ..., w_3 n), for the CG
   /// preconditioner (BlockConjugateGradient): terms is overwritten with the contacts active at
   /// x, u zeroed on the DOFs flagged in isFixed (3#V), as applyFixedDofs zeroes the matrix's.
   void rankOneTerms(const Eigen::Matrix3Xd& x, const std::vector<char>& isFixed,

@@ -57,7 +57,7 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
   for (Eigen::Index column = 0; column < count; ++column) {
     const PenaltyContact& c = contacts[static_cast<std::size_t>(column)];
     const double root = std::sqrt(c.stiffness_N_m);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < static_cast<int>(kMaxTermNodes); ++k) {
       for (int axis = 0; axis < 3; ++axis) {
         const Eigen::Index d = 3 * c.nodes[static_cast<std::size_t>(k)] + axis;
         if (fixed[static_cast<std::size_t>(d)] == 0)

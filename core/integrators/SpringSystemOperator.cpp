@@ -194,13 +194,13 @@ void SpringSystemOperator::multiplyPart(int part, const double* x, double* y) co
     for (const RankOneTerm& term : *m_terms) {
       double ux = 0.0;
       bool touchesPart = false;
-      for (std::size_t i = 0; i < 3; ++i) {
+      for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
         ux += term.blocks[i].dot(Eigen::Map<const Eigen::Vector3d>(x + 3 * term.nodes[i]));
         touchesPart = touchesPart || (term.nodes[i] >= first && term.nodes[i] < last);
       }
       if (!touchesPart) continue;
       const double scale = term.stiffness_N_m * ux;
-      for (std::size_t i = 0; i < 3; ++i) {
+      for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
         if (term.nodes[i] < first || term.nodes[i] >= last) continue;
         Eigen::Map<Eigen::Vector3d>(y + 3 * term.nodes[i]) += scale * term.blocks[i];
       }

@@ -9,13 +9,14 @@
 namespace tissuesim {
 
 struct StepReport {
-  int substeps = 1;          ///< explicit: substeps taken for stability
-  int iterations = 0;        ///< implicit: Newton or quasi-Newton iterations
-  int linearIterations = 0;  ///< implicit with CG: CG iterations over the whole step
-  double residual_N = 0.0;   ///< implicit: max |r| at the end (N)
-  bool converged = true;     ///< implicit: residual under tolerance
-  bool refused = false;      ///< the step was not taken (state unchanged): see `reason`
-  bool isFinite = true;      ///< false when NaN or infinity appeared (state not advanced)
+  int substeps = 1;                ///< explicit: substeps taken for stability
+  int iterations = 0;              ///< implicit: Newton or quasi-Newton iterations
+  int linearIterations = 0;        ///< implicit with CG: CG iterations over the whole step
+  double residual_N = 0.0;         ///< implicit: max |r| at the end (N)
+  double initialResidual_N = 0.0;  ///< implicit: max |r| at the step's start (predictor), N
+  bool converged = true;           ///< implicit: residual under tolerance
+  bool refused = false;            ///< the step was not taken (state unchanged): see `reason`
+  bool isFinite = true;            ///< false when NaN or infinity appeared (state not advanced)
   double stableTimeStep_s = std::numeric_limits<double>::infinity();  ///< explicit bound
   ForceReport forces;  ///< what the last force evaluation saw
   std::string reason;

@@ -93,7 +93,7 @@ bool BlockConjugateGradient::factorCapacitance(const std::vector<RankOneTerm>& t
   const auto count = static_cast<Eigen::Index>(terms.size());
   m_termW.resize(terms.size());  // within the reserved capacity
   for (std::size_t c = 0; c < terms.size(); ++c) {
-    for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
       applyInverse(m_inverseBlocks.data() + 6 * terms[c].nodes[i], terms[c].blocks[i].data(),
                    m_termW[c][i].data());
     }
@@ -105,8 +105,8 @@ bool BlockConjugateGradient::factorCapacitance(const std::vector<RankOneTerm>& t
     for (Eigen::Index d = c; d < count; ++d) {
       const RankOneTerm& td = terms[static_cast<std::size_t>(d)];
       double sum = c == d ? 1.0 / tc.stiffness_N_m : 0.0;
-      for (std::size_t i = 0; i < 3; ++i) {
-        for (std::size_t j = 0; j < 3; ++j) {
+      for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
+        for (std::size_t j = 0; j < kMaxTermNodes; ++j) {
           if (tc.nodes[i] == td.nodes[j])
             sum += tc.blocks[i].dot(m_termW[static_cast<std::size_t>(d)][j]);
         }
@@ -128,7 +128,7 @@ double BlockConjugateGradient::correctForTerms(const std::vector<RankOneTerm>& t
   for (Eigen::Index c = 0; c < count; ++c) {
     const RankOneTerm& term = terms[static_cast<std::size_t>(c)];
     double sum = 0.0;
-    for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
       sum += term.blocks[i].dot(Eigen::Map<const Eigen::Vector3d>(z + 3 * term.nodes[i]));
     }
     t[c] = sum;
@@ -142,7 +142,7 @@ double BlockConjugateGradient::correctForTerms(const std::vector<RankOneTerm>& t
   const double drop = t.dot(solved);
   for (Eigen::Index c = 0; c < count; ++c) {
     const RankOneTerm& term = terms[static_cast<std::size_t>(c)];
-    for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
       const Eigen::Vector3d delta = solved[c] * m_termW[static_cast<std::size_t>(c)][i];
       Eigen::Map<Eigen::Vector3d>(z + 3 * term.nodes[i]) -= delta;
       if (alsoP != nullptr) Eigen::Map<Eigen::Vector3d>(alsoP + 3 * term.nodes[i]) -= delta;

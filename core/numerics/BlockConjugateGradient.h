@@ -86,8 +86,8 @@ class BlockConjugateGradient {
   Eigen::VectorXd m_r, m_z, m_p, m_q;
   std::array<double, kParts> m_dotA{}, m_dotB{};  ///< per-part partial dot products
   // The rank-one terms' scratch (sized once, in resize()).
-  RankOneTermDiagonals m_termDiagonals;                 ///< the terms' diagonal blocks, for B
-  std::vector<std::array<Eigen::Vector3d, 3>> m_termW;  ///< per term, W's blocks at its nodes
+  RankOneTermDiagonals m_termDiagonals;  ///< the terms' diagonal blocks, for B
+  std::vector<std::array<Eigen::Vector3d, kMaxTermNodes>> m_termW;  ///< per term, W at its nodes
   Eigen::MatrixXd m_capacitance;  ///< kMaxExactTerms square; S's Cholesky factor in its corner
   Eigen::VectorXd m_termT, m_termSolved;  ///< kMaxExactTerms each: U^T z and S^-1 U^T z
 };

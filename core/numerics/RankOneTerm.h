@@ -1,8 +1,9 @@
 #pragma once
-// A term k u u^T of a node-block matrix whose vector u has at most three nonzero 3-blocks:
-// an instrument contact's stiffness k w_i w_j n n^T on a triangle's corners (PenaltyContacts),
-// u = (w_0 n, w_1 n, w_2 n). BlockConjugateGradient can be told of such terms so that its
-// preconditioner carries them exactly.
+// A term k u u^T of a node-block matrix whose vector u has at most kMaxTermNodes nonzero 3-blocks:
+// an instrument contact's stiffness k w_i w_j n n^T on the nodes that carry the contact point
+// (PenaltyContacts: a tet's four nodes for a point on the drawn surface, a boundary triangle's
+// three for one on the tet mesh's own surface), u = (w_0 n, ..., w_3 n). BlockConjugateGradient
+// can be told of such terms so that its preconditioner carries them exactly.
 
 #include <array>
 
@@ -10,11 +11,16 @@
 
 namespace tissuesim {
 
+/// The most nodes one contact point is carried by: a tet's four.
+inline constexpr std::size_t kMaxTermNodes = 4;
+
 struct RankOneTerm {
-  std::array<int, 3> nodes{};
-  /// u's 3-blocks at the nodes (dimensionless); a zero block stands for a node u leaves out.
-  std::array<Eigen::Vector3d, 3> blocks{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
-                                        Eigen::Vector3d::Zero()};
+  std::array<int, kMaxTermNodes> nodes{};
+  /// u's 3-blocks at the nodes (dimensionless); a zero block stands for a node u leaves out
+  /// (its index may then repeat another's).
+  std::array<Eigen::Vector3d, kMaxTermNodes> blocks{
+      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+      Eigen::Vector3d::Zero()};
   double stiffness_N_m = 0.0;  ///< k > 0
 };
 

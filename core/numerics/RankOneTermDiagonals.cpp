@@ -6,14 +6,14 @@ void RankOneTermDiagonals::resize(Eigen::Index nodeCount, std::size_t reservedTe
   m_slot.assign(static_cast<std::size_t>(nodeCount), -1);
   m_nodes.clear();
   m_sums.clear();
-  m_nodes.reserve(3 * reservedTerms);
-  m_sums.reserve(3 * reservedTerms);
+  m_nodes.reserve(kMaxTermNodes * reservedTerms);
+  m_sums.reserve(kMaxTermNodes * reservedTerms);
 }
 
 void RankOneTermDiagonals::set(const std::vector<RankOneTerm>& terms) {
   clear();
   for (const RankOneTerm& term : terms) {
-    for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
       const Eigen::Vector3d& u = term.blocks[i];
       if (u.isZero(0.0)) continue;
       int& slot = m_slot[static_cast<std::size_t>(term.nodes[i])];

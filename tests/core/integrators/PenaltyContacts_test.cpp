@@ -16,8 +16,8 @@ struct Triangle {
   PenaltyContactSet set;
   Triangle() {
     PenaltyContact c;
-    c.nodes = {0, 1, 2};
-    c.weights = {0.5, 0.3, 0.2};
+    c.nodes = {0, 1, 2, 0};
+    c.weights = {0.5, 0.3, 0.2, 0.0};
     c.normal = Eigen::Vector3d(0.1, -0.2, 1.0).normalized();
     c.offset_m = 0.0005;
     c.stiffness_N_m = 2e4;
@@ -71,7 +71,8 @@ TEST(PenaltyContacts, RankOneTermsAreTheStiffnessLessTheFixedDofs) {
   t.set.rankOneTerms(t.x, fixed, terms);
   ASSERT_EQ(terms.size(), 1u);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(9);
-  for (std::size_t i = 0; i < 3; ++i) u.segment<3>(3 * terms[0].nodes[i]) += terms[0].blocks[i];
+  for (std::size_t i = 0; i < kMaxTermNodes; ++i)
+    u.segment<3>(3 * terms[0].nodes[i]) += terms[0].blocks[i];
   EXPECT_EQ(u[4], 0.0);
   Eigen::MatrixXd expected = terms[0].stiffness_N_m * u * u.transpose();
   expected(4, 4) = 1.0;  // applyFixedDofs' identity
@@ -103,8 +104,8 @@ struct NodeInContact {
   PenaltyContactSet set;
   NodeInContact(double stiffness, double damping, double offset) {
     PenaltyContact c;
-    c.nodes = {0, 0, 0};
-    c.weights = {1.0, 0.0, 0.0};
+    c.nodes = {0, 0, 0, 0};
+    c.weights = {1.0, 0.0, 0.0, 0.0};
     c.normal = Eigen::Vector3d::UnitZ();
     c.offset_m = offset;
     c.stiffness_N_m = stiffness;

@@ -49,12 +49,12 @@ struct OperatorCase {
     fixed.assign(static_cast<std::size_t>(3 * nodes), 0);
     for (int axis = 0; axis < 3; ++axis) fixed[static_cast<std::size_t>(3 * 7 + axis)] = 1;
     fixed[static_cast<std::size_t>(3 * (nodes / 2) + 1)] = 1;
-    const auto term = [&](std::array<int, 3> at, Eigen::Vector3d weights, Eigen::Vector3d normal,
-                          double k) {
+    const auto term = [&](std::array<int, kMaxTermNodes> at, Eigen::Vector4d weights,
+                          Eigen::Vector3d normal, double k) {
       RankOneTerm t;
       t.nodes = at;
       t.stiffness_N_m = k;
-      for (std::size_t i = 0; i < 3; ++i) {
+      for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
         for (int axis = 0; axis < 3; ++axis) {
           const bool isFree = fixed[static_cast<std::size_t>(3 * at[i] + axis)] == 0;
           t.blocks[i][axis] =
@@ -64,8 +64,11 @@ struct OperatorCase {
       terms.push_back(t);
     };
     const int middle = static_cast<int>(nodes / 2);
-    term({middle, middle + 1, middle + 5}, {0.5, 0.3, 0.2}, {0.1, 1.0, 0.3}, 1e4);
-    term({middle + 1, 2, 3}, {0.2, 0.2, 0.6}, {-0.3, 0.2, 1.0}, 2e4);
+    term({middle, middle + 1, middle + 5, middle}, {0.5, 0.3, 0.2, 0.0}, {0.1, 1.0, 0.3}, 1e4);
+    term({middle + 1, 2, 3, middle + 1}, {0.2, 0.2, 0.6, 0.0}, {-0.3, 0.2, 1.0}, 2e4);
+    // A point on the drawn surface: carried by a tet's four nodes.
+    const Eigen::Vector4i tet = block.mesh.tets.col(block.mesh.tets.cols() / 3);
+    term({tet[0], tet[1], tet[2], tet[3]}, {0.1, 0.4, 0.3, 0.2}, {0.7, -0.2, 0.5}, 3e4);
   }
 
   SpringSystemOperator makeOperator() const {
@@ -105,7 +108,7 @@ struct OperatorCase {
     }
     for (const RankOneTerm& t : terms) {
       Eigen::VectorXd u = Eigen::VectorXd::Zero(dense.rows());
-      for (std::size_t i = 0; i < 3; ++i) u.segment<3>(3 * t.nodes[i]) += t.blocks[i];
+      for (std::size_t i = 0; i < kMaxTermNodes; ++i) u.segment<3>(3 * t.nodes[i]) += t.blocks[i];
       dense += t.stiffness_N_m * u * u.transpose();
     }
     for (std::size_t d = 0; d < fixed.size(); ++d) {
@@ -205,12 +208,12 @@ TEST(SpringSystemOperator, NewtonWithItMatchesCholesky) {
           onTop.push_back(block.mesh.tets(i, t));
       }
       if (onTop.size() == 3) {
-        contact.nodes = {onTop[0], onTop[1], onTop[2]};
+        contact.nodes = {onTop[0], onTop[1], onTop[2], onTop[0]};
         break;
       }
     }
     ASSERT_NE(contact.nodes[0], contact.nodes[1]);
-    contact.weights = {0.4, 0.3, 0.3};
+    contact.weights = {0.4, 0.3, 0.3, 0.0};
     contact.normal = Eigen::Vector3d(0.2, 0.1, 1.0).normalized();
     contact.offset_m = contact.normal.dot(contact.point(start.x)) - 2e-3;  // 2 mm in
     contact.stiffness_N_m = 1e4;

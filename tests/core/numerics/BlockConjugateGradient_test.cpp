@@ -146,30 +146,33 @@ TEST(BlockConjugateGradient, SolvesLikeEigensConjugateGradientWithBlockJacobi) {
   EXPECT_LT(report.iterations, static_cast<int>(scalarCg.iterations()));
 }
 
-/// Adds k u u^T to the matrix (its nodes must be joined by edges) and returns it as a term.
-RankOneTerm addRankOneTerm(NodeBlockMatrix& a, std::array<int, 3> nodes,
-                           const Eigen::Vector3d& weights, const Eigen::Vector3d& normal,
+/// Adds k u u^T to the matrix (its nodes, three or four, must be joined by edges) and returns it
+/// as a term (a triangle's leaves the fourth slot empty, as PenaltyContacts does).
+RankOneTerm addRankOneTerm(NodeBlockMatrix& a, const std::vector<int>& nodes,
+                           const std::vector<double>& weights, const Eigen::Vector3d& normal,
                            double stiffness) {
   RankOneTerm term;
-  term.nodes = nodes;
   term.stiffness_N_m = stiffness;
-  for (std::size_t i = 0; i < 3; ++i)
-    term.blocks[i] = weights[static_cast<Eigen::Index>(i)] * normal.normalized();
-  for (std::size_t i = 0; i < 3; ++i) {
-    for (std::size_t j = 0; j < 3; ++j) {
+  for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
+    term.nodes[i] = i < nodes.size() ? nodes[i] : nodes[0];
+    term.blocks[i] = (i < nodes.size() ? weights[i] : 0.0) * normal.normalized();
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (std::size_t j = 0; j < nodes.size(); ++j) {
       a.addBlock(nodes[i], nodes[j], stiffness * term.blocks[i] * term.blocks[j].transpose());
     }
   }
   return term;
 }
 
-// A matrix that is its block diagonal plus rank-one terms, two of them sharing two nodes and
-// one on a node with a fixed DOF: the preconditioner is then the matrix itself, and CG given the
-// terms converges in one product; without them, block Jacobi takes several.
+// A matrix that is its block diagonal plus rank-one terms, two of them sharing two nodes, a
+// tet's over four nodes sharing three with those, and one on a node with a fixed DOF: the
+// preconditioner is then the matrix itself, and CG given the terms converges in one product;
+// without them, block Jacobi takes several.
 TEST(BlockConjugateGradient, RankOneTermsAreInvertedExactly) {
-  // Triangles (0, 1, 2), (1, 2, 3), (4, 5, 6), joined pairwise.
-  const Eigen::Matrix2Xi edges = (Eigen::Matrix2Xi(2, 8) << 0, 0, 1, 1, 2, 4, 4, 5,  //
-                                  1, 2, 2, 3, 3, 5, 6, 6)
+  // Triangles (0, 1, 2), (1, 2, 3), (4, 5, 6), and the tet (0, 1, 2, 3), joined pairwise.
+  const Eigen::Matrix2Xi edges = (Eigen::Matrix2Xi(2, 9) << 0, 0, 1, 1, 2, 4, 4, 5, 0,  //
+                                  1, 2, 2, 3, 3, 5, 6, 6, 3)
                                      .finished();
   NodeBlockMatrix a(7, edges);
   std::mt19937 random(11);
@@ -183,6 +186,7 @@ TEST(BlockConjugateGradient, RankOneTermsAreInvertedExactly) {
   terms.push_back(addRankOneTerm(a, {0, 1, 2}, {0.5, 0.3, 0.2}, {0.1, 1.0, 0.2}, 1e4));
   terms.push_back(addRankOneTerm(a, {1, 2, 3}, {0.2, 0.2, 0.6}, {-0.3, 1.0, 0.1}, 2e4));
   terms.push_back(addRankOneTerm(a, {4, 5, 6}, {0.1, 0.8, 0.1}, {0.0, 0.2, 1.0}, 5e3));
+  terms.push_back(addRankOneTerm(a, {3, 0, 1, 2}, {0.4, 0.1, 0.2, 0.3}, {0.5, -0.2, 1.0}, 3e4));
   std::vector<char> fixed(21, 0);
   fixed[3 * 5 + 2] = 1;  // node 5's z: the term's u is zero there, as PenaltyContacts makes it
   terms[2].blocks[1][2] = 0.0;
