@@ -26,7 +26,9 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
   const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction,
                              false};
   if (driver == InstrumentDriver::Live) {
-    m_live = std::make_unique<LiveInstrument>(start);
+    // The window's tool follows the mouse as a proxy (bounded speed and acceleration), so a
+    // cursor jump never drives it through the tissue.
+    m_live = std::make_unique<LiveInstrument>(start, ToolMotionLimits{});
     m_simulation->setInstrumentSource(m_live.get());
   } else {
     try {

@@ -14,9 +14,11 @@
 // dropped. Nothing is dropped silently.
 
 #include <atomic>
+#include <optional>
 #include <thread>
 
 #include "sim/Simulation.h"
+#include "sim/ToolProxy.h"
 #include "sim/TripleBuffer.h"
 
 namespace tissuesim {
@@ -33,21 +35,32 @@ struct SimulationSnapshot {
 };
 
 /// An instrument pose written by one thread (the GUI, a device) and read by the physics.
+/// With motion limits, the written pose is the target of a ToolProxy that the physics advances
+/// by each step's time: the tool follows the input at bounded speed and acceleration.
 class LiveInstrument final : public InstrumentSource {
  public:
   explicit LiveInstrument(const InstrumentPose& start) : m_poses(start) {}
+  LiveInstrument(const InstrumentPose& start, ToolMotionLimits limits)
+      : m_poses(start), m_proxy(std::in_place, start, limits) {}
+  /// Input side (the GUI, a device): the newest pose, or the proxy's target.
   void setPose(const InstrumentPose& pose) {
     m_poses.back() = pose;
     m_poses.publish();
   }
-  /// Physics side: the newest pose (time is ignored: a live source has only "now").
-  InstrumentPose poseAt(double) const override {
+  /// Physics side: the newest pose, or the proxy advanced to time_s (a time before the last,
+  /// as after a reset, restarts its clock without moving it).
+  InstrumentPose poseAt(double time_s) const override {
     m_poses.update();
-    return m_poses.front();
+    if (!m_proxy) return m_poses.front();
+    const double h_s = m_lastTime_s ? time_s - *m_lastTime_s : 0.0;
+    m_lastTime_s = time_s;
+    return m_proxy->advance(m_poses.front(), h_s);
   }
 
  private:
   mutable TripleBuffer<InstrumentPose> m_poses;
+  mutable std::optional<ToolProxy> m_proxy;
+  mutable std::optional<double> m_lastTime_s;
 };
 
 struct LoopStatistics {

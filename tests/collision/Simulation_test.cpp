@@ -10,6 +10,7 @@
 #include "CapsuleContact.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
+#include "sim/RealTimeLoop.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim {
@@ -351,6 +352,78 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
       EXPECT_NE(event.kind, std::string("non-finite")) << event.detail;
     }
   }
+}
+
+/// After the input jumps 4 cm sideways with the tip 2 cm deep in the liver (the window's mouse
+/// moved while the tip is in): the largest tool force, its largest change from one step to the
+/// next, and the steps in which the tool is inside the liver as drawn (a point of its axis from
+/// 1 mm behind the tip to 3 cm back, winding number of the embedded surface > 1/2). `limits`
+/// null drives the tool where the input is, else through a ToolProxy.
+struct JumpForces {
+  double peak_N = 0.0;
+  double largestChange_N = 0.0;
+  int stepsInside = 0;
+  double largestMove_m = 0.0;  ///< of the tip in one step
+};
+JumpForces forcesAfterACursorJump(const ToolMotionLimits* limits) {
+  Simulation simulation(pokeScene(""));
+  const SceneInstrument& tool = *simulation.scene().instrument;
+  const InstrumentPose start{tool.tipStart_m, tool.direction};
+  std::optional<LiveInstrument> live;
+  if (limits != nullptr) {
+    live.emplace(start, *limits);
+  } else {
+    live.emplace(start);
+  }
+  const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
+  simulation.setContactProvider(contact.get());
+  simulation.setInstrumentSource(&*live);
+  // Down 3.7 cm at 5 cm/s (the tip 1.7 cm above the surface: 2 cm in), a pause, then the jump.
+  InstrumentPose pose = start;
+  for (int n = 1; n <= 740; ++n) {
+    pose.tip_m = start.tip_m + 0.037 * std::min(1.0, n / 740.0) * start.direction;
+    live->setPose(pose);
+    EXPECT_TRUE(simulation.step().isGood) << n;
+  }
+  for (int n = 0; n < 200; ++n) simulation.step();
+  pose.tip_m.x() += 0.04;
+  live->setPose(pose);
+  JumpForces result;
+  TriangleSurface drawn = *simulation.geometry().surface;
+  Eigen::Vector3d tip = simulation.instrumentPose().tip_m;
+  double previous = 0.0;
+  for (int n = 0; n < 300; ++n) {
+    const StepOutcome outcome = simulation.step();
+    EXPECT_TRUE(outcome.isGood) << n;
+    const double force = outcome.contact.toolForce_N.norm();
+    result.peak_N = std::max(result.peak_N, force);
+    if (n > 0)
+      result.largestChange_N = std::max(result.largestChange_N, std::abs(force - previous));
+    previous = force;
+    simulation.geometry().embedding->apply(simulation.state().x, drawn.vertices_m);
+    const InstrumentPose at = simulation.instrumentPose();
+    result.largestMove_m = std::max(result.largestMove_m, (at.tip_m - tip).norm());
+    tip = at.tip_m;
+    bool isInside = false;
+    for (double back = 0.001; back <= 0.03 && !isInside; back += 0.001)
+      isInside = windingNumber(drawn, at.tip_m - back * at.direction) > 0.5;
+    result.stepsInside += isInside ? 1 : 0;
+  }
+  return result;
+}
+
+TEST(Simulation, ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous) {
+  // Driven through the proxy (the window's LiveInstrument) the tip moves at most 0.5 mm a step
+  // and drags the tissue along (about 1.1 N, changing by at most 0.13 N a step), never inside
+  // the drawn liver; driven directly it moves 4 cm in one step.
+  const ToolMotionLimits limits;
+  const JumpForces proxied = forcesAfterACursorJump(&limits);
+  const JumpForces direct = forcesAfterACursorJump(nullptr);
+  EXPECT_LE(proxied.largestMove_m, limits.maxSpeed_m_s * 1e-3 * (1.0 + 1e-9));
+  EXPECT_EQ(proxied.stepsInside, 0);
+  EXPECT_GT(proxied.peak_N, 0.3);  // it pushed the tissue
+  EXPECT_LT(proxied.largestChange_N, 0.25);
+  EXPECT_NEAR(direct.largestMove_m, 0.04, 1e-9);  // the check can fail
 }
 
 TEST(Simulation, SofteningCanBeSwitchedOffWhileRunning) {
