@@ -14,6 +14,7 @@
 #include "CommandError.h"
 #include "OutputFile.h"
 #include "SceneSession.h"
+#include "TimeSeriesExport.h"
 #include "material/TissueFile.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/SceneFile.h"
@@ -27,6 +28,8 @@ struct RunOptions {
   std::string scriptPath;
   double duration_s = 0.0;
   std::string reportPath;
+  std::string exportFolder;
+  double exportEvery_s = 0.02;
 };
 
 void runSession(const RunOptions& options) {
@@ -41,6 +44,32 @@ void runSession(const RunOptions& options) {
   if (!std::isfinite(duration) || duration > 3600.0)
     throw CommandError("--duration must be at most 3600 s");
   const long steps = std::lround(duration / simulation->timeStep_s());
+  if (!options.exportFolder.empty() &&
+      !(std::isfinite(options.exportEvery_s) && options.exportEvery_s > 0.0)) {
+    throw CommandError("--export-every must be a positive number of seconds");
+  }
+  // The export's writing is timed apart: the physics rate reported is the physics' alone.
+  std::optional<TimeSeriesExport> exporter;
+  double exportWall_s = 0.0;
+  double nextExport_s = 0.0;
+  const auto exportFrame = [&] {
+    const auto begin = std::chrono::steady_clock::now();
+    try {
+      exporter->write(simulation->time_s(), simulation->state().x);
+    } catch (const std::runtime_error& error) {
+      throw CommandError(std::string("--export: ") + error.what());
+    }
+    exportWall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    nextExport_s = simulation->time_s() + options.exportEvery_s - 0.5 * simulation->timeStep_s();
+  };
+  if (!options.exportFolder.empty()) {
+    try {
+      exporter.emplace(options.exportFolder, simulation->geometry(), simulation->springMesh());
+    } catch (const std::runtime_error& error) {
+      throw CommandError(std::string("--export: ") + error.what());
+    }
+    exportFrame();
+  }
 
   double maxForce = 0.0;
   double maxPenetration = 0.0;
@@ -59,9 +88,11 @@ void runSession(const RunOptions& options) {
     maxVolumeRatio = std::max(maxVolumeRatio, outcome.integrator.forces.volume.maxVolumeRatio);
     linearIterations += outcome.integrator.linearIterations;
     badSteps += outcome.isGood ? 0 : 1;
+    if (exporter && simulation->time_s() >= nextExport_s) exportFrame();
   }
   const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
+      exportWall_s;
 
   nlohmann::json report;
   report["scene"] = options.scenePath;
@@ -93,6 +124,11 @@ void runSession(const RunOptions& options) {
                                             {"detail", event.detail}});
   }
   report["wall_seconds"] = wall;
+  if (exporter) {
+    report["export"] = {{"collection", exporter->collectionPath().string()},
+                        {"frames", exporter->frameCount()},
+                        {"wall_seconds", exportWall_s}};
+  }
   std::printf(
       "%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld springs; max tool force "
       "%.3f N, max penetration %.2f mm, max stretch %.3f; %zu instability events\n",
@@ -100,6 +136,10 @@ void runSession(const RunOptions& options) {
       report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
       static_cast<long>(simulation->springMesh().springCount()), maxForce, maxPenetration * 1e3,
       maxStretch, simulation->events().size());
+  if (exporter) {
+    std::printf("exported %d frames: %s\n", exporter->frameCount(),
+                exporter->collectionPath().string().c_str());
+  }
   if (!options.reportPath.empty()) {
     std::ofstream out(options.reportPath);
     if (!out) throw CommandError("cannot write --report " + options.reportPath);
@@ -123,6 +163,13 @@ void registerRunCommand(CLI::App& app) {
   command->add_option("--duration", options->duration_s,
                       "Simulated seconds (default: the script's length)");
   command->add_option("--report", options->reportPath, "Write the JSON report here");
+  command->add_option("--export", options->exportFolder,
+                      "Write the run for ParaView into this folder: the drawn surface (.vtp) and "
+                      "the tet mesh (.vtu) with displacement and stretch, and series.pvd");
+  command
+      ->add_option("--export-every", options->exportEvery_s,
+                   "Simulated seconds between exported frames")
+      ->capture_default_str();
   command->callback([options] { runSession(*options); });
 }
 

@@ -19,7 +19,8 @@ SceneSnapshot takeSceneSnapshot(SceneSession& session, const SnapshotSettings& s
   }
   const auto& instrument = session.scene().instrument;
   TissueSceneView view(simulation.geometry(), simulation.springMesh(),
-                       instrument ? &*instrument : nullptr);
+                       instrument ? &*instrument : nullptr,
+                       simulation.scene().tray ? &*simulation.scene().tray : nullptr);
   view.setColourMap(settings.isColourMap);
   view.setWireframe(settings.isWireframe);
   view.update(simulation.state().x, simulation.instrumentPose());

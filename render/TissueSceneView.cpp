@@ -25,6 +25,7 @@
 #include <vtkTransform.h>
 
 #include "mesh/TetMesh.h"
+#include "springs/NodeStretch.h"
 
 namespace tissuesim {
 namespace {
@@ -47,7 +48,7 @@ vtkSmartPointer<vtkCellArray> triangleCells(const Eigen::Matrix3Xi& triangles) {
 }  // namespace
 
 TissueSceneView::TissueSceneView(const SceneGeometry& geometry, const SpringMesh& springs,
-                                 const SceneInstrument* instrument)
+                                 const SceneInstrument* instrument, const SceneTray* tray)
     : m_geometry(geometry),
       m_springs(springs),
       m_instrument(instrument),
@@ -57,7 +58,7 @@ TissueSceneView::TissueSceneView(const SceneGeometry& geometry, const SpringMesh
   m_renderer->GradientBackgroundOn();
   buildSurface();
   buildSprings();
-  buildTray();
+  buildTray(tray);
   buildInstrument();
   update(springs.restPositions_m,
          instrument != nullptr
@@ -163,14 +164,16 @@ void TissueSceneView::buildSprings() {
   m_renderer->AddActor(m_springActor);
 }
 
-void TissueSceneView::buildTray() {
-  // A tray just under the organ's rest position, wider than it: the eye judges depth against it.
+void TissueSceneView::buildTray(const SceneTray* tray) {
+  // The scene's tray, where the organ rests on it; without one, a tray just under the organ's rest
+  // position. Wider than the organ: the eye judges depth against it.
   const Eigen::Matrix3Xd& rest = m_springs.restPositions_m;
   const Eigen::Vector3d lo = rest.rowwise().minCoeff();
   const Eigen::Vector3d hi = rest.rowwise().maxCoeff();
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
   const double margin = 0.6 * (hi - lo).maxCoeff();
-  m_trayHeight_m = lo.y() - 0.002;
+  const bool isSceneTray = tray != nullptr && tray->up.y() > 1.0 - 1e-9;
+  m_trayHeight_m = isSceneTray ? tray->height_m : lo.y() - 0.002;
   auto plane = vtkSmartPointer<vtkPlaneSource>::New();
   plane->SetOrigin(lo.x() - margin, m_trayHeight_m, lo.z() - margin);
   plane->SetPoint1(hi.x() + margin, m_trayHeight_m, lo.z() - margin);
@@ -238,16 +241,7 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
   }
   setPoints(m_surface->GetPoints(), m_surfaceX);
   if (m_isColourMap) {
-    // Per node: the incident spring's stretch farthest from 1.
-    m_nodeStretch.setOnes();
-    for (Eigen::Index s = 0; s < m_springs.springCount(); ++s) {
-      const int a = m_springs.springs(0, s), b = m_springs.springs(1, s);
-      const double lambda = (x.col(b) - x.col(a)).norm() / m_springs.restLength_m[s];
-      for (const int node : {a, b}) {
-        if (std::abs(lambda - 1.0) > std::abs(m_nodeStretch[node] - 1.0))
-          m_nodeStretch[node] = lambda;
-      }
-    }
+    nodeStretch(m_springs, x, m_nodeStretch);
     for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) {
       double value = 0.0;
       if (isEmbedded) {

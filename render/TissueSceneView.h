@@ -39,9 +39,10 @@ class TissueSceneView {
   /// Colour map limits (stretch): blue at the lower, white at 1, red at the upper.
   static constexpr double kStretchRange[2] = {0.9, 1.1};
 
-  /// All three must outlive the view. `instrument` null: none drawn.
+  /// All must outlive the view. `instrument` null: none drawn. `tray` null (or not horizontal:
+  /// the view's up is y): the tray is drawn just under the organ's rest position, as a depth cue.
   TissueSceneView(const SceneGeometry& geometry, const SpringMesh& springs,
-                  const SceneInstrument* instrument);
+                  const SceneInstrument* instrument, const SceneTray* tray);
   ~TissueSceneView();
   TissueSceneView(const TissueSceneView&) = delete;
   TissueSceneView& operator=(const TissueSceneView&) = delete;
@@ -63,7 +64,7 @@ class TissueSceneView {
   void buildSurface();
   void buildSprings();
   void buildInstrument();
-  void buildTray();
+  void buildTray(const SceneTray* tray);
 
   const SceneGeometry& m_geometry;
   const SpringMesh& m_springs;

@@ -27,8 +27,8 @@ void frameBenchmark(benchmark::State& state, const std::string& scenePath, bool 
   SceneSession session(scenePath, "", InstrumentDriver::Script);
   Simulation& simulation = session.simulation();
   for (int n = 0; n < 600; ++n) simulation.step();  // mid-poke: a deformed surface
-  TissueSceneView view(simulation.geometry(), simulation.springMesh(),
-                       &*session.scene().instrument);
+  TissueSceneView view(simulation.geometry(), simulation.springMesh(), &*session.scene().instrument,
+                       session.scene().tray ? &*session.scene().tray : nullptr);
   view.setColourMap(isColourMap);
   OffscreenWindow window(view.renderer(), 1280, 800);
   for (auto _ : state) {
@@ -51,8 +51,9 @@ void physicsRateBenchmark(benchmark::State& state, const std::string& scenePath,
   std::unique_ptr<TissueSceneView> view;
   std::unique_ptr<OffscreenWindow> window;
   if (isRendering) {
-    view = std::make_unique<TissueSceneView>(simulation.geometry(), simulation.springMesh(),
-                                             &*session.scene().instrument);
+    view = std::make_unique<TissueSceneView>(
+        simulation.geometry(), simulation.springMesh(), &*session.scene().instrument,
+        session.scene().tray ? &*session.scene().tray : nullptr);
     window = std::make_unique<OffscreenWindow>(view->renderer(), 1280, 800);
   }
   long frames = 0;

@@ -196,8 +196,9 @@ bool MainWindow::loadScene(const QString& path) {
   m_scenePath = path;
   Simulation& simulation = m_session->simulation();
   const auto& instrument = m_session->scene().instrument;
-  m_view = std::make_unique<TissueSceneView>(simulation.geometry(), simulation.springMesh(),
-                                             instrument ? &*instrument : nullptr);
+  m_view = std::make_unique<TissueSceneView>(
+      simulation.geometry(), simulation.springMesh(), instrument ? &*instrument : nullptr,
+      simulation.scene().tray ? &*simulation.scene().tray : nullptr);
   m_view->setColourMap(m_colourMapAction->isChecked());
   m_view->setWireframe(m_wireframeAction->isChecked());
   m_renderWindow->AddRenderer(m_view->renderer());

@@ -154,12 +154,13 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       m_cg.setThreadPool(system.springs().threadPool());
       // The contacts at x: in the matrix already when assembled, the operator's terms when
       // matrix-free; and for the preconditioner to invert exactly.
-      system.contacts.rankOneTerms(x, fixed, m_contactTerms);
+      const std::size_t instrumentTerms = system.contacts.rankOneTerms(x, fixed, m_contactTerms);
       if (m_isMatrixFree) m_operator->setTerms(&m_contactTerms);
       const BlockLinearOperator& a =
           m_isMatrixFree ? static_cast<const BlockLinearOperator&>(*m_operator) : *m_matrix;
-      const ConjugateGradientReport cg = m_cg.solve(
-          a, m_rhs, m_step, m_linearTolerance, static_cast<int>(3 * x.cols()), &m_contactTerms);
+      const ConjugateGradientReport cg =
+          m_cg.solve(a, m_rhs, m_step, m_linearTolerance, static_cast<int>(3 * x.cols()),
+                     std::span<const RankOneTerm>(m_contactTerms.data(), instrumentTerms));
       report.linearIterations += cg.iterations;
       isSolved = cg.converged || cg.relativeResidual < std::max(1e-6, m_linearTolerance);
     }

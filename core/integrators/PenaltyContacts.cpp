@@ -58,30 +58,38 @@ void PenaltyContactSet::addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix&
   }
 }
 
-void PenaltyContactSet::rankOneTerms(const Eigen::Matrix3Xd& x, const std::vector<char>& isFixed,
-                                     std::vector<RankOneTerm>& terms) const {
+std::size_t PenaltyContactSet::rankOneTerms(const Eigen::Matrix3Xd& x,
+                                            const std::vector<char>& isFixed,
+                                            std::vector<RankOneTerm>& terms) const {
   terms.clear();
-  for (const PenaltyContact& c : m_contacts) {
-    if (!(c.penetration(x) > 0.0)) continue;  // as addStiffness
-    RankOneTerm term;
-    term.nodes = c.nodes;
-    term.stiffness_N_m = c.stiffness_N_m;
-    for (std::size_t k = 0; k < kMaxTermNodes; ++k) {
-      if (c.weights[static_cast<Eigen::Index>(k)] == 0.0) continue;
-      for (int axis = 0; axis < 3; ++axis) {
-        const bool isFree = isFixed[static_cast<std::size_t>(3 * c.nodes[k] + axis)] == 0;
-        term.blocks[k][axis] =
-            isFree ? c.weights[static_cast<Eigen::Index>(k)] * c.normal[axis] : 0.0;
+  std::size_t instrumentCount = 0;
+  for (const bool isSupportPass : {false, true}) {
+    for (const PenaltyContact& c : m_contacts) {
+      if (c.isSupport != isSupportPass) continue;
+      if (!(c.penetration(x) > 0.0)) continue;  // as addStiffness
+      RankOneTerm term;
+      term.nodes = c.nodes;
+      term.stiffness_N_m = c.stiffness_N_m;
+      for (std::size_t k = 0; k < kMaxTermNodes; ++k) {
+        if (c.weights[static_cast<Eigen::Index>(k)] == 0.0) continue;
+        for (int axis = 0; axis < 3; ++axis) {
+          const bool isFree = isFixed[static_cast<std::size_t>(3 * c.nodes[k] + axis)] == 0;
+          term.blocks[k][axis] =
+              isFree ? c.weights[static_cast<Eigen::Index>(k)] * c.normal[axis] : 0.0;
+        }
       }
+      terms.push_back(term);
     }
-    terms.push_back(term);
+    if (!isSupportPass) instrumentCount = terms.size();
   }
+  return instrumentCount;
 }
 
 ContactResult PenaltyContactSet::reaction(const Eigen::Matrix3Xd& x,
                                           const Eigen::Vector3d& tip_m) const {
   ContactResult result;
   for (const PenaltyContact& c : m_contacts) {
+    if (c.isSupport) continue;
     const double delta = c.penetration(x);
     if (!(delta > 0.0)) continue;
     const Eigen::Vector3d onTool = c.stiffness_N_m * delta * c.normal;

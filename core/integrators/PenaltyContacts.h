@@ -44,6 +44,9 @@ struct PenaltyContact {
   double offset_m = 0.0;
   double stiffness_N_m = 0.0;
   double damping_N_s_m = 0.0;  ///< c (N s/m): explicit integrator only (applyImpulses)
+  /// A support's (the tray under the organ), not the instrument's: left out of what the
+  /// instrument feels (reaction) and out of the terms CG's preconditioner inverts exactly.
+  bool isSupport = false;
 
   Eigen::Vector3d point(const Eigen::Matrix3Xd& x) const {
     return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) +
@@ -55,6 +58,8 @@ struct PenaltyContact {
 class PenaltyContactSet {
  public:
   PenaltyContactSet() { m_contacts.reserve(256); }  // a step's contacts fit without allocating
+  /// Room for `count` contacts (a scene with a tray: its points and the instrument's).
+  void reserve(std::size_t count) { m_contacts.reserve(count); }
 
   void clear() { m_contacts.clear(); }
   void add(const PenaltyContact& contact) { m_contacts.push_back(contact); }
@@ -77,13 +82,16 @@ class PenaltyContactSet {
                      const std::vector<char>& isFixed, double h, Eigen::Matrix3Xd& v) const;
   /// stiffness += the active contacts' blocks k w_i w_j n n^T at x.
   void addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix& stiffness) const;
-  /// The same stiffness as rank-one terms k u u^T, u = (w_0 n, ..., w_3 n), for the CG
-  /// preconditioner (BlockConjugateGradient): terms is overwritten with the contacts active at
-  /// x, u zeroed on the DOFs flagged in isFixed (3#V), as applyFixedDofs zeroes the matrix's.
-  void rankOneTerms(const Eigen::Matrix3Xd& x, const std::vector<char>& isFixed,
-                    std::vector<RankOneTerm>& terms) const;
+  /// The same stiffness as rank-one terms k u u^T, u = (w_0 n, ..., w_3 n), for the matrix-free
+  /// operator and CG's preconditioner (BlockConjugateGradient): terms is overwritten with the
+  /// contacts active at x, u zeroed on the DOFs flagged in isFixed (3#V), as applyFixedDofs
+  /// zeroes the matrix's. The instrument's come first; returns their count (the terms worth
+  /// inverting exactly: a few, stiff, on light surface nodes; a support's hundreds stay in the
+  /// block diagonal).
+  std::size_t rankOneTerms(const Eigen::Matrix3Xd& x, const std::vector<char>& isFixed,
+                           std::vector<RankOneTerm>& terms) const;
   /// The reaction on the instrument at x (force, torque about tip_m, deepest penetration,
-  /// active contacts).
+  /// active contacts), from the instrument's contacts alone.
   ContactResult reaction(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m) const;
 
  private:

@@ -20,7 +20,7 @@ void BlockConjugateGradient::resize(const BlockLinearOperator& a) {
   m_termSolved.resize(kMaxExactTerms);
 }
 
-bool BlockConjugateGradient::listTerms(const std::vector<RankOneTerm>& terms) {
+bool BlockConjugateGradient::listTerms(std::span<const RankOneTerm> terms) {
   if (terms.empty() || terms.size() > static_cast<std::size_t>(kMaxExactTerms)) return false;
   for (const RankOneTerm& term : terms) {
     // S needs 1/k; a term it cannot take (k <= 0, NaN, an infinite u) leaves block Jacobi plain.
@@ -89,7 +89,7 @@ double sumInOrder(const std::array<double, N>& partial) {
 }
 }  // namespace
 
-bool BlockConjugateGradient::factorCapacitance(const std::vector<RankOneTerm>& terms) {
+bool BlockConjugateGradient::factorCapacitance(std::span<const RankOneTerm> terms) {
   const auto count = static_cast<Eigen::Index>(terms.size());
   m_termW.resize(terms.size());  // within the reserved capacity
   for (std::size_t c = 0; c < terms.size(); ++c) {
@@ -121,7 +121,7 @@ bool BlockConjugateGradient::factorCapacitance(const std::vector<RankOneTerm>& t
   return factor.info() == Eigen::Success;
 }
 
-double BlockConjugateGradient::correctForTerms(const std::vector<RankOneTerm>& terms, double* z,
+double BlockConjugateGradient::correctForTerms(std::span<const RankOneTerm> terms, double* z,
                                                double* alsoP) {
   const auto count = static_cast<Eigen::Index>(terms.size());
   auto t = m_termT.head(count);
@@ -154,10 +154,10 @@ double BlockConjugateGradient::correctForTerms(const std::vector<RankOneTerm>& t
 ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator& a,
                                                       const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                                       double tolerance, int maxIterations,
-                                                      const std::vector<RankOneTerm>* terms) {
+                                                      std::span<const RankOneTerm> terms) {
   if (m_nodeCount != a.nodeCount()) resize(a);
   m_bounds = a.partBounds();
-  bool isExactTerms = terms != nullptr && listTerms(*terms);
+  bool isExactTerms = listTerms(terms);
   if (x.size() != b.size()) x.resize(b.size());
   ConjugateGradientReport report;
   double* const xs = x.data();
@@ -201,9 +201,9 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
   }
   double rz = sumInOrder(m_dotB);
   if (isExactTerms) {
-    isExactTerms = factorCapacitance(*terms);
+    isExactTerms = factorCapacitance(terms);
     if (isExactTerms) {
-      rz -= correctForTerms(*terms, z, p);
+      rz -= correctForTerms(terms, z, p);
     } else {
       // S not positive definite (B was not): back to plain block Jacobi, B = blockdiag(A).
       clearTerms();
@@ -256,7 +256,7 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
     residualNorm2 = sumInOrder(m_dotA);
     if (!(residualNorm2 >= threshold)) break;  // converged, or NaN (reported below)
     double rzNext = sumInOrder(m_dotB);
-    if (isExactTerms) rzNext -= correctForTerms(*terms, z, nullptr);
+    if (isExactTerms) rzNext -= correctForTerms(terms, z, nullptr);
     beta = rzNext / rz;
     rz = rzNext;
     forEachPart(direction);

@@ -30,6 +30,7 @@
 // No allocation once the scratch is sized for a matrix (the first solve, or a new size).
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -61,19 +62,19 @@ class BlockConjugateGradient {
   /// the DOFs whose rows and columns A has replaced by the identity (fixed DOFs).
   ConjugateGradientReport solve(const BlockLinearOperator& a, const Eigen::VectorXd& b,
                                 Eigen::VectorXd& x, double tolerance, int maxIterations,
-                                const std::vector<RankOneTerm>* terms = nullptr);
+                                std::span<const RankOneTerm> terms = {});
 
  private:
   void resize(const BlockLinearOperator& a);
   /// Lists the terms' nodes and the diagonal blocks they add (m_termDiagonals), for B; false
   /// (no exact terms this solve) when there are none or more than kMaxExactTerms.
-  bool listTerms(const std::vector<RankOneTerm>& terms);
+  bool listTerms(std::span<const RankOneTerm> terms);
   /// W = B^-1 U and the factor of S, once B's inverse blocks are stored; false when S is not
   /// positive definite (then plain block Jacobi is used).
-  bool factorCapacitance(const std::vector<RankOneTerm>& terms);
+  bool factorCapacitance(std::span<const RankOneTerm> terms);
   /// z -= W S^-1 U^T z on the terms' nodes (z = B^-1 r before), and the same on `alsoP` when
   /// given; returns (U^T z) . (S^-1 U^T z), the amount r . z drops by.
-  double correctForTerms(const std::vector<RankOneTerm>& terms, double* z, double* alsoP);
+  double correctForTerms(std::span<const RankOneTerm> terms, double* z, double* alsoP);
   void clearTerms();
   /// Calls pass(part, firstNode, lastNode) for every part, in parallel when a pool is set.
   template <typename Pass>

@@ -10,7 +10,7 @@ void RankOneTermDiagonals::resize(Eigen::Index nodeCount, std::size_t reservedTe
   m_sums.reserve(kMaxTermNodes * reservedTerms);
 }
 
-void RankOneTermDiagonals::set(const std::vector<RankOneTerm>& terms) {
+void RankOneTermDiagonals::set(std::span<const RankOneTerm> terms) {
   clear();
   for (const RankOneTerm& term : terms) {
     for (std::size_t i = 0; i < kMaxTermNodes; ++i) {

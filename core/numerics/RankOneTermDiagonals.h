@@ -5,6 +5,7 @@
 // diagonal. A slot per node, set and cleared in O(terms): no pass over the nodes, and no
 // allocation for up to the reserved number of terms.
 
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,7 +19,7 @@ class RankOneTermDiagonals {
   /// Sizes for #V nodes and room for `reservedTerms` terms (three nodes each); clears.
   void resize(Eigen::Index nodeCount, std::size_t reservedTerms);
   /// Replaces the sums with the given terms' (a zero u block leaves its node out).
-  void set(const std::vector<RankOneTerm>& terms);
+  void set(std::span<const RankOneTerm> terms);
   void clear();
   /// D_j, or null where no term touches node j.
   const Eigen::Matrix3d* at(Eigen::Index j) const {

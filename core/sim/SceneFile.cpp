@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -151,7 +152,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   const std::filesystem::path folder = path.parent_path();
   const Fields fields(root, "", source,
                       {"name", "tissue", "surface", "tet_mesh", "generate_tet_mesh", "fixed_region",
-                       "gravity_m_s2", "instrument", "effects", "physics", "notes"});
+                       "gravity_m_s2", "tray", "instrument", "effects", "physics", "notes"});
   SceneDescription scene;
   scene.source = path;
   scene.name = fields.string("name", path.stem().string());
@@ -193,6 +194,18 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     }
   }
   scene.gravity_m_s2 = fields.vector("gravity_m_s2", Eigen::Vector3d::Zero());
+  if (fields.has("tray")) {
+    const Fields trayFields(fields.at("tray"), "tray", source,
+                            {"up", "height_m", "stiffness_pa_per_m"});
+    SceneTray tray;
+    const Eigen::Vector3d up = trayFields.vector("up", Eigen::Vector3d::UnitY());
+    if (up.norm() < 1e-9) trayFields.fail("tray.up", "must not be the zero vector");
+    tray.up = up.normalized();
+    tray.height_m =
+        trayFields.number("height_m", 0.0, -std::numeric_limits<double>::max(), false, true);
+    tray.stiffness_Pa_per_m = trayFields.number("stiffness_pa_per_m", 1e7, 0.0, true);
+    scene.tray = tray;
+  }
   if (fields.has("instrument")) {
     const Fields tool(fields.at("instrument"), "instrument", source,
                       {"shaft_radius_mm", "shaft_length_mm", "tip_start_m", "direction"});
@@ -240,6 +253,14 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                    "= " + given.str() + "; expected a whole number from 1 to 64");
     }
     scene.threads = static_cast<int>(threads);
+  }
+  // Quasi-Newton inverts its contacts' stiffness as dense columns beside a fixed initial Hessian:
+  // fine for the instrument's few, not for a tray's hundreds (the liver on its tray ran at 7
+  // steps/s and diverged).
+  if (scene.tray && scene.integrator == "quasi-newton") {
+    fields.fail("tray",
+                "cannot be used with physics.integrator \"quasi-newton\"; use implicit or "
+                "explicit");
   }
   return scene;
 }

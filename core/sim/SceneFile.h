@@ -41,6 +41,16 @@ struct SceneInstrument {
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();  ///< shaft axis, tip first (unit)
 };
 
+/// A flat support under the organ (the tray): the tissue stays on the side of the plane
+/// up . y = height_m that `up` points to, pushed back with a pressure of stiffness_Pa_per_m per
+/// metre of penetration (a penalty per unit area, so the support's stiffness does not depend on
+/// how finely the surface is meshed). Frictionless.
+struct SceneTray {
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();  ///< unit, out of the tray into the tissue
+  double height_m = 0.0;
+  double stiffness_Pa_per_m = 1e7;
+};
+
 struct SceneDescription {
   std::filesystem::path source;  ///< the scene file
   std::string name;
@@ -50,6 +60,7 @@ struct SceneDescription {
   int targetSprings = 0;                   ///< > 0: lattice-mesh the surface to about this many
   SceneFixedRegion fixed;
   Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();
+  std::optional<SceneTray> tray;  ///< none: nothing supports the organ but the fixed region
   std::optional<SceneInstrument> instrument;
   bool isSoftening = true;
   double bulkModulus_Pa = 0.0;  ///< > 0: volume term on

@@ -1,6 +1,8 @@
 #include "sim/Simulation.h"
 
 #include <algorithm>
+#include <limits>
+#include <sstream>
 #include <string_view>
 
 #include "analysis/TensileTest.h"
@@ -23,12 +25,20 @@ constexpr std::size_t kMaxEvents = 100;
 constexpr double kUnconvergedResidual_N = 1e-3;
 constexpr double kUnconvergedRelativeResidual = 1e-2;
 constexpr int kExtraNewtonIterations = 4;
+// Settling under gravity (settle()): a step ten times the real-time one, damping near critical
+// for an organ's slowest sag mode, still when no node moves faster than 0.1 mm/s, at most 5 s.
+constexpr double kSettlingTimeStep_s = 0.01;
+constexpr double kSettlingDamping_1_s = 20.0;
+constexpr double kSettledSpeed_m_s = 1e-4;
+constexpr int kSettlingMaxSteps = 500;
 }  // namespace
 
 Simulation::Simulation(const SceneDescription& scene)
     : m_scene(scene), m_geometry(loadSceneGeometry(scene)), m_timeStep_s(scene.timeStep_s) {
+  if (scene.tray) m_tray = std::make_unique<TraySupport>(m_geometry, *scene.tray);
   buildPhysics(loadTissueFile(scene.tissue));
-  m_state = m_system->restState();
+  settle();
+  m_state = m_startState;
   if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
 }
 
@@ -36,6 +46,7 @@ void Simulation::replaceTissue(const TissueParameters& parameters) {
   const MechanicalState kept = m_state;
   const Eigen::Vector3d gravity = m_system->gravity_m_s2;
   buildPhysics(parameters);
+  settle();  // the new tissue's own start (under the scene's gravity)
   m_system->gravity_m_s2 = gravity;
   m_state = kept;
   m_activeConditions.clear();
@@ -115,6 +126,8 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   }
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
   m_system->gravity_m_s2 = scene.gravity_m_s2;
+  // The instrument's few contacts and every tray point at once, without allocating.
+  if (m_tray) m_system->contacts.reserve(256 + static_cast<std::size_t>(m_tray->pointCount()));
   for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);
 
   IntegratorSettings settings;
@@ -150,9 +163,54 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
 
 Simulation::~Simulation() = default;
 
-void Simulation::reset() {
-  m_state = m_system->restState();
+void Simulation::settle() {
+  m_startState = m_system->restState();
   m_springs->resetStretchHistory();
+  m_startStretchHistory = m_springs->stretchHistory();
+  if (m_scene.gravity_m_s2.squaredNorm() == 0.0) return;
+  // Long, heavily damped implicit steps: backward Euler is stable at any step, and the damping
+  // (about twice the slowest sag mode's angular frequency, a few rad/s on an organ) brings the
+  // organ to rest within a second or two of simulated time, in under a couple of hundred steps.
+  IntegratorSettings settings;
+  settings.massDamping_1_s = kSettlingDamping_1_s;
+  // Two iterations a step and a loose linear tolerance: what is left of one step's residual is
+  // taken up by the next, and only where the organ comes to rest matters (one iteration did not
+  // bring the bundled liver to rest in 5 s).
+  settings.maxIterations = 2;
+  settings.linearTolerance = 1e-4;
+  ImplicitEulerSolver settler(settings, LinearSolverKind::ConjugateGradient);
+  MechanicalState state = m_startState;
+  double speed_m_s = std::numeric_limits<double>::infinity();
+  int step = 0;
+  bool isSettled = false;
+  for (; step < kSettlingMaxSteps && !isSettled; ++step) {
+    m_system->externalForces_N.setZero();
+    m_system->contacts.clear();
+    if (m_tray) m_tray->findContacts(state.x, m_system->contacts);
+    const StepReport report = settler.step(*m_system, state, kSettlingTimeStep_s);
+    if (report.refused || !report.isFinite) break;
+    speed_m_s = state.v.colwise().norm().maxCoeff();
+    isSettled = speed_m_s < kSettledSpeed_m_s;
+  }
+  m_system->contacts.clear();
+  if (!isSettled) {
+    m_springs->resetStretchHistory();
+    std::ostringstream detail;
+    detail << "the organ did not come to rest under gravity in " << step * kSettlingTimeStep_s
+           << " s (fastest node " << speed_m_s << " m/s); starting from the unloaded shape";
+    record("unsettled", detail.str());
+    return;
+  }
+  state.v.setZero();
+  m_startState = state;
+  // The organ's own weight has preconditioned it (the first loading of the Mullins effect):
+  // that memory belongs to the start state, and a reset restores it with the positions.
+  m_startStretchHistory = m_springs->stretchHistory();
+}
+
+void Simulation::reset() {
+  m_state = m_startState;
+  m_springs->restoreStretchHistory(m_startStretchHistory);
   m_time_s = 0.0;
   m_steps = 0;
   m_events.clear();
@@ -168,14 +226,19 @@ void Simulation::record(const char* kind, const std::string& detail) {
   if (m_events.size() < kMaxEvents) m_events.push_back({m_steps, m_time_s, kind, detail});
 }
 
+void Simulation::findContacts() {
+  m_system->contacts.clear();
+  if (m_contact != nullptr && m_scene.instrument)
+    m_contact->findContacts(m_state.x, m_pose, m_system->contacts);
+  if (m_tray) m_tray->findContacts(m_state.x, m_system->contacts);
+}
+
 StepOutcome Simulation::step() {
   StepOutcome outcome;
   const double next = m_time_s + m_timeStep_s;
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
   m_system->externalForces_N.setZero();
-  m_system->contacts.clear();
-  if (m_contact != nullptr && m_scene.instrument)
-    m_contact->findContacts(m_state.x, m_pose, m_system->contacts);
+  findContacts();
   if (m_grasp)
     m_grasp->apply(m_state.x, m_state.v, m_pose, m_system->externalForces_N, outcome.contact);
   outcome.integrator = m_integrator->step(*m_system, m_state, m_timeStep_s);

@@ -3,12 +3,17 @@
 // spring mesh -> (contacts in) integration -> state out. What the scene does not name is not
 // built: no volume term unless asked, no contact without an instrument and a ContactProvider.
 //
+// With gravity, the organ starts settled: at construction (and for a new tissue) it is let sag
+// onto its support (the tray, the fixed region) with heavy damping and long steps until it is
+// still, and that state is where it starts and what reset() returns to; a trainee never sees
+// the organ drop when a scene opens.
+//
 // Each step: the instrument pose at t + dt from the InstrumentSource, the contacts it makes from
-// the ContactProvider (penalty terms the integrator evaluates at its trial states: implicit
-// with the implicit integrators), the grasp's pull, one integrator step. Instabilities (refused or
-// non-finite steps, Newton not converged, springs past locking, collapsed springs, inverted
-// tets) are detected every step and recorded as events when they start; a refused or
-// non-finite step leaves the last good state in place, so the simulation stays usable.
+// the ContactProvider and the tray's (penalty terms the integrator evaluates at its trial
+// states: implicit with the implicit integrators), the grasp's pull, one integrator step.
+// Instabilities (refused or non-finite steps, Newton not converged, springs past locking, collapsed
+// springs, inverted tets) are detected every step and recorded as events when they start; a refused
+// or non-finite step leaves the last good state in place, so the simulation stays usable.
 // Deterministic: no clocks, no threads, no randomness inside.
 
 #include <memory>
@@ -22,6 +27,7 @@
 #include "sim/Grasp.h"
 #include "sim/InstrumentScript.h"
 #include "sim/SceneGeometry.h"
+#include "sim/TraySupport.h"
 #include "springs/SpringForceField.h"
 
 namespace tissuesim {
@@ -29,7 +35,7 @@ namespace tissuesim {
 struct InstabilityEvent {
   long step;
   double time_s;
-  std::string kind;  ///< refused, non-finite, unconverged, locking, collapsed, inverted
+  std::string kind;  ///< refused, non-finite, unconverged, locking, collapsed, inverted, unsettled
   std::string detail;
 };
 
@@ -78,7 +84,13 @@ class Simulation {
   /// The volume term's kappa (Pa); 0 when the scene has none.
   double bulkModulus() const { return m_bulkModulus_Pa; }
   const MechanicalState& state() const { return m_state; }
+  /// Where the simulation starts and reset() returns: the rest state, settled under the scene's
+  /// gravity when it has any (velocities zero).
+  const MechanicalState& startState() const { return m_startState; }
+  /// The tray's support (null when the scene has no tray).
+  const TraySupport* tray() const { return m_tray.get(); }
   const SpringMesh& springMesh() const { return *m_springMesh; }
+  const SpringForceField& springs() const { return *m_springs; }
   const SceneGeometry& geometry() const { return m_geometry; }
   const SceneDescription& scene() const { return m_scene; }
   const std::vector<InstabilityEvent>& events() const { return m_events; }
@@ -91,6 +103,11 @@ class Simulation {
   void record(const char* kind, const std::string& detail);
   /// Material, tables, spring mesh, laws, system and integrator from the parameters.
   void buildPhysics(const TissueParameters& parameters);
+  /// m_startState: the rest state, let settle under gravity onto the supports when the scene
+  /// has gravity (an event when it does not come to rest).
+  void settle();
+  /// The contacts of the coming step at m_state: the instrument's, then the tray's.
+  void findContacts();
 
   SceneDescription m_scene;
   SceneGeometry m_geometry;
@@ -104,10 +121,13 @@ class Simulation {
   std::unique_ptr<VolumeForceField> m_volume;
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
-  std::unique_ptr<Grasp> m_grasp;  ///< only with an instrument
+  std::unique_ptr<Grasp> m_grasp;       ///< only with an instrument
+  std::unique_ptr<TraySupport> m_tray;  ///< only with a tray
   ContactProvider* m_contact = nullptr;
   const InstrumentSource* m_instrument = nullptr;
   MechanicalState m_state;
+  MechanicalState m_startState;
+  std::vector<SofteningPeak> m_startStretchHistory;  ///< the Mullins memory settling left
   InstrumentPose m_pose;
   double m_timeStep_s;
   double m_stiffnessScale = 1.0;

@@ -50,6 +50,12 @@ void SpringForceField::resetStretchHistory() {
   m_lambdaMax.setConstant(m_law.peak(1.0).lambdaMax);
 }
 
+void SpringForceField::restoreStretchHistory(const std::vector<SofteningPeak>& peaks) {
+  m_peaks = peaks;  // same size: no allocation
+  for (std::size_t s = 0; s < m_peaks.size(); ++s)
+    m_lambdaMax[static_cast<Eigen::Index>(s)] = m_peaks[s].lambdaMax;
+}
+
 template <bool withBlocks, bool withNodeStiffness>
 SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
                                                AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,

@@ -83,6 +83,10 @@ class SpringForceField {
   /// numbers, one scan instead of a spring pass.
   void commitStretchHistory(const Eigen::Matrix3Xd& x);
   void resetStretchHistory();
+  /// The Mullins memory as a whole (#S peaks), to put back later: a saved state's.
+  const std::vector<SofteningPeak>& stretchHistory() const { return m_peaks; }
+  /// Puts back a memory taken from stretchHistory() of this field (same spring count).
+  void restoreStretchHistory(const std::vector<SofteningPeak>& peaks);
   /// lambda_max per spring (#S), 1 when never stretched.
   const Eigen::VectorXd& lambdaMax() const { return m_lambdaMax; }
 

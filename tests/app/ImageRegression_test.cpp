@@ -109,8 +109,8 @@ TEST_F(ImageRegression, TheDefaultViewDrawsNothingTranslucent) {
   SceneSession session(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json", "",
                        InstrumentDriver::Script);
   Simulation& simulation = session.simulation();
-  TissueSceneView view(simulation.geometry(), simulation.springMesh(),
-                       &*session.scene().instrument);
+  TissueSceneView view(simulation.geometry(), simulation.springMesh(), &*session.scene().instrument,
+                       session.scene().tray ? &*session.scene().tray : nullptr);
   view.update(simulation.state().x, simulation.instrumentPose());
   renderOffscreen(view.renderer(), kWidth, kHeight);
   vtkActorCollection* actors = view.renderer()->GetActors();

@@ -79,6 +79,41 @@ TEST(PenaltyContacts, RankOneTermsAreTheStiffnessLessTheFixedDofs) {
   EXPECT_LT((Eigen::MatrixXd(k.matrix()) - expected).cwiseAbs().maxCoeff(), 1e-12 * 2e4);
 }
 
+TEST(PenaltyContacts, ASupportPushesTheTissueButNotTheInstrumentAndComesAfterIt) {
+  // The tray's contact (a support) and the instrument's, on the same triangle, both pressed: the
+  // tissue feels both, the instrument only its own; the instrument's term comes first and is
+  // counted as the one to invert exactly.
+  Triangle t;
+  PenaltyContact support = t.set.contacts()[0];
+  support.normal = Eigen::Vector3d(0.0, 0.0, -1.0);
+  support.offset_m = -0.0015;  // the tray at z = 1.5 mm: the point (z about 1 mm) is below it
+  support.stiffness_N_m = 5e3;
+  support.isSupport = true;
+  PenaltyContactSet set;
+  set.add(support);  // added first: the terms still put the instrument's first
+  set.add(t.set.contacts()[0]);
+  ASSERT_GT(support.penetration(t.x), 0.0);
+
+  const ContactResult onTool = set.reaction(t.x, Eigen::Vector3d::Zero());
+  const ContactResult instrumentOnly = t.set.reaction(t.x, Eigen::Vector3d::Zero());
+  EXPECT_EQ(onTool.contactNodes, 1);
+  EXPECT_TRUE(onTool.toolForce_N.isApprox(instrumentOnly.toolForce_N));
+
+  Eigen::Matrix3Xd both = Eigen::Matrix3Xd::Zero(3, 3);
+  set.addForces(t.x, both);
+  Eigen::Matrix3Xd instrument = Eigen::Matrix3Xd::Zero(3, 3);
+  t.set.addForces(t.x, instrument);
+  const Eigen::Vector3d trayPush = (both - instrument).rowwise().sum();
+  EXPECT_NEAR(trayPush.z(), support.stiffness_N_m * support.penetration(t.x), 1e-12);
+  EXPECT_NEAR(trayPush.head<2>().norm(), 0.0, 1e-12);
+
+  std::vector<RankOneTerm> terms;
+  EXPECT_EQ(set.rankOneTerms(t.x, std::vector<char>(9, 0), terms), 1u);
+  ASSERT_EQ(terms.size(), 2u);
+  EXPECT_EQ(terms[0].stiffness_N_m, t.set.contacts()[0].stiffness_N_m);
+  EXPECT_EQ(terms[1].stiffness_N_m, support.stiffness_N_m);
+}
+
 TEST(PenaltyContacts, AnInactiveContactAddsNothing) {
   Triangle t;
   t.x.row(2).array() -= 0.002;  // the triangle below the plane

@@ -196,7 +196,7 @@ TEST(BlockConjugateGradient, RankOneTermsAreInvertedExactly) {
 
   BlockConjugateGradient cg;
   Eigen::VectorXd x;
-  const ConjugateGradientReport exact = cg.solve(a, b, x, 1e-10, 100, &terms);
+  const ConjugateGradientReport exact = cg.solve(a, b, x, 1e-10, 100, terms);
   EXPECT_EQ(exact.iterations, 1);
   EXPECT_TRUE(exact.converged);
   EXPECT_LT((a.matrix() * x - b).norm(), 1e-10 * b.norm());
@@ -207,7 +207,7 @@ TEST(BlockConjugateGradient, RankOneTermsAreInvertedExactly) {
   EXPECT_LT((plain - x).norm(), 1e-8 * x.norm());
   // The scratch is cleared after a solve: the plain solve above saw no terms, and a repeat
   // with them is exact again.
-  EXPECT_EQ(cg.solve(a, b, x, 1e-10, 100, &terms).iterations, 1);
+  EXPECT_EQ(cg.solve(a, b, x, 1e-10, 100, terms).iterations, 1);
 
   // A term the preconditioner cannot take (no stiffness, a NaN) leaves it plain block Jacobi:
   // the same iterations and solution as without terms.
@@ -215,7 +215,7 @@ TEST(BlockConjugateGradient, RankOneTermsAreInvertedExactly) {
     std::vector<RankOneTerm> unusable = terms;
     unusable[1].stiffness_N_m = bad;
     Eigen::VectorXd y;
-    const ConjugateGradientReport report = cg.solve(a, b, y, 1e-10, 100, &unusable);
+    const ConjugateGradientReport report = cg.solve(a, b, y, 1e-10, 100, unusable);
     EXPECT_EQ(report.iterations, blockJacobi.iterations) << bad;
     EXPECT_EQ(y, plain) << bad;
   }
@@ -240,7 +240,7 @@ TEST(BlockConjugateGradient, RankOneTermsSaveIterationsOnANetwork) {
   const Eigen::VectorXd b = randomVector(360, 14);
   BlockConjugateGradient cg;
   Eigen::VectorXd withTerms, without;
-  const ConjugateGradientReport exact = cg.solve(a, b, withTerms, 1e-10, 2000, &terms);
+  const ConjugateGradientReport exact = cg.solve(a, b, withTerms, 1e-10, 2000, terms);
   const ConjugateGradientReport plain = cg.solve(a, b, without, 1e-10, 2000);
   ASSERT_TRUE(exact.converged);
   ASSERT_TRUE(plain.converged);

@@ -1,0 +1,90 @@
+#include "sim/TraySupport.h"
+
+#include <algorithm>
+
+namespace tissuesim {
+namespace {
+/// The explicit integrator's damping per unit of a point's stiffness (s): the instrument's ratio
+/// (6 N s/m per 10^4 N/m, CapsuleContactSettings).
+constexpr double kDampingPerStiffness_s = 6e-4;
+
+/// Each vertex's share of the surface's area: a third of every triangle it is a corner of (m^2).
+Eigen::VectorXd vertexAreas(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(vertices.cols());
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    const Eigen::Vector3d a = vertices.col(triangles(0, t));
+    const double third =
+        (vertices.col(triangles(1, t)) - a).cross(vertices.col(triangles(2, t)) - a).norm() / 6.0;
+    for (int k = 0; k < 3; ++k) area[triangles(k, t)] += third;
+  }
+  return area;
+}
+}  // namespace
+
+TraySupport::TraySupport(const SceneGeometry& geometry, const SceneTray& tray)
+    : m_up(tray.up.normalized()), m_height_m(tray.height_m) {
+  if (geometry.surface && geometry.embedding) {
+    const SurfaceEmbedding& embedding = *geometry.embedding;
+    const Eigen::VectorXd area =
+        vertexAreas(geometry.surface->vertices_m, geometry.surface->triangles);
+    m_points.reserve(static_cast<std::size_t>(area.size()));
+    for (Eigen::Index v = 0; v < area.size(); ++v) {
+      Point point;
+      for (std::size_t k = 0; k < kMaxTermNodes; ++k)
+        point.nodes[k] = embedding.nodes()(static_cast<Eigen::Index>(k), v);
+      point.embedded = embedding.weights().col(v);
+      // Clamped to the tet: an extrapolated (negative) weight would pull a node the wrong way.
+      const Eigen::Vector4d clamped = point.embedded.cwiseMax(0.0);
+      point.carried = clamped / clamped.sum();
+      point.stiffness_N_m = tray.stiffness_Pa_per_m * area[v];
+      m_points.push_back(point);
+    }
+  } else {
+    const Eigen::Matrix3Xi faces = boundaryFaces(geometry.mesh);
+    const Eigen::VectorXd area = vertexAreas(geometry.mesh.nodes_m, faces);
+    for (Eigen::Index node = 0; node < area.size(); ++node) {
+      if (!(area[node] > 0.0)) continue;  // interior
+      Point point;
+      point.nodes.fill(static_cast<int>(node));
+      point.embedded = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+      point.carried = point.embedded;
+      point.stiffness_N_m = tray.stiffness_Pa_per_m * area[node];
+      m_points.push_back(point);
+    }
+  }
+}
+
+void TraySupport::findContacts(const Eigen::Matrix3Xd& x, PenaltyContactSet& contacts) const {
+  for (const Point& point : m_points) {
+    const Eigen::Vector3d drawn = combine(point, point.embedded, x);
+    const double height = m_up.dot(drawn);
+    if (!(height < m_height_m + kDetectionMargin_m)) continue;
+    PenaltyContact contact;
+    contact.nodes = point.nodes;
+    contact.weights = point.carried;
+    contact.normal = -m_up;  // out of the tissue, into the tray
+    // delta = h - up . (s + g) with g = drawn - s frozen for the step (s the carried point).
+    contact.offset_m = m_up.dot(drawn - combine(point, point.carried, x)) - m_height_m;
+    contact.stiffness_N_m = point.stiffness_N_m;
+    contact.damping_N_s_m = kDampingPerStiffness_s * point.stiffness_N_m;
+    contact.isSupport = true;
+    contacts.add(contact);
+  }
+}
+
+double TraySupport::maxPenetration_m(const Eigen::Matrix3Xd& x) const {
+  double deepest = 0.0;
+  for (const Point& point : m_points)
+    deepest = std::max(deepest, m_height_m - m_up.dot(combine(point, point.embedded, x)));
+  return deepest;
+}
+
+Eigen::Vector3d TraySupport::force_N(const Eigen::Matrix3Xd& x) const {
+  double total = 0.0;
+  for (const Point& point : m_points)
+    total += point.stiffness_N_m *
+             std::max(0.0, m_height_m - m_up.dot(combine(point, point.embedded, x)));
+  return total * m_up;
+}
+
+}  // namespace tissuesim
