@@ -62,7 +62,8 @@ class Simulation {
 
   // Changes while running (the caller pauses any loop stepping this simulation first). The
   // state (positions, velocities, time) is kept; the Mullins memory starts afresh, since it
-  // belongs to the material that was replaced.
+  // belongs to the material that was replaced (under gravity: the new tissue's settled start's,
+  // which is settled again and is where reset() then returns).
   /// A new tissue: material, stiffness tables, masses and spring laws rebuilt. If building
   /// them throws, the simulation is left as it was.
   void replaceTissue(const TissueParameters& parameters);
