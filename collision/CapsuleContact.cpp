@@ -93,8 +93,7 @@ void CapsuleContact::carry(Eigen::Index f, const Eigen::Vector3d& onTriangle,
   // the bundled liver) is carried by the tet's nearest point: extrapolated weights (as low as
   // -0.45 there) made each contact a lever on the tet, and the tip's one or two contacts
   // chattered (0.5 -> 2.3 -> 0 N from step to step) until the contact was lost mid-poke.
-  const Eigen::Vector4d clamped = weights.cwiseMax(0.0);
-  contact.weights = clamped / clamped.sum();
+  contact.weights = clampedToTet(weights);
 }
 
 void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,

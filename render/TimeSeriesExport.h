@@ -55,7 +55,8 @@ class TimeSeriesExport {
   Eigen::Matrix3Xd m_surfaceRest_m;
   vtkSmartPointer<vtkPolyData> m_surface;
   vtkSmartPointer<vtkUnstructuredGrid> m_tets;
-  Eigen::VectorXd m_nodeStretch;
+  Eigen::VectorXd m_nodeStretch;     ///< per tet node, each frame
+  Eigen::VectorXd m_surfaceStretch;  ///< per drawn vertex, each frame
   Eigen::Matrix3Xd m_surfaceX;
   std::vector<double> m_times;
 };

@@ -54,8 +54,8 @@ const Eigen::Vector3i kLargeSize(24, 24, 24);
 /// Steps each step benchmark times, from the slab at rest. A fixed count, not a minimum time:
 /// the slab sags and stiffens as it runs, so the work per step (CG products, explicit
 /// substeps) depends on how far it has got: with a minimum time the 100k implicit step took 8
-/// CG products a step in a short run and 22 in a two-second one. Each count is about a second
-/// of this machine's time.
+/// CG products a step in a short run and 22 in a two-second one. Each count is chosen so that a
+/// benchmark steps for about a second (docs/performance.md).
 int timedSteps(const Eigen::Vector3i& cells, bool isImplicit) {
   if (cells == kLargeSize) return isImplicit ? 30 : 20;
   return isImplicit ? 300 : 200;

@@ -18,7 +18,7 @@
 // read from memory every product) 0.47-0.78 ms against 0.56-1.4. In the solver: the implicit
 // step at 102k springs 33 -> 22 ms on one thread, 22 -> 15 ms on two; the held probe's step
 // at 5.3k about 5 % faster (no assignment pass, less the preconditioner's blocks gathered per
-// solve). README, "Measured", has the interleaved figures.
+// solve). docs/performance.md has the interleaved figures.
 //
 // Parallel parts: kParts node ranges of about equal incident springs. Part p evaluates every
 // spring with an end among its nodes and adds its force to those ends only; a spring joining

@@ -18,8 +18,7 @@ SurfaceEmbedding::SurfaceEmbedding(const TetMesh& mesh, const Eigen::Matrix3Xd& 
     if (!found.isInside()) {
       ++m_outsideCount;
       Eigen::Vector3d inside = Eigen::Vector3d::Zero();
-      const Eigen::Vector4d clamped =
-          found.weights.cwiseMax(0.0) / found.weights.cwiseMax(0.0).sum();
+      const Eigen::Vector4d clamped = clampedToTet(found.weights);
       for (int k = 0; k < 4; ++k) inside += clamped[k] * mesh.nodes_m.col(mesh.tets(k, found.tet));
       m_maxOutsideDistance_m = std::max(m_maxOutsideDistance_m, (inside - p).norm());
     }

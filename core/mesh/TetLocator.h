@@ -26,6 +26,13 @@ struct TetLocation {
   bool isInside() const { return weights.minCoeff() >= -1e-12; }
 };
 
+/// Barycentric weights clamped to their tet (negative ones set to 0, the rest renormalised): a
+/// point of the tet for one outside it, carried without the lever of extrapolated weights.
+inline Eigen::Vector4d clampedToTet(const Eigen::Vector4d& weights) {
+  const Eigen::Vector4d clamped = weights.cwiseMax(0.0);
+  return clamped / clamped.sum();
+}
+
 class TetLocator {
  public:
   /// @param mesh at rest; must outlive this object, and have at least one tet.

@@ -74,13 +74,12 @@ struct LoopStatistics {
 
 class RealTimeLoop {
  public:
-  /// The most periods the loop catches up after late steps (20 ms at 1 kHz). Why 20: with 4
-  /// (until session 8) every stall of the physics thread longer than 4 ms (a slow step run
-  /// late, the scheduler, this VM's neighbours) was lost for good: the held probe's loop alone
-  /// ran at 971-981 Hz, against 991 with a 25-step window in the same hour (while drawing,
-  /// 858-869 against 905-920). Made up, the tool and the tissue stay on wall-clock time; the
-  /// steps that catch up run back to back (about 0.6 ms each), so a 20 ms stall is made up in
-  /// some 50 ms. Further behind than that, time is dropped as before.
+  /// The most periods the loop catches up after late steps (20 ms at 1 kHz). Why 20: with 4,
+  /// every stall of the physics thread longer than 4 ms (a slow step run late, the scheduler,
+  /// other processes on the machine) was lost for good, and the loop fell short of its rate
+  /// (docs/performance.md has the figures). Made up, the tool and the tissue stay on wall-clock
+  /// time; the steps that catch up run back to back, so a stall is made up within a few times
+  /// its length. Further behind than that, time is dropped.
   static constexpr int kMaxLagSteps = 20;
 
   /// `simulation` must outlive the loop and is not touched by others while it runs.

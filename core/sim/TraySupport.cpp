@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "mesh/TetLocator.h"
+
 namespace tissuesim {
 namespace {
 /// The explicit integrator's damping per unit of a point's stiffness (s): the instrument's ratio
@@ -33,9 +35,7 @@ TraySupport::TraySupport(const SceneGeometry& geometry, const SceneTray& tray)
       for (std::size_t k = 0; k < kMaxTermNodes; ++k)
         point.nodes[k] = embedding.nodes()(static_cast<Eigen::Index>(k), v);
       point.embedded = embedding.weights().col(v);
-      // Clamped to the tet: an extrapolated (negative) weight would pull a node the wrong way.
-      const Eigen::Vector4d clamped = point.embedded.cwiseMax(0.0);
-      point.carried = clamped / clamped.sum();
+      point.carried = clampedToTet(point.embedded);
       point.stiffness_N_m = tray.stiffness_Pa_per_m * area[v];
       m_points.push_back(point);
     }

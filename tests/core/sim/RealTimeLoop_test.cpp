@@ -135,10 +135,10 @@ TEST(RealTimeLoop, AnOccasionalSlowStepIsMadeUp) {
 }
 
 TEST(RealTimeLoop, AStallOfTenStepsIsMadeUp) {
-  // Every 60th step stalls for ten budgets (what this VM's scheduler and neighbours do to a
-  // thread now and then): within kMaxLagSteps the loop makes it up by running the following
-  // steps back to back. With a window of four budgets each stall would lose six, a tenth of
-  // the time.
+  // Every 60th step stalls for ten budgets (what an operating system's scheduler and other
+  // processes do to a thread now and then): within kMaxLagSteps the loop makes it up by
+  // running the following steps back to back. With a window of four budgets each stall would
+  // lose six, a tenth of the time.
   const SceneDescription scene = sceneWithRoomyBudget();
   Simulation simulation(scene);
   const auto budget = std::chrono::microseconds(static_cast<long>(scene.timeStep_s * 1e6));
