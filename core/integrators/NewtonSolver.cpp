@@ -29,6 +29,7 @@ void NewtonSolver::prepare(const MechanicalSystem& system) {
   m_trialX.resize(3, nodes);
   m_rhs.resize(3 * nodes);
   m_step.resize(3 * nodes);
+  m_firstStep.setZero(3 * nodes);
   m_contactTerms.reserve(256);  // PenaltyContactSet's reserve: a step's contacts, no allocation
   m_preparedFor = &system;
 }
@@ -158,9 +159,14 @@ NewtonReport NewtonSolver::solve(const MechanicalSystem& system, Eigen::Matrix3X
       if (m_isMatrixFree) m_operator->setTerms(&m_contactTerms);
       const BlockLinearOperator& a =
           m_isMatrixFree ? static_cast<const BlockLinearOperator&>(*m_operator) : *m_matrix;
+      // A time step's first Newton step is close to the last one's while the tissue moves
+      // smoothly (both about dt^2 times the acceleration): CG starts from it.
+      const bool isFirst = report.iterations == 1 && shift == 0.0;
+      if (isFirst) m_step = m_firstStep;
       const ConjugateGradientReport cg =
           m_cg.solve(a, m_rhs, m_step, m_linearTolerance, static_cast<int>(3 * x.cols()),
-                     std::span<const RankOneTerm>(m_contactTerms.data(), instrumentTerms));
+                     std::span<const RankOneTerm>(m_contactTerms.data(), instrumentTerms), isFirst);
+      if (isFirst) m_firstStep = m_step;
       report.linearIterations += cg.iterations;
       isSolved = cg.converged || cg.relativeResidual < std::max(1e-6, m_linearTolerance);
     }

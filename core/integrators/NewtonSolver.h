@@ -100,6 +100,9 @@ class NewtonSolver {
   bool m_isPatternAnalysed = false;
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;
   Eigen::VectorXd m_rhs, m_step;
+  /// The last time step's first Newton step (CG): the next step's first CG starts from it, zero
+  /// (a cold start) until there is one.
+  Eigen::VectorXd m_firstStep;
   std::vector<RankOneTerm> m_contactTerms;  ///< the contacts' stiffness, for CG's preconditioner
   // residualFromForce's partials, one per node range.
   std::array<double, kNodeRanges> m_rangeLargest{};

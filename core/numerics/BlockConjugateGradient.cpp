@@ -154,10 +154,12 @@ double BlockConjugateGradient::correctForTerms(std::span<const RankOneTerm> term
 ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator& a,
                                                       const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                                       double tolerance, int maxIterations,
-                                                      std::span<const RankOneTerm> terms) {
+                                                      std::span<const RankOneTerm> terms,
+                                                      bool isWarm) {
   if (m_nodeCount != a.nodeCount()) resize(a);
   m_bounds = a.partBounds();
   bool isExactTerms = listTerms(terms);
+  isWarm = isWarm && x.size() == b.size() && x.allFinite();
   if (x.size() != b.size()) x.resize(b.size());
   ConjugateGradientReport report;
   double* const xs = x.data();
@@ -168,9 +170,14 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
   double* const q = m_q.data();
   double* const inverseBlocks = m_inverseBlocks.data();
 
-  // x = 0, r = b, z = M^-1 r, p = z; partial sums of b.b and r.z.
+  // A warm start's A x, into q (every part's rows need all of x).
+  auto guessProduct = [&](std::size_t part, Eigen::Index, Eigen::Index) {
+    a.multiplyPart(static_cast<int>(part), xs, q);
+  };
+  if (isWarm) forEachPart(guessProduct);
+  // x = 0 and r = b (or r = b - A x), z = M^-1 r, p = z; partial sums of b.b, r.z and r.r.
   auto start = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
-    double bb = 0.0, rz = 0.0;
+    double bb = 0.0, rz = 0.0, rr = 0.0;
     for (Eigen::Index j = first; j < last; ++j) {
       double* inverse = inverseBlocks + 6 * j;
       if (const Eigen::Matrix3d* termDiagonal = m_termDiagonals.at(j)) {
@@ -179,22 +186,28 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
         invertDiagonalBlock(a.diagonalBlock(j), inverse);
       }
       const double* bj = bs + 3 * j;
-      double* zj = z + 3 * j;
-      applyInverse(inverse, bj, zj);
+      double* rj = r + 3 * j;
       for (int c = 0; c < 3; ++c) {
-        xs[3 * j + c] = 0.0;
-        r[3 * j + c] = bj[c];
-        p[3 * j + c] = zj[c];
+        rj[c] = isWarm ? bj[c] - q[3 * j + c] : bj[c];
+        if (!isWarm) xs[3 * j + c] = 0.0;
         bb += bj[c] * bj[c];
-        rz += bj[c] * zj[c];
+        rr += rj[c] * rj[c];
+      }
+      double* zj = z + 3 * j;
+      applyInverse(inverse, rj, zj);
+      for (int c = 0; c < 3; ++c) {
+        p[3 * j + c] = zj[c];
+        rz += rj[c] * zj[c];
       }
     }
     m_dotA[part] = bb;
     m_dotB[part] = rz;
+    m_dotC[part] = rr;
   };
   forEachPart(start);
   const double bNorm2 = sumInOrder(m_dotA);
   if (bNorm2 == 0.0) {
+    x.setZero();  // a warm start's guess too
     clearTerms();
     report.converged = true;
     return report;
@@ -214,6 +227,7 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
   const double threshold =
       std::max(tolerance * tolerance * bNorm2, std::numeric_limits<double>::min());
   double alpha = 0.0, beta = 0.0;
+  double residualNorm2 = sumInOrder(m_dotC);
 
   // q = A p on the part's rows; partial p.q.
   auto product = [&](std::size_t part, Eigen::Index first, Eigen::Index last) {
@@ -245,8 +259,7 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
     for (Eigen::Index d = 3 * first; d < 3 * last; ++d) p[d] = z[d] + beta * p[d];
   };
 
-  double residualNorm2 = bNorm2;
-  while (report.iterations < maxIterations) {
+  while (report.iterations < maxIterations && residualNorm2 >= threshold) {
     forEachPart(product);
     const double pq = sumInOrder(m_dotA);
     if (!(pq > 0.0)) break;  // not positive definite along p (or NaN): give up, unconverged

@@ -4,6 +4,8 @@
 //
 //   A x = b,   A: 3#V by 3#V (N/m),  b: 3#V (N),  x: 3#V (m), started from x = 0
 //
+// or from the x given (a warm start: a time step's Newton step is close to the one before it
+// while the tissue moves smoothly, so CG starts from most of the answer),
 // stopping when ||b - A x||_2 <= tolerance ||b||_2 (Eigen's ConjugateGradient criterion) or after
 // maxIterations. Why not Eigen's: its product is a serial scalar CSC loop that reads one row index
 // per value; here the product is the operator's own (one neighbour index per 3x3 block, or none at
@@ -60,9 +62,10 @@ class BlockConjugateGradient {
   /// Solves A x = b; x is resized to b's size if needed and overwritten. `terms` (optional):
   /// rank-one terms that A contains, for the preconditioner (see above); each u must be zero on
   /// the DOFs whose rows and columns A has replaced by the identity (fixed DOFs).
+  /// With `isWarm`, x (when finite and of b's size) is the starting guess, else 0.
   ConjugateGradientReport solve(const BlockLinearOperator& a, const Eigen::VectorXd& b,
                                 Eigen::VectorXd& x, double tolerance, int maxIterations,
-                                std::span<const RankOneTerm> terms = {});
+                                std::span<const RankOneTerm> terms = {}, bool isWarm = false);
 
  private:
   void resize(const BlockLinearOperator& a);
@@ -85,7 +88,7 @@ class BlockConjugateGradient {
   BlockLinearOperator::PartBounds m_bounds{};  ///< the operator's node ranges
   Eigen::VectorXd m_inverseBlocks;  ///< 6#V: per node, the upper triangle of its block's inverse
   Eigen::VectorXd m_r, m_z, m_p, m_q;
-  std::array<double, kParts> m_dotA{}, m_dotB{};  ///< per-part partial dot products
+  std::array<double, kParts> m_dotA{}, m_dotB{}, m_dotC{};  ///< per-part partial dot products
   // The rank-one terms' scratch (sized once, in resize()).
   RankOneTermDiagonals m_termDiagonals;  ///< the terms' diagonal blocks, for B
   std::vector<std::array<Eigen::Vector3d, kMaxTermNodes>> m_termW;  ///< per term, W at its nodes

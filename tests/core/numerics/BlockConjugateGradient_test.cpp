@@ -2,6 +2,7 @@
 #include "numerics/NodeBlockMatrix.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -291,6 +292,40 @@ TEST(BlockConjugateGradient, ReportsAnUnconvergedSolve) {
   EXPECT_TRUE(x.allFinite());
 }
 
+TEST(BlockConjugateGradient, AWarmStartNearTheAnswerSavesIterations) {
+  const Eigen::Matrix2Xi edges = latticeEdges(8, 6, 5);
+  const int nodes = 240;
+  const NodeBlockMatrix a = randomSpdMatrix(edges, nodes, 11);
+  const Eigen::VectorXd b = randomVector(3 * nodes, 12);
+  BlockConjugateGradient cg;
+  Eigen::VectorXd cold;
+  const ConjugateGradientReport coldReport = cg.solve(a, b, cold, 1e-8, 2000);
+  ASSERT_TRUE(coldReport.converged);
+  ASSERT_GT(coldReport.iterations, 20);
+  // From the answer itself: nothing to do.
+  Eigen::VectorXd x = cold;
+  const ConjugateGradientReport atAnswer = cg.solve(a, b, x, 1e-6, 2000, {}, true);
+  EXPECT_TRUE(atAnswer.converged);
+  EXPECT_EQ(atAnswer.iterations, 0);
+  EXPECT_EQ(x, cold);
+  // From 1 % off it (the next time step's Newton step, about): the same answer, in fewer
+  // products; and the same guess ignored without isWarm.
+  const Eigen::VectorXd guess =
+      cold + 0.01 * cold.norm() / std::sqrt(3.0 * nodes) * randomVector(3 * nodes, 13);
+  x = guess;
+  const ConjugateGradientReport warm = cg.solve(a, b, x, 1e-8, 2000, {}, true);
+  EXPECT_TRUE(warm.converged);
+  EXPECT_LT(warm.iterations, coldReport.iterations);
+  EXPECT_LT((a.matrix() * x - b).norm(), 1e-8 * b.norm() * (1.0 + 1e-9));
+  x = guess;
+  EXPECT_EQ(cg.solve(a, b, x, 1e-8, 2000).iterations, coldReport.iterations);
+  EXPECT_EQ(x, cold);
+  // A guess with a NaN in it is not taken.
+  x = guess;
+  x[5] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(cg.solve(a, b, x, 1e-8, 2000, {}, true).iterations, coldReport.iterations);
+}
+
 TEST(BlockConjugateGradient, ZeroRightHandSideGivesZero) {
   const Eigen::Matrix2Xi edges = latticeEdges(3, 3, 3);
   const NodeBlockMatrix a = randomSpdMatrix(edges, 27, 9);
@@ -299,6 +334,9 @@ TEST(BlockConjugateGradient, ZeroRightHandSideGivesZero) {
   const ConjugateGradientReport report = cg.solve(a, Eigen::VectorXd::Zero(81), x, 1e-8, 100);
   EXPECT_TRUE(report.converged);
   EXPECT_EQ(report.iterations, 0);
+  EXPECT_EQ(x.cwiseAbs().maxCoeff(), 0.0);
+  x.setOnes();  // a warm start's guess is no answer to b = 0 either
+  EXPECT_EQ(cg.solve(a, Eigen::VectorXd::Zero(81), x, 1e-8, 100, {}, true).iterations, 0);
   EXPECT_EQ(x.cwiseAbs().maxCoeff(), 0.0);
 }
 
