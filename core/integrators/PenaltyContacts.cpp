@@ -15,9 +15,11 @@ void PenaltyContactSet::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f
   }
 }
 
-void PenaltyContactSet::applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& mass_kg,
-                                      const std::vector<char>& isFixed, double h,
-                                      Eigen::Matrix3Xd& v) const {
+Eigen::Vector3d PenaltyContactSet::applyImpulses(const Eigen::Matrix3Xd& x,
+                                                 const Eigen::VectorXd& mass_kg,
+                                                 const std::vector<char>& isFixed, double h,
+                                                 Eigen::Matrix3Xd& v) const {
+  Eigen::Vector3d onTool_Ns = Eigen::Vector3d::Zero();
   for (const PenaltyContact& c : m_contacts) {
     std::array<double, kMaxTermNodes> inverseMass{};
     double compliance = 0.0;  // 1 / m_e = sum_k w_k^2 / m_k
@@ -39,7 +41,9 @@ void PenaltyContactSet::applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::Ve
       v.col(c.nodes[static_cast<std::size_t>(k)]) -=
           (c.weights[k] * inverseMass[static_cast<std::size_t>(k)] * lambda) * c.normal;
     }
+    if (!c.isSupport) onTool_Ns += lambda * c.normal;
   }
+  return onTool_Ns;
 }
 
 void PenaltyContactSet::addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix& stiffness) const {
@@ -95,6 +99,7 @@ ContactResult PenaltyContactSet::reaction(const Eigen::Matrix3Xd& x,
     const Eigen::Vector3d onTool = c.stiffness_N_m * delta * c.normal;
     result.toolForce_N += onTool;
     result.toolTorque_Nm += (c.point(x) - tip_m).cross(onTool);
+    if (c.isTether) continue;
     result.maxPenetration_m = std::max(result.maxPenetration_m, delta);
     ++result.contactNodes;
   }

@@ -47,6 +47,9 @@ struct PenaltyContact {
   /// A support's (the tray under the organ), not the instrument's: left out of what the
   /// instrument feels (reaction) and out of the terms CG's preconditioner inverts exactly.
   bool isSupport = false;
+  /// One of a grasp's springs (Grasp.h), which pull as well as push: its force counts in what
+  /// the instrument feels (reaction), its delta not as penetration.
+  bool isTether = false;
 
   Eigen::Vector3d point(const Eigen::Matrix3Xd& x) const {
     return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) +
@@ -78,8 +81,12 @@ class PenaltyContactSet {
   /// contacts bound nothing: an explicit penalty of 10^4 N/m on a light surface node would need
   /// sub-microsecond steps (a 7.5 mg node of the liver asked for 65 substeps of a 1 ms step).
   /// The implicit integrators do not use it: they evaluate the contacts as forces.
-  void applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& mass_kg,
-                     const std::vector<char>& isFixed, double h, Eigen::Matrix3Xd& v) const;
+  /// Returns the impulse the instrument's contacts (not a support's) gave the tool, sum of
+  /// lambda n (N s): what the tool felt over the substep, which k delta at the substep's end
+  /// understates (the impulses have already pushed the surface back).
+  Eigen::Vector3d applyImpulses(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& mass_kg,
+                                const std::vector<char>& isFixed, double h,
+                                Eigen::Matrix3Xd& v) const;
   /// stiffness += the active contacts' blocks k w_i w_j n n^T at x.
   void addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix& stiffness) const;
   /// The same stiffness as rank-one terms k u u^T, u = (w_0 n, ..., w_3 n), for the matrix-free

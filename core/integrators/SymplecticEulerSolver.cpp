@@ -83,6 +83,7 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
 
   double remaining = dt;
   int substeps = 0;
+  Eigen::Vector3d toolImpulse_Ns = Eigen::Vector3d::Zero();
   while (remaining > 1e-12 * dt) {
     // Substeps of equal length within what is left, each within the latest bound.
     const double stable = stableStep();
@@ -111,7 +112,7 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
     });
     const double largest = *std::max_element(m_rangeLargest.begin(), m_rangeLargest.end());
     m_lastStableStep = stableStepBound(largest, alpha);
-    system.contacts.applyImpulses(state.x, mass, fixed, h, state.v);
+    toolImpulse_Ns += system.contacts.applyImpulses(state.x, mass, fixed, h, state.v);
     forEachNodeRange(pool, nodes, [&](int, Eigen::Index begin, Eigen::Index end) {
       for (Eigen::Index i = begin; i < end; ++i) {
         for (int axis = 0; axis < 3; ++axis) {
@@ -123,6 +124,7 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
     remaining -= h;
   }
   report.substeps = substeps;
+  report.toolImpulse_Ns = toolImpulse_Ns;
   if (!state.isFinite()) {
     state.x = m_savedX;
     state.v = m_savedV;

@@ -2,6 +2,7 @@
 // The interface of a time integrator: advance a MechanicalState by one fixed time step.
 
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "integrators/MechanicalSystem.h"
@@ -19,6 +20,9 @@ struct StepReport {
   bool isFinite = true;            ///< false when NaN or infinity appeared (state not advanced)
   double stableTimeStep_s = std::numeric_limits<double>::infinity();  ///< explicit bound
   ForceReport forces;  ///< what the last force evaluation saw
+  /// explicit: the instrument contacts' impulses over the step (N s); the tool's mean force is
+  /// this over dt. Unset where contacts are forces (the implicit integrators).
+  std::optional<Eigen::Vector3d> toolImpulse_Ns;
   std::string reason;
 };
 

@@ -2,8 +2,8 @@
 
 namespace tissuesim {
 
-void Grasp::apply(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, const InstrumentPose& pose,
-                  Eigen::Matrix3Xd& forces, ContactResult& result) {
+void Grasp::apply(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
+                  PenaltyContactSet& contacts) {
   if (pose.isGrasping && !m_wasClosed) {
     m_held.clear();
     m_offsets.clear();
@@ -23,13 +23,21 @@ void Grasp::apply(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, const In
   if (m_held.empty()) return;
   const Eigen::Matrix3d turn =
       Eigen::Quaterniond::FromTwoVectors(m_closingDirection, pose.direction).toRotationMatrix();
+  PenaltyContact spring;
+  spring.weights = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+  spring.stiffness_N_m = m_stiffness;
+  spring.damping_N_s_m = m_damping;
+  spring.isTether = true;
   for (std::size_t i = 0; i < m_held.size(); ++i) {
-    const int node = m_held[i];
-    const Eigen::Vector3d f =
-        m_stiffness * (pose.tip_m + turn * m_offsets[i] - x.col(node)) - m_damping * v.col(node);
-    forces.col(node) += f;
-    result.toolForce_N -= f;
-    result.toolTorque_Nm -= (x.col(node) - pose.tip_m).cross(f);
+    spring.nodes.fill(m_held[i]);
+    const Eigen::Vector3d target = pose.tip_m + turn * m_offsets[i];
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const double sign : {1.0, -1.0}) {
+        spring.normal = sign * Eigen::Vector3d::Unit(axis);
+        spring.offset_m = sign * target[axis];
+        contacts.add(spring);
+      }
+    }
   }
 }
 

@@ -239,16 +239,15 @@ StepOutcome Simulation::step() {
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
   m_system->externalForces_N.setZero();
   findContacts();
-  if (m_grasp)
-    m_grasp->apply(m_state.x, m_state.v, m_pose, m_system->externalForces_N, outcome.contact);
+  if (m_grasp) m_grasp->apply(m_state.x, m_pose, m_system->contacts);
   outcome.integrator = m_integrator->step(*m_system, m_state, m_timeStep_s);
   // What the instrument feels: the contacts at the state the step reached (the last good one
-  // after a failed step), plus the grasp's pull.
-  const ContactResult pushed = m_system->contacts.reaction(m_state.x, m_pose.tip_m);
-  outcome.contact.toolForce_N += pushed.toolForce_N;
-  outcome.contact.toolTorque_Nm += pushed.toolTorque_Nm;
-  outcome.contact.maxPenetration_m = pushed.maxPenetration_m;
-  outcome.contact.contactNodes += pushed.contactNodes;
+  // after a failed step), the grasp's pull among them.
+  outcome.contact = m_system->contacts.reaction(m_state.x, m_pose.tip_m);
+  // Where the contacts were impulses, their mean force over the step is what the tool felt:
+  // k delta at the step's end reads low, the impulses having pushed the surface back already.
+  const std::optional<Eigen::Vector3d>& impulse = outcome.integrator.toolImpulse_Ns;
+  if (impulse && outcome.integrator.isFinite) outcome.contact.toolForce_N = *impulse / m_timeStep_s;
   outcome.isGood = !outcome.integrator.refused && outcome.integrator.isFinite;
   outcome.maxStretch = outcome.integrator.forces.springs.maxStretch;
 

@@ -9,8 +9,8 @@
 // the organ drop when a scene opens.
 //
 // Each step: the instrument pose at t + dt from the InstrumentSource, the contacts it makes from
-// the ContactProvider and the tray's (penalty terms the integrator evaluates at its trial
-// states: implicit with the implicit integrators), the grasp's pull, one integrator step.
+// the ContactProvider, the tray's and the grasp's springs (penalty terms the integrator evaluates
+// at its trial states: implicit with the implicit integrators), one integrator step.
 // Instabilities (refused or non-finite steps, Newton not converged, springs past locking, collapsed
 // springs, inverted tets) are detected every step and recorded as events when they start; a refused
 // or non-finite step leaves the last good state in place, so the simulation stays usable.
