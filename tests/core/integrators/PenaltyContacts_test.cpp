@@ -152,11 +152,23 @@ struct NodeInContact {
 TEST(PenaltyContacts, ImpulsesAreBackwardEulerOfTheContactAlone) {
   const double h = 2e-4, k = 1e4, c = 6.0;
   NodeInContact node(k, c, -0.0001);  // 0.1 mm in, moving further in at 5 cm/s
-  node.set.applyImpulses(node.x, node.mass, node.fixed, h, node.v);
+  const Eigen::Vector3d onTool = node.set.applyImpulses(node.x, node.mass, node.fixed, h, node.v);
   // m (u' - u) = -h (k (delta + h u') + c u')
   const double m = 0.002, u = 0.05, delta = 0.0001;
   EXPECT_NEAR(node.v(2, 0), (m * u - h * k * delta) / (m + h * h * k + h * c), 1e-15);
   EXPECT_EQ(node.v(0, 0), 0.01);  // tangential: untouched
+  // The tool gets what the node lost: m (u - u') along the normal.
+  EXPECT_NEAR(onTool.z(), m * (u - node.v(2, 0)), 1e-15);
+  EXPECT_EQ(onTool.head<2>(), Eigen::Vector2d::Zero());
+  // A support's impulse is not the tool's.
+  NodeInContact onTray(k, c, -0.0001);
+  PenaltyContact support = onTray.set.contacts()[0];
+  support.isSupport = true;
+  onTray.set.clear();
+  onTray.set.add(support);
+  EXPECT_EQ(onTray.set.applyImpulses(onTray.x, onTray.mass, onTray.fixed, h, onTray.v),
+            Eigen::Vector3d::Zero());
+  EXPECT_LT(onTray.v(2, 0), u);  // though it pushed the node
 
   // Stiff beyond any explicit bound (h^2 k / m = 2e4): bounded, it stops the node and takes the
   // penetration out within the step.
@@ -175,6 +187,24 @@ TEST(PenaltyContacts, ImpulsesAreBackwardEulerOfTheContactAlone) {
   held.fixed[1] = 1;
   held.set.applyImpulses(held.x, held.mass, held.fixed, h, held.v);
   EXPECT_EQ(held.v(2, 0), 0.05);
+}
+
+TEST(PenaltyContacts, ATethersForceIsFeltAndItsStretchIsNoPenetration) {
+  // A grasp's spring (Grasp.h) pulls the node 2 mm back towards its target: the tool feels
+  // k delta, and reports no penetration and no contact point.
+  NodeInContact node(2000.0, 0.0, -0.002);
+  PenaltyContact tether = node.set.contacts()[0];
+  tether.isTether = true;
+  node.set.clear();
+  node.set.add(tether);
+  const ContactResult felt = node.set.reaction(node.x, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(felt.toolForce_N.z(), 2000.0 * 0.002, 1e-12);
+  EXPECT_EQ(felt.maxPenetration_m, 0.0);
+  EXPECT_EQ(felt.contactNodes, 0);
+  tether.isTether = false;  // the check can fail: as a contact it is 2 mm deep
+  node.set.clear();
+  node.set.add(tether);
+  EXPECT_NEAR(node.set.reaction(node.x, Eigen::Vector3d::Zero()).maxPenetration_m, 0.002, 1e-15);
 }
 
 }  // namespace
