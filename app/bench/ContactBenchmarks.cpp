@@ -1,5 +1,6 @@
 #include "bench/ContactBenchmarks.h"
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -52,6 +53,7 @@ void registerContactBenchmarks(const std::string& scenePath) {
   // Speed against accuracy on the real task: the bundled poke (the tool 4 cm down over 1 s),
   // each setting against implicit Euler converged (8 Newton iterations, CG 1e-8): the largest
   // node distance from it at the deepest point and over the way down, and the tool force there.
+  // Quasi-Newton is not on it: a scene with gravity or a tray refuses it (SceneFile.cpp).
   struct Setting {
     const char* name;
     const char* integrator;
@@ -59,7 +61,10 @@ void registerContactBenchmarks(const std::string& scenePath) {
     double linearTolerance;
     int threads;
   };
-  const auto pokeTo = [scene](const Setting& setting, double seconds, double* force) {
+  // The stepping's own wall time goes to *stepping_s: construction (with gravity, the settled
+  // start's 0.6 s) is no part of a step's cost.
+  const auto pokeTo = [scene](const Setting& setting, double seconds, double* force,
+                              double* stepping_s = nullptr) {
     SceneDescription changed = scene;
     changed.integrator = setting.integrator;
     changed.newtonIterations = setting.iterations;
@@ -74,10 +79,13 @@ void registerContactBenchmarks(const std::string& scenePath) {
     const auto steps = static_cast<long>(std::lround(seconds / simulation.timeStep_s()));
     std::vector<Eigen::Matrix3Xd> trail;
     StepOutcome outcome;
+    const auto start = std::chrono::steady_clock::now();
     for (long n = 0; n < steps; ++n) {
       outcome = simulation.step();
       if ((n + 1) % 100 == 0) trail.push_back(simulation.state().x);
     }
+    if (stepping_s != nullptr)
+      *stepping_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (force != nullptr) *force = outcome.contact.toolForce_N.norm();
     return trail;
   };
@@ -91,18 +99,16 @@ void registerContactBenchmarks(const std::string& scenePath) {
         Setting{"Trade/Poke/implicit_newton1_cg1e-3", "implicit", 1, 1e-3, 1},
         Setting{"Trade/Poke/implicit_newton1_cg1e-2", "implicit", 1, 1e-2, 1},
         Setting{"Trade/Poke/explicit", "explicit", 2, 1e-6, 1},
-        Setting{"Trade/Poke/explicit/threads:2", "explicit", 2, 1e-6, 2},
-        Setting{"Trade/Poke/quasi_newton2", "quasi-newton", 2, 1e-6, 1},
-        Setting{"Trade/Poke/quasi_newton5", "quasi-newton", 5, 1e-6, 1}}) {
+        Setting{"Trade/Poke/explicit/threads:2", "explicit", 2, 1e-6, 2}}) {
     benchmark::RegisterBenchmark(
         setting.name,
         [=](benchmark::State& state) {
           if (reference->empty()) {
             *reference = pokeTo({"", "implicit", 8, 1e-8, 1}, 1.0, referenceForce.get());
           }
-          double force = 0.0;
+          double force = 0.0, stepping_s = 0.0;
           std::vector<Eigen::Matrix3Xd> trail;
-          for (auto _ : state) trail = pokeTo(setting, 1.0, &force);
+          for (auto _ : state) trail = pokeTo(setting, 1.0, &force, &stepping_s);
           double worst = 0.0;
           for (std::size_t k = 0; k < trail.size() && k < reference->size(); ++k) {
             worst = std::max(worst, (trail[k] - (*reference)[k]).colwise().norm().maxCoeff());
@@ -113,8 +119,7 @@ void registerContactBenchmarks(const std::string& scenePath) {
           state.counters["force_n"] = force;
           state.counters["force_error_pct"] =
               100.0 * std::abs(force - *referenceForce) / *referenceForce;
-          state.counters["steps_per_s"] = benchmark::Counter(
-              1000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+          state.counters["steps_per_s"] = 1000.0 / stepping_s;
         })
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);

@@ -269,6 +269,11 @@ void MainWindow::resetSimulation() {
     m_latest = nullptr;
     m_forcePlot->clear();
   });
+  // The tool goes back to where the scene starts it too (through the proxy, at bounded speed).
+  if (const std::optional<SceneInstrument>& tool = m_session->scene().instrument) {
+    m_pose = InstrumentPose{tool->tipStart_m, tool->direction};
+    publishPose();
+  }
   renderFrame();
 }
 

@@ -262,6 +262,13 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                 "cannot be used with physics.integrator \"quasi-newton\"; use implicit or "
                 "explicit");
   }
+  // Its initial Hessian is fixed at the first step's stiffness; a poke into an organ stretched
+  // by its own weight stiffens the springs past what L-BFGS's few pairs learn, and diverged.
+  if (scene.gravity_m_s2.squaredNorm() > 0.0 && scene.integrator == "quasi-newton") {
+    fields.fail("gravity_m_s2",
+                "cannot be used with physics.integrator \"quasi-newton\"; use implicit or "
+                "explicit");
+  }
   return scene;
 }
 

@@ -109,7 +109,9 @@ class GuiSmokeTest : public QObject {
   }
 
   void wheelPushesTheToolIntoTheLiver() {
-    m_window->resetSimulation();
+    m_window->resetSimulation();  // the tool too: back over the liver, where the scene starts it
+    const SceneInstrument& tool = *m_window->simulation()->scene().instrument;
+    QCOMPARE(m_window->instrumentPose().tip_m, tool.tipStart_m);
     QTRY_VERIFY_WITH_TIMEOUT(m_window->latestSnapshot() != nullptr, 5000);
     const Eigen::Matrix3Xd rest = m_window->latestSnapshot()->positions_m;
     const double startHeight = m_window->instrumentPose().tip_m.y();

@@ -16,12 +16,9 @@
 namespace tissuesim {
 namespace {
 
-/// The bundled liver scene, with the integrator named (the scene's when empty).
-SceneDescription pokeScene(const std::string& integrator) {
-  SceneDescription scene =
-      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
-  if (!integrator.empty()) scene.integrator = integrator;
-  return scene;
+/// The bundled liver scene.
+SceneDescription pokeScene() {
+  return loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
 }
 
 /// The bundled liver scene with FCL contact and the probe pushed `depth_m` along its axis over
@@ -33,9 +30,9 @@ struct ScriptedPoke {
   InstrumentScript script;
   std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
 
-  ScriptedPoke(double depth_m, double pressTime_s, const std::string& integrator = "",
+  ScriptedPoke(double depth_m, double pressTime_s, const SceneDescription& scene = pokeScene(),
                const std::optional<InstrumentPose>& start = std::nullopt)
-      : simulation(pokeScene(integrator)),
+      : simulation(scene),
         script(
             InstrumentScript::poke(start ? *start : InstrumentPose{tool.tipStart_m, tool.direction},
                                    depth_m, pressTime_s)) {
@@ -83,7 +80,7 @@ TEST(Simulation, APokeIsBitIdenticalOnOneAndTwoThreads) {
   // The scene's implicit step on the springs' pool: spring passes, CG's matrix-free products
   // and its dot products all in fixed parts, so the thread count changes nothing.
   const auto run = [](int threads) {
-    SceneDescription scene = pokeScene("");
+    SceneDescription scene = pokeScene();
     scene.threads = threads;
     Simulation simulation(scene);
     const SceneInstrument& tool = *simulation.scene().instrument;
@@ -164,16 +161,18 @@ TEST(Simulation, ANewTissueKeepsTheStateAndChangesTheResponse) {
 }
 
 TEST(Simulation, EveryIntegratorPokesTheLiverAlike) {
-  // The contact is a term of the mechanical system, so the explicit and the quasi-Newton
-  // integrators carry it too: the explicit one substeps for its stiffness and damps it (without
-  // damping it rang, touching and letting go, with peaks of 6.5 N); the quasi-Newton one takes
-  // it into its initial Hessian (without, it diverged). Same poke, the same force over its last
-  // 50 ms down within 10 %, the contact held from first touch to the deepest point, no step lost.
-  // (The mean over 50 steps, not the peak: the tip rests on one to four of the drawn surface's
-  // small triangles, and the force of one step differs from the next by up to 20 %.)
+  // The contact is a term of the mechanical system, so the explicit integrator carries it too:
+  // it substeps for its stiffness and damps it (without damping it rang, touching and letting
+  // go, with peaks of 6.5 N). Same poke, the same force over its last 50 ms down within 10 %,
+  // the contact held from first touch to the deepest point, no step lost. (The mean over 50
+  // steps, not the peak: the tip rests on one to four of the drawn surface's small triangles,
+  // and the force of one step differs from the next by up to 20 %.) The quasi-Newton
+  // integrator is not here: it refuses gravity and a tray (SceneFile.cpp).
   std::vector<double> peaks;
-  for (const std::string integrator : {"implicit", "explicit", "quasi-newton"}) {
-    ScriptedPoke scene(0.04, 1.0, integrator);
+  for (const std::string integrator : {"implicit", "explicit"}) {
+    SceneDescription bundled = pokeScene();
+    bundled.integrator = integrator;
+    ScriptedPoke scene(0.04, 1.0, bundled);
     double peak = 0.0;
     int firstTouch = -1, lostAfterTouch = 0;
     for (int n = 0; n < 1000; ++n) {  // down to the deepest point
@@ -190,12 +189,10 @@ TEST(Simulation, EveryIntegratorPokesTheLiverAlike) {
     peaks.push_back(peak);
   }
   EXPECT_GT(peaks[0], 0.5);
-  // The explicit integrator's force is read, like the others', as k times the penetration at
-  // the end of its step, which its contact impulses have already reduced: on the drawn surface's
-  // small triangles that reads 16 % low (1.74 against 2.07 N; within 10 % on the lattice's
-  // boundary faces). Its own impulses would say what it applies; until then, 20 %.
-  EXPECT_NEAR(peaks[1], peaks[0], 0.2 * peaks[0]);
-  EXPECT_NEAR(peaks[2], peaks[0], 0.1 * peaks[0]);
+  // The explicit integrator's force is the mean of its contact impulses over the step (k times
+  // the penetration at the step's end read 16-60 % low: the impulses had already pushed the
+  // surface back).
+  EXPECT_NEAR(peaks[1], peaks[0], 0.1 * peaks[0]);
 }
 
 TEST(Simulation, ContactIsFoundWhereverTheToolPokes) {
@@ -203,8 +200,9 @@ TEST(Simulation, ContactIsFoundWhereverTheToolPokes) {
   // drawn surface, away from the held base), each starting 1 cm off the surface and pressing
   // 6 mm past it towards the liver's middle: contact where the tool meets the surface, a
   // reaction against the tool's motion, the tip within the 1 mm penetration tolerance.
-  const Simulation probe(pokeScene(""));
-  const Eigen::Matrix3Xd& x = probe.geometry().surface->vertices_m;
+  const Simulation probe(pokeScene());
+  Eigen::Matrix3Xd x(3, probe.geometry().surface->vertexCount());  // as drawn, settled
+  probe.geometry().embedding->apply(probe.state().x, x);
   const Eigen::Vector3d middle = x.rowwise().mean();
   std::vector<Eigen::Index> targets(4);
   x.row(1).maxCoeff(&targets[0]);  // top (y is up)
@@ -216,7 +214,8 @@ TEST(Simulation, ContactIsFoundWhereverTheToolPokes) {
     Eigen::Vector3d direction = middle - surface;
     if (target != targets[0]) direction.y() = 0.0;  // sides: horizontally inwards
     direction.normalize();
-    ScriptedPoke scene(0.016, 0.4, "", InstrumentPose{surface - 0.01 * direction, direction});
+    ScriptedPoke scene(0.016, 0.4, pokeScene(),
+                       InstrumentPose{surface - 0.01 * direction, direction});
     Simulation& simulation = scene.simulation;
     double peak = 0.0, deepest = 0.0;
     Eigen::Vector3d forceAtPeak = Eigen::Vector3d::Zero();
@@ -295,8 +294,8 @@ TEST(Simulation, AFastPokeCarriesTheSurfaceAheadOfTheTip) {
   EXPECT_EQ(fast.stepsToolInside, 0);
   EXPECT_GT(fast.maxPenetration_m, 0.0);
   EXPECT_LT(fast.maxPenetration_m, 0.001);
-  // The check can fail: with no tolerance the tip's own front is inside while it presses.
-  EXPECT_GT(fastPoke(0.5, 0.0).stepsToolInside, 0);
+  // The check can fail: a point 2 mm ahead of the tip is inside the liver while it presses.
+  EXPECT_GT(fastPoke(0.5, -0.002).stepsToolInside, 0);
 }
 
 /// The highest boundary node of the rest liver whose x lies in [xMin, xMax] (m): a point of the
@@ -313,26 +312,30 @@ Eigen::Index highestNodeBetween(const Eigen::Matrix3Xd& x, double xMin, double x
 TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
   // Straight down into the upper surface, from 1 cm above it, `depth` past it at `speed`, and
   // straight back out; then 2 s with the tool gone. The liver must return to its rest shape
-  // (within 0.5 mm: the Mullins permanent set is smaller) with no tet left inverted. Without
-  // the volume term the network keeps a folded tet's mirror image: a 7 cm poke left the top
-  // creased: with effects.volume_term_kpa 0 each of these pokes left it 26-31 mm off its rest
-  // shape with 17-25 tets inverted.
+  // (within 0.5 mm of where it comes to rest) with no tet left inverted. Without the volume term
+  // the network keeps a folded tet's mirror image: a 7 cm poke left the top creased: with
+  // effects.volume_term_kpa 0 each of these pokes left it 26-31 mm off its rest shape with 17-25
+  // tets inverted.
+  // Where it comes to rest is not quite where it started: the poke softened the springs it
+  // stretched past their history (the Mullins effect), and softer springs sag further under the
+  // organ's weight. That permanent set is a millimetre or two (1.2-1.8 mm here); with softening
+  // off the same pokes come back to within 0.05 mm of the start.
   struct Case {
     double xMin, xMax;  // where on the upper surface (m)
     double depth_m, speed_m_s;
   };
-  const Simulation probe(pokeScene(""));
-  const Eigen::Matrix3Xd rest = probe.state().x;
-  const double middle = rest.row(0).mean();
+  const Simulation probe(pokeScene());
+  const Eigen::Matrix3Xd start = probe.state().x;
+  const double middle = start.row(0).mean();
   for (const Case& c : {Case{middle - 0.01, middle + 0.01, 0.07, 0.07},
                         Case{middle + 0.03, middle + 0.05, 0.07, 1.5},
                         Case{middle - 0.05, middle - 0.03, 0.05, 0.5}}) {
-    const Eigen::Index target = highestNodeBetween(rest, c.xMin, c.xMax);
+    const Eigen::Index target = highestNodeBetween(start, c.xMin, c.xMax);
     ASSERT_GE(target, 0);
     const Eigen::Vector3d down(0.0, -1.0, 0.0);
     const double travel_m = 0.01 + c.depth_m;
-    ScriptedPoke scene(travel_m, travel_m / c.speed_m_s, "",
-                       InstrumentPose{rest.col(target) - 0.01 * down, down});
+    ScriptedPoke scene(travel_m, travel_m / c.speed_m_s, pokeScene(),
+                       InstrumentPose{start.col(target) - 0.01 * down, down});
     Simulation& simulation = scene.simulation;
     const int steps = static_cast<int>(
         std::lround((2.0 * travel_m / c.speed_m_s + 2.0) / simulation.timeStep_s()));
@@ -342,11 +345,17 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
       ASSERT_TRUE(outcome.isGood) << "node " << target << " step " << n;
       peak = std::max(peak, outcome.contact.toolForce_N.norm());
     }
-    const Eigen::Matrix3Xd& x = simulation.state().x;
-    const double offRest_m = (x - rest).colwise().norm().maxCoeff();
+    const Eigen::Matrix3Xd after2s = simulation.state().x;
+    // Then on until no node moves faster than 0.1 mm/s (or 3 s more): where it comes to rest.
+    for (int n = 0; n < 3000 && simulation.state().v.colwise().norm().maxCoeff() > 1e-4; ++n)
+      ASSERT_TRUE(simulation.step().isGood);
+    const Eigen::Matrix3Xd& atRest = simulation.state().x;
     EXPECT_GT(peak, 1.0) << "node " << target << ": the poke went deep";
-    EXPECT_LT(offRest_m, 5e-4) << "node " << target << " at " << c.speed_m_s << " m/s";
-    EXPECT_EQ(VolumeForceField::inspect(simulation.springMesh(), x).invertedTetCount, 0)
+    EXPECT_LT((after2s - atRest).colwise().norm().maxCoeff(), 5e-4)
+        << "node " << target << " at " << c.speed_m_s << " m/s";
+    EXPECT_LT((atRest - start).colwise().norm().maxCoeff(), 2.5e-3)
+        << "node " << target << ": the permanent set";
+    EXPECT_EQ(VolumeForceField::inspect(simulation.springMesh(), after2s).invertedTetCount, 0)
         << "node " << target;
     for (const InstabilityEvent& event : simulation.events()) {
       EXPECT_NE(event.kind, std::string("non-finite")) << event.detail;
@@ -366,7 +375,7 @@ struct JumpForces {
   double largestMove_m = 0.0;  ///< of the tip in one step
 };
 JumpForces forcesAfterACursorJump(const ToolMotionLimits* limits) {
-  Simulation simulation(pokeScene(""));
+  Simulation simulation(pokeScene());
   const SceneInstrument& tool = *simulation.scene().instrument;
   const InstrumentPose start{tool.tipStart_m, tool.direction};
   std::optional<LiveInstrument> live;
@@ -386,7 +395,7 @@ JumpForces forcesAfterACursorJump(const ToolMotionLimits* limits) {
     EXPECT_TRUE(simulation.step().isGood) << n;
   }
   for (int n = 0; n < 200; ++n) simulation.step();
-  pose.tip_m.x() += 0.04;
+  pose.tip_m.x() -= 0.04;  // towards the liver's middle
   live->setPose(pose);
   JumpForces result;
   TriangleSurface drawn = *simulation.geometry().surface;
@@ -414,16 +423,22 @@ JumpForces forcesAfterACursorJump(const ToolMotionLimits* limits) {
 
 TEST(Simulation, ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous) {
   // Driven through the proxy (the window's LiveInstrument) the tip moves at most 0.5 mm a step
-  // and drags the tissue along (about 1.1 N, changing by at most 0.13 N a step), never inside
-  // the drawn liver; driven directly it moves 4 cm in one step.
+  // and drags the tissue along (up to about 22 N, 2 cm deep, changing by at most 4.3 N a step:
+  // the tissue's stiffness times the proxy's 0.5 mm), never inside the drawn liver. Driven
+  // directly it moves 4 cm in one step, through the liver, and the force jumps with it (77 N,
+  // 75 N of it in one step).
   const ToolMotionLimits limits;
   const JumpForces proxied = forcesAfterACursorJump(&limits);
   const JumpForces direct = forcesAfterACursorJump(nullptr);
   EXPECT_LE(proxied.largestMove_m, limits.maxSpeed_m_s * 1e-3 * (1.0 + 1e-9));
   EXPECT_EQ(proxied.stepsInside, 0);
   EXPECT_GT(proxied.peak_N, 0.3);  // it pushed the tissue
-  EXPECT_LT(proxied.largestChange_N, 0.25);
-  EXPECT_NEAR(direct.largestMove_m, 0.04, 1e-9);  // the check can fail
+  // Continuous: the force builds over several steps, none carrying a quarter of its peak.
+  EXPECT_LT(proxied.largestChange_N, 0.25 * proxied.peak_N);
+  // The checks can fail.
+  EXPECT_NEAR(direct.largestMove_m, 0.04, 1e-9);
+  EXPECT_GT(direct.stepsInside, 0);
+  EXPECT_GT(direct.largestChange_N, 0.5 * direct.peak_N);
 }
 
 TEST(Simulation, SofteningCanBeSwitchedOffWhileRunning) {

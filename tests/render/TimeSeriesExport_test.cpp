@@ -28,7 +28,7 @@ std::filesystem::path freshFolder(const std::string& name) {
 
 TEST(TimeSeriesExport, FramesReadBackAsTheStatesWritten) {
   const Simulation simulation(
-      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-on-tray.json"));
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
   const SpringMesh& springs = simulation.springMesh();
   const std::filesystem::path folder = freshFolder("tissuesim-export-test");
   TimeSeriesExport exporter(folder, simulation.geometry(), springs);

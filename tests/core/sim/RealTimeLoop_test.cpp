@@ -161,13 +161,14 @@ TEST(RealTimeLoop, LateStepsAreCountedAndTimeFallsBehind) {
   EXPECT_LT(statistics.realtimeFactor(), 0.1);
 }
 
-/// The highest node the scene does not hold (the bundled liver is held at the top of its back).
-Eigen::Index highestFreeNode(const Simulation& simulation) {
+/// The highest node within 1 cm (horizontally) of where the scene's tool starts: the top of the
+/// anterior lobe the trainee works on, away from the bare area the bundled liver is held by.
+Eigen::Index highestNodeUnderTheTool(const Simulation& simulation) {
   const Eigen::Matrix3Xd& x = simulation.state().x;
-  const std::vector<int>& fixed = simulation.geometry().fixedNodes;
+  const Eigen::Vector3d& tool = simulation.scene().instrument->tipStart_m;
   Eigen::Index top = -1;
   for (Eigen::Index node = 0; node < x.cols(); ++node) {
-    if (std::binary_search(fixed.begin(), fixed.end(), static_cast<int>(node))) continue;
+    if (std::hypot(x(0, node) - tool.x(), x(2, node) - tool.z()) > 0.01) continue;
     if (top < 0 || x(1, node) > x(1, top)) top = node;
   }
   return top;
@@ -176,7 +177,7 @@ Eigen::Index highestFreeNode(const Simulation& simulation) {
 TEST(Grasp, LiftsSurfaceNodesAndReleasesThem) {
   Simulation simulation(loadSceneFile(bundledScene()));
   const Eigen::Matrix3Xd rest = simulation.state().x;
-  const Eigen::Index top = highestFreeNode(simulation);
+  const Eigen::Index top = highestNodeUnderTheTool(simulation);
   const Eigen::Vector3d tip = rest.col(top) + Eigen::Vector3d(0, 0.002, 0);
   const Eigen::Vector3d lifted = tip + Eigen::Vector3d(0, 0.01, 0);
   const InstrumentScript script({{0.0, {tip, {0, -1, 0}, true}},
@@ -200,7 +201,7 @@ TEST(Grasp, TiltingTheToolSwingsTheHeldTissueRoundTheTip) {
   // nodes follow their offsets turned with the shaft.
   Simulation simulation(loadSceneFile(bundledScene()));
   const Eigen::Matrix3Xd rest = simulation.state().x;
-  const Eigen::Index top = highestFreeNode(simulation);
+  const Eigen::Index top = highestNodeUnderTheTool(simulation);
   const Eigen::Vector3d tip = rest.col(top) + Eigen::Vector3d(0, 0.002, 0);
   const double angle = 40.0 * 3.14159265358979 / 180.0;
   const Eigen::Vector3d down(0, -1, 0);

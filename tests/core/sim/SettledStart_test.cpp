@@ -1,5 +1,5 @@
 // A scene with gravity opens settled on its supports, stays there, and resets to it: the
-// bundled liver on its tray.
+// bundled liver, on its tray.
 #include <gtest/gtest.h>
 
 #include "sim/SceneFile.h"
@@ -8,8 +8,8 @@
 namespace tissuesim {
 namespace {
 
-SceneDescription trayScene() {
-  return loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-on-tray.json");
+SceneDescription bundledScene() {
+  return loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json");
 }
 
 double largestDistance_m(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
@@ -17,7 +17,7 @@ double largestDistance_m(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
 }
 
 TEST(SettledStart, TheLiverOpensSaggedOntoItsTrayAndStaysThere) {
-  Simulation simulation(trayScene());
+  Simulation simulation(bundledScene());
   const MechanicalState start = simulation.state();
   EXPECT_TRUE(simulation.events().empty());
   // It has sagged under its weight (the mesh is the unloaded shape) and is still.
@@ -40,7 +40,7 @@ TEST(SettledStart, TheLiverOpensSaggedOntoItsTrayAndStaysThere) {
 }
 
 TEST(SettledStart, WithoutItsSupportsTheLiverWouldFallAndResetReturnsToTheSettledState) {
-  Simulation simulation(trayScene());
+  Simulation simulation(bundledScene());
   const MechanicalState start = simulation.startState();
   const Eigen::VectorXd startMemory = simulation.springs().lambdaMax();
   // Gravity tripled for half a second: it sags further and its springs remember it.
@@ -56,7 +56,7 @@ TEST(SettledStart, WithoutItsSupportsTheLiverWouldFallAndResetReturnsToTheSettle
 }
 
 TEST(SettledStart, WithoutGravityTheSceneStartsAtTheMeshsShape) {
-  SceneDescription scene = trayScene();
+  SceneDescription scene = bundledScene();
   scene.gravity_m_s2.setZero();
   const Simulation simulation(scene);
   EXPECT_EQ(simulation.state().x, simulation.springMesh().restPositions_m);
@@ -65,7 +65,7 @@ TEST(SettledStart, WithoutGravityTheSceneStartsAtTheMeshsShape) {
 
 TEST(SettledStart, AnOrganNothingHoldsIsReportedAndStartsUnloaded) {
   // No tray and no fixed node: it falls for ever; the simulation says so and starts unloaded.
-  SceneDescription scene = trayScene();
+  SceneDescription scene = bundledScene();
   scene.tray.reset();
   scene.fixed = {};
   const Simulation simulation(scene);
