@@ -11,6 +11,10 @@ namespace {
 constexpr double kNodesPerLockingGap = 20.0;
 /// Never coarser than this, whatever the tissue (dimensionless stretch).
 constexpr double kMaxSpacing = 1e-3;
+/// The table covers no stretch beyond [1 / this, this]: soft tissue tears long before (liver
+/// near 1.4-1.6), and a nearly Gaussian network (large N) locks only near sqrt(3 N), which
+/// would make the table as long as that is far (N = 10^6: millions of nodes, bad_alloc).
+constexpr double kMaxTableStretch = 3.0;
 }  // namespace
 
 HermiteNode StiffnessTable::closedFormStiffness(const StrainEnergy& energy, double lambda) {
@@ -27,6 +31,8 @@ HermiteNode StiffnessTable::closedFormStiffness(const StrainEnergy& energy, doub
 
 StiffnessTable::StiffnessTable(const StrainEnergy& energy)
     : m_range(energy.usableRange()), m_halfInverseArea(0.5 / energy.parameters().springArea_m2) {
+  m_range = {std::max(m_range.lower, 1.0 / kMaxTableStretch),
+             std::min(m_range.upper, kMaxTableStretch)};
   const StretchRange locking = energy.lockingRange();
   const double gap = std::min(m_range.lower - locking.lower, locking.upper - m_range.upper);
   const double spacing = std::min(kMaxSpacing, gap / kNodesPerLockingGap);

@@ -8,7 +8,8 @@
 //   k_s(lambda)          EESM stiffness function (N):
 //                        k_s = 2 v_ij W_T / (lambda^2 - lambda)                       Eq. 11
 //
-// P and k_s are cubic Hermite splines on one uniform grid over StrainEnergy::usableRange(),
+// P and k_s are cubic Hermite splines on one uniform grid over StrainEnergy::usableRange()
+// (within [1/3, 3]: a nearly Gaussian tissue locks only far beyond any stretch tissue survives),
 // with a node at lambda = 1 exactly, values and slopes taken from the closed forms. The grid
 // spacing is 1/20 of the gap between the table's ends and the locking stretches, which keeps
 // the relative interpolation error below 1e-6 right up to the ends (the error bound of a
@@ -30,8 +31,8 @@ class StiffnessTable {
   /// Tabulates the tissue's energy, stress and stiffness. About 10^4 nodes for the liver.
   explicit StiffnessTable(const StrainEnergy& energy);
 
-  /// The stretches the table covers (StrainEnergy::usableRange()). Lookups outside it
-  /// extrapolate the end cell's cubic: callers must keep lambda inside.
+  /// The stretches the table covers (StrainEnergy::usableRange(), within [1/3, 3]). Lookups outside
+  /// it extrapolate the end cell's cubic: callers must keep lambda inside.
   StretchRange range() const { return m_range; }
 
   /// W_T (Pa), recovered from k_s by Eq. 11: W_T = k_s (lambda^2 - lambda) / (2 v_ij). A spline

@@ -35,17 +35,21 @@ struct NumberField {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The schema of docs/tissue-file.md. Required parameters have no default: a tissue without
-// its fitted constants is not a tissue.
+// its fitted constants is not a tissue. The upper bounds keep every derived quantity finite and
+// are far outside any soft tissue: moduli up to 1 GPa (kPa to a few MPa for organs; 1e308 kPa
+// overflowed to infinity in Pa), 10^8 chain segments (Gaussian to machine precision over the
+// tables' stretches), densities between a gas's and osmium's.
+constexpr double kMaxModulus_kPa = 1e6;
 const NumberField kNumberFields[] = {
-    {"mu_kpa", "network shear modulus mu in kPa", true, {0.0, true}, kInf},
-    {"N", "chain segments N (dimensionless)", true, {1.0, true}, kInf},
-    {"A1_kpa", "fibre modulus A1 in kPa", true, {0.0, false}, kInf},
-    {"A2_kpa", "fibre modulus A2 in kPa", true, {0.0, false}, kInf},
+    {"mu_kpa", "network shear modulus mu in kPa", true, {0.0, true}, kMaxModulus_kPa},
+    {"N", "chain segments N (dimensionless)", true, {1.0, true}, 1e8},
+    {"A1_kpa", "fibre modulus A1 in kPa", true, {0.0, false}, kMaxModulus_kPa},
+    {"A2_kpa", "fibre modulus A2 in kPa", true, {0.0, false}, kMaxModulus_kPa},
     {"f", "fibre volume fraction f", true, {0.0, false}, 1.0},
-    {"b", "softening parameter b (dimensionless)", true, {0.0, false}, kInf},
-    {"C_kpa", "residual-strain modulus C in kPa", true, {0.0, true}, kInf},
-    {"v_ij_m2", "spring cross-section v_ij in m^2", true, {0.0, true}, kInf},
-    {"density_kg_m3", "mass density in kg/m^3", false, {0.0, true}, kInf},
+    {"b", "softening parameter b (dimensionless)", true, {0.0, false}, 1e6},
+    {"C_kpa", "residual-strain modulus C in kPa", true, {0.0, true}, kMaxModulus_kPa},
+    {"v_ij_m2", "spring cross-section v_ij in m^2", true, {0.0, true}, 1.0},
+    {"density_kg_m3", "mass density in kg/m^3", false, {1.0, false}, 1e5},
 };
 const char* const kStringFields[] = {"name", "source", "notes", "inverse_langevin"};
 const char* const kIntegerFields[] = {"n"};
