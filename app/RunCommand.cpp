@@ -116,6 +116,7 @@ void runSession(const RunOptions& options) {
   report["springs"] = simulation->springMesh().springCount();
   report["nodes"] = simulation->springMesh().nodeCount();
   report["integrator"] = scene.integrator;
+  report["instability_event_count"] = simulation->eventCount();  // the list keeps the first 100
   report["instability_events"] = nlohmann::json::array();
   for (const InstabilityEvent& event : simulation->events()) {
     report["instability_events"].push_back({{"step", event.step},
@@ -135,7 +136,7 @@ void runSession(const RunOptions& options) {
       scene.name.c_str(), simulation->steps(), simulation->timeStep_s() * 1e3,
       report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
       static_cast<long>(simulation->springMesh().springCount()), maxForce, maxPenetration * 1e3,
-      maxStretch, simulation->events().size());
+      maxStretch, simulation->eventCount());
   if (exporter) {
     std::printf("exported %d frames: %s\n", exporter->frameCount(),
                 exporter->collectionPath().string().c_str());

@@ -46,7 +46,7 @@ void takeSnapshot(const SnapshotOptions& options) {
       "%s: %d frames (%ld steps, t = %.3f s), max tool force %.3f N, %zu instability events; wrote "
       "%s (%dx%d)\n",
       session.scene().name.c_str(), options.frames, simulation.steps(), simulation.time_s(),
-      snapshot.maxToolForce_N, simulation.events().size(), options.outputPath.c_str(),
+      snapshot.maxToolForce_N, simulation.eventCount(), options.outputPath.c_str(),
       settings.size.width, settings.size.height);
 }
 

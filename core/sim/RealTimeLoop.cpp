@@ -11,7 +11,7 @@ SimulationSnapshot initialSnapshot(const Simulation& simulation) {
   snapshot.time_s = simulation.time_s();
   snapshot.positions_m = simulation.state().x;
   snapshot.instrument = simulation.instrumentPose();
-  snapshot.eventCount = simulation.events().size();
+  snapshot.eventCount = simulation.eventCount();
   return snapshot;
 }
 }  // namespace
@@ -63,7 +63,7 @@ void RealTimeLoop::run() {
     snapshot.instrument = m_simulation.instrumentPose();
     snapshot.toolForce_N = outcome.contact.toolForce_N;
     snapshot.maxStretch = outcome.maxStretch;
-    snapshot.eventCount = m_simulation.events().size();
+    snapshot.eventCount = m_simulation.eventCount();
     m_snapshots.publish();
 
     due += period;

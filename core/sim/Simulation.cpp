@@ -14,7 +14,7 @@
 
 namespace tissuesim {
 namespace {
-/// Events kept per run; past this only the count grows (the report says so).
+/// Events kept per run; past this only eventCount() grows.
 constexpr std::size_t kMaxEvents = 100;
 /// Net force left on a node after a step's iterations that counts as an instability: above a
 /// thousandth of the newton a trainee feels (N) and above a hundredth of the force the step
@@ -214,6 +214,7 @@ void Simulation::reset() {
   m_time_s = 0.0;
   m_steps = 0;
   m_events.clear();
+  m_eventCount = 0;
   m_activeConditions.clear();
   if (m_grasp) m_grasp->release();
 }
@@ -223,6 +224,7 @@ void Simulation::record(const char* kind, const std::string& detail) {
       m_activeConditions.end()) {
     return;
   }
+  ++m_eventCount;
   if (m_events.size() < kMaxEvents) m_events.push_back({m_steps, m_time_s, kind, detail});
 }
 

@@ -94,7 +94,10 @@ class Simulation {
   const SpringForceField& springs() const { return *m_springs; }
   const SceneGeometry& geometry() const { return m_geometry; }
   const SceneDescription& scene() const { return m_scene; }
+  /// The first 100 events since the start or the last reset.
   const std::vector<InstabilityEvent>& events() const { return m_events; }
+  /// All of them, kept or not.
+  std::size_t eventCount() const { return m_eventCount; }
   /// The instrument pose used by the last step (the scene's start pose before any).
   InstrumentPose instrumentPose() const { return m_pose; }
   /// Nodes the grasper holds now (empty without an instrument or with open jaws).
@@ -122,6 +125,7 @@ class Simulation {
   std::unique_ptr<VolumeForceField> m_volume;
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
+  std::size_t m_eventCount = 0;
   std::unique_ptr<Grasp> m_grasp;       ///< only with an instrument
   std::unique_ptr<TraySupport> m_tray;  ///< only with a tray
   ContactProvider* m_contact = nullptr;

@@ -127,6 +127,29 @@ TEST(Simulation, NonFiniteContactIsReportedAndTheStateKept) {
   EXPECT_EQ(simulation.steps(), 1);
 }
 
+TEST(Simulation, EventsPastTheFirstHundredAreCountedNotKept) {
+  Simulation simulation(pokeScene());
+  struct BrokenContact final : ContactProvider {
+    void findContacts(const Eigen::Matrix3Xd&, const InstrumentPose&,
+                      PenaltyContactSet& contacts) override {
+      PenaltyContact nan;
+      nan.offset_m = std::numeric_limits<double>::quiet_NaN();
+      nan.stiffness_N_m = 1e4;
+      contacts.add(nan);
+    }
+  } broken;
+  for (int n = 0; n < 150; ++n) {  // a non-finite step, then a good one: 150 separate events
+    simulation.setContactProvider(&broken);
+    EXPECT_FALSE(simulation.step().isGood);
+    simulation.setContactProvider(nullptr);
+    EXPECT_TRUE(simulation.step().isGood);
+  }
+  EXPECT_EQ(simulation.events().size(), 100u);
+  EXPECT_EQ(simulation.eventCount(), 150u);
+  simulation.reset();
+  EXPECT_EQ(simulation.eventCount(), 0u);
+}
+
 TEST(Simulation, ANewTissueKeepsTheStateAndChangesTheResponse) {
   // The instructor loads a stiffer tissue mid-run, before the tool touches: positions stay,
   // and the same poke then meets a harder liver.
