@@ -13,6 +13,7 @@
 #include "MeshCommand.h"
 #include "RunCommand.h"
 #include "SnapshotCommand.h"
+#include "SoakCommand.h"
 #include "TensileCommand.h"
 #include "UniaxialCommand.h"
 
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerRunCommand(app);
   tissuesim::app::registerSnapshotCommand(app);
+  tissuesim::app::registerSoakCommand(app);
   tissuesim::app::registerBenchCommand(app);
   tissuesim::app::registerGuiCommand(app, argc, argv);
 
