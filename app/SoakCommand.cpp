@@ -26,6 +26,15 @@
 namespace tissuesim::app {
 namespace {
 
+// Under AddressSanitizer freed blocks wait in its quarantine (256 MB by default), so resident
+// memory grows with every allocation made and freed (FCL's narrow phase allocates about 19 KB a
+// penetrating triangle test): reported there, not judged.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kIsMemoryJudged = false;
+#else
+constexpr bool kIsMemoryJudged = true;
+#endif
+
 struct SoakOptions {
   std::string scenePath;
   double duration_s = 600.0;
@@ -158,6 +167,7 @@ void runSoak(const SoakOptions& options) {
   report["max_kinetic_energy_j"] = maxEnergy;
   report["max_displacement_mm"] = maxDisplacement * 1e3;
   report["memory_growth_mb"] = memoryGrowth_mb;
+  report["memory_judged"] = kIsMemoryJudged;
   report["windows"] = nlohmann::json::array();
   for (const Window& w : windows) {
     report["windows"].push_back({{"end_s", w.endTime_s},
@@ -191,7 +201,7 @@ void runSoak(const SoakOptions& options) {
     throw CommandError("the soak's energy or reach grew without bound (kinetic energy " +
                        std::to_string(maxEnergy) + " J, a node " +
                        std::to_string(maxDisplacement * 1e3) + " mm from the start)");
-  if (memoryGrowth_mb > 5.0)
+  if (kIsMemoryJudged && memoryGrowth_mb > 5.0)
     throw CommandError("the soak's memory grew by " + std::to_string(memoryGrowth_mb) +
                        " MB after its first window");
 }
