@@ -27,8 +27,8 @@ namespace tissuesim::app {
 namespace {
 
 // Under AddressSanitizer freed blocks wait in its quarantine (256 MB by default), so resident
-// memory grows with every allocation made and freed (FCL's narrow phase allocates about 19 KB a
-// penetrating triangle test): reported there, not judged.
+// memory grows with whatever is allocated and freed (event texts, reports): reported there, not
+// judged.
 #if defined(__SANITIZE_ADDRESS__)
 constexpr bool kIsMemoryJudged = false;
 #else

@@ -45,7 +45,8 @@ class SurfaceBvh {
 
   CapsuleSurfaceDistance distanceTo(const Capsule& capsule) const;
 
-  /// The triangles the capsule intersects (FCL collide, all contacts), into `triangles`.
+  /// The triangles the capsule intersects (FCL's traversal, an exact axis-to-triangle distance
+  /// test at the leaves), into `triangles`; allocates nothing once `triangles` has grown.
   void touchedTriangles(const Capsule& capsule, std::vector<int>& triangles) const;
 
   int vertexCount() const;
