@@ -406,8 +406,14 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
     m_windowStart_s = now;
   }
   const Simulation& simulation = m_session->simulation();
+  // The events in words: how many, and what the latest was (the list stays with the physics).
+  const QString events = snapshot.eventCount == 0 || snapshot.latestEventKind == nullptr
+                             ? QString("no instability events")
+                             : QString("%1 instability events, the latest: %2")
+                                   .arg(snapshot.eventCount)
+                                   .arg(eventKindWords(snapshot.latestEventKind));
   m_statusLabel->setText(QString("%1   physics %2 Hz   %3 fps   %4 springs   tool force %5 N   max "
-                                 "stretch %6   t = %7 s   %8 events")
+                                 "stretch %6   t = %7 s   %8")
                              .arg(isPaused() ? "paused" : "running")
                              .arg(m_physicsHz, 0, 'f', 0)
                              .arg(m_fps, 0, 'f', 0)
@@ -415,7 +421,7 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
                              .arg(snapshot.toolForce_N.norm(), 0, 'f', 3)
                              .arg(snapshot.maxStretch, 0, 'f', 3)
                              .arg(snapshot.time_s, 0, 'f', 2)
-                             .arg(snapshot.eventCount));
+                             .arg(events));
 }
 
 void MainWindow::renderFrame() {

@@ -12,6 +12,7 @@ SimulationSnapshot initialSnapshot(const Simulation& simulation) {
   snapshot.positions_m = simulation.state().x;
   snapshot.instrument = simulation.instrumentPose();
   snapshot.eventCount = simulation.eventCount();
+  snapshot.latestEventKind = simulation.latestEventKind();
   return snapshot;
 }
 }  // namespace
@@ -64,6 +65,7 @@ void RealTimeLoop::run() {
     snapshot.toolForce_N = outcome.contact.toolForce_N;
     snapshot.maxStretch = outcome.maxStretch;
     snapshot.eventCount = m_simulation.eventCount();
+    snapshot.latestEventKind = m_simulation.latestEventKind();
     m_snapshots.publish();
 
     due += period;

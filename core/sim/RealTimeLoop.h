@@ -32,6 +32,7 @@ struct SimulationSnapshot {
   Eigen::Vector3d toolForce_N = Eigen::Vector3d::Zero();
   double maxStretch = 1.0;
   std::size_t eventCount = 0;  ///< instability events so far (the list stays with the physics)
+  const char* latestEventKind = nullptr;  ///< Simulation::latestEventKind(): a literal or null
 };
 
 /// An instrument pose written by one thread (the GUI, a device) and read by the physics.

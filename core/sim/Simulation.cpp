@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 #include <string_view>
+#include <utility>
 
 #include "analysis/TensileTest.h"
 #include "analysis/UniaxialTest.h"
@@ -161,6 +162,22 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   }
 }
 
+const char* eventKindWords(const char* kind) {
+  static constexpr std::pair<std::string_view, const char*> kWords[] = {
+      {"refused", "a step refused"},
+      {"non-finite", "a non-finite step, rolled back"},
+      {"unconverged", "a step left unconverged"},
+      {"locking", "springs past locking"},
+      {"collapsed", "springs of zero length"},
+      {"inverted", "inverted tets"},
+      {"unsettled", "the organ did not settle"},
+  };
+  for (const auto& [known, words] : kWords) {
+    if (known == kind) return words;
+  }
+  return kind;
+}
+
 Simulation::~Simulation() = default;
 
 void Simulation::settle() {
@@ -215,6 +232,7 @@ void Simulation::reset() {
   m_steps = 0;
   m_events.clear();
   m_eventCount = 0;
+  m_latestEventKind = nullptr;
   m_activeConditions.clear();
   if (m_grasp) m_grasp->release();
 }
@@ -225,6 +243,7 @@ void Simulation::record(const char* kind, const std::string& detail) {
     return;
   }
   ++m_eventCount;
+  m_latestEventKind = kind;
   if (m_events.size() < kMaxEvents) m_events.push_back({m_steps, m_time_s, kind, detail});
 }
 

@@ -39,6 +39,9 @@ struct InstabilityEvent {
   std::string detail;
 };
 
+/// An event kind in a few words for a status line ("inverted tets"); the kind itself when unknown.
+const char* eventKindWords(const char* kind);
+
 struct StepOutcome {
   StepReport integrator;
   ContactResult contact;
@@ -98,6 +101,9 @@ class Simulation {
   const std::vector<InstabilityEvent>& events() const { return m_events; }
   /// All of them, kept or not.
   std::size_t eventCount() const { return m_eventCount; }
+  /// The kind of the latest event (a string literal, as in InstabilityEvent::kind), or null
+  /// when there has been none: what a status line can show without copying the list.
+  const char* latestEventKind() const { return m_latestEventKind; }
   /// The instrument pose used by the last step (the scene's start pose before any).
   InstrumentPose instrumentPose() const { return m_pose; }
   /// Nodes the grasper holds now (empty without an instrument or with open jaws).
@@ -126,6 +132,7 @@ class Simulation {
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
   std::size_t m_eventCount = 0;
+  const char* m_latestEventKind = nullptr;
   std::unique_ptr<Grasp> m_grasp;       ///< only with an instrument
   std::unique_ptr<TraySupport> m_tray;  ///< only with a tray
   ContactProvider* m_contact = nullptr;

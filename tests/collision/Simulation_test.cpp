@@ -146,8 +146,14 @@ TEST(Simulation, EventsPastTheFirstHundredAreCountedNotKept) {
   }
   EXPECT_EQ(simulation.events().size(), 100u);
   EXPECT_EQ(simulation.eventCount(), 150u);
+  ASSERT_NE(simulation.latestEventKind(), nullptr);
+  EXPECT_STREQ(simulation.latestEventKind(), "non-finite");
+  EXPECT_STREQ(eventKindWords(simulation.latestEventKind()), "a non-finite step, rolled back");
+  EXPECT_STREQ(eventKindWords("inverted"), "inverted tets");
+  EXPECT_STREQ(eventKindWords("something new"), "something new");
   simulation.reset();
   EXPECT_EQ(simulation.eventCount(), 0u);
+  EXPECT_EQ(simulation.latestEventKind(), nullptr);
 }
 
 TEST(Simulation, ANewTissueKeepsTheStateAndChangesTheResponse) {
