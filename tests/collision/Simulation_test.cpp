@@ -348,24 +348,29 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
   // Where it comes to rest is not quite where it started: the poke softened the springs it
   // stretched past their history (the Mullins effect), and softer springs sag further under the
   // organ's weight. That permanent set is a millimetre or two (1.2-1.8 mm here); with softening
-  // off the same pokes come back to within 0.05 mm of the start.
+  // off the fast poke comes back to within 0.5 mm of the start (0.05 mm measured).
   struct Case {
     double xMin, xMax;  // where on the upper surface (m)
     double depth_m, speed_m_s;
+    bool isSoftening = true;
   };
   const Simulation probe(pokeScene());
   const Eigen::Matrix3Xd start = probe.state().x;
   const double middle = start.row(0).mean();
   for (const Case& c : {Case{middle - 0.01, middle + 0.01, 0.07, 0.07},
                         Case{middle + 0.03, middle + 0.05, 0.07, 1.5},
-                        Case{middle - 0.05, middle - 0.03, 0.05, 0.5}}) {
+                        Case{middle - 0.05, middle - 0.03, 0.05, 0.5},
+                        Case{middle + 0.03, middle + 0.05, 0.07, 1.5, false}}) {
     const Eigen::Index target = highestNodeBetween(start, c.xMin, c.xMax);
     ASSERT_GE(target, 0);
     const Eigen::Vector3d down(0.0, -1.0, 0.0);
     const double travel_m = 0.01 + c.depth_m;
-    ScriptedPoke scene(travel_m, travel_m / c.speed_m_s, pokeScene(),
+    SceneDescription description = pokeScene();
+    description.isSoftening = c.isSoftening;
+    ScriptedPoke scene(travel_m, travel_m / c.speed_m_s, description,
                        InstrumentPose{start.col(target) - 0.01 * down, down});
     Simulation& simulation = scene.simulation;
+    const Eigen::Matrix3Xd settled = simulation.startState().x;
     const int steps = static_cast<int>(
         std::lround((2.0 * travel_m / c.speed_m_s + 2.0) / simulation.timeStep_s()));
     double peak = 0.0;
@@ -382,8 +387,8 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
     EXPECT_GT(peak, 1.0) << "node " << target << ": the poke went deep";
     EXPECT_LT((after2s - atRest).colwise().norm().maxCoeff(), 5e-4)
         << "node " << target << " at " << c.speed_m_s << " m/s";
-    EXPECT_LT((atRest - start).colwise().norm().maxCoeff(), 2.5e-3)
-        << "node " << target << ": the permanent set";
+    EXPECT_LT((atRest - settled).colwise().norm().maxCoeff(), c.isSoftening ? 2.5e-3 : 5e-4)
+        << "node " << target << ": the permanent set, softening " << c.isSoftening;
     EXPECT_EQ(VolumeForceField::inspect(simulation.springMesh(), after2s).invertedTetCount, 0)
         << "node " << target;
     for (const InstabilityEvent& event : simulation.events()) {
