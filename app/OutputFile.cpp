@@ -19,4 +19,9 @@ void checkOutputWritable(const std::string& path, const std::string& option) {
   if (!existed) std::filesystem::remove(path, error);
 }
 
+void writeTextFile(const std::string& path, const std::string& option, const std::string& text) {
+  std::ofstream out(path);
+  if (!(out << text)) throw CommandError("cannot write " + option + " " + path);
+}
+
 }  // namespace tissuesim::app

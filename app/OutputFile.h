@@ -10,4 +10,7 @@ namespace tissuesim::app {
 /// file that did not exist before is removed again; an existing one is left as it was.
 void checkOutputWritable(const std::string& path, const std::string& option);
 
+/// Writes `text` to `path`. @throws CommandError naming `option` and `path` when it cannot.
+void writeTextFile(const std::string& path, const std::string& option, const std::string& text);
+
 }  // namespace tissuesim::app

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -141,11 +140,8 @@ void runSession(const RunOptions& options) {
     std::printf("exported %d frames: %s\n", exporter->frameCount(),
                 exporter->collectionPath().string().c_str());
   }
-  if (!options.reportPath.empty()) {
-    std::ofstream out(options.reportPath);
-    if (!out) throw CommandError("cannot write --report " + options.reportPath);
-    out << report.dump(2) << "\n";
-  }
+  if (!options.reportPath.empty())
+    writeTextFile(options.reportPath, "--report", report.dump(2) + "\n");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "SceneSession.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "CommandError.h"
 #include "material/TissueFile.h"
@@ -44,6 +45,11 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
   }
   m_contact = makeInstrumentContact(*m_simulation);
   m_simulation->setContactProvider(m_contact.get());
+}
+
+void SceneSession::useScript(InstrumentScript script) {
+  m_script = std::make_unique<InstrumentScript>(std::move(script));
+  m_simulation->setInstrumentSource(m_script.get());
 }
 
 }  // namespace tissuesim::app

@@ -30,6 +30,9 @@ class SceneSession {
   const InstrumentScript* script() const { return m_script.get(); }
   /// The live pose the GUI writes (null: no instrument, or scripted).
   LiveInstrument* liveInstrument() { return m_live.get(); }
+  /// Drives the instrument by `script` from now on (one built from the simulation, as the
+  /// soak's random session is). The scene must have an instrument.
+  void useScript(InstrumentScript script);
 
  private:
   std::optional<Simulation> m_simulation;

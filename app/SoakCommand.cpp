@@ -9,18 +9,16 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "AssetPaths.h"
-#include "CapsuleContact.h"
 #include "CommandError.h"
 #include "OutputFile.h"
+#include "SceneSession.h"
 #include "sim/RandomSession.h"
-#include "sim/SceneFile.h"
 #include "sim/Simulation.h"
 
 namespace tissuesim::app {
@@ -68,21 +66,13 @@ void runSoak(const SoakOptions& options) {
   if (!(std::isfinite(options.window_s) && options.window_s > 0.0))
     throw CommandError("--window must be a positive number of seconds");
   if (!options.reportPath.empty()) checkOutputWritable(options.reportPath, "--report");
-  std::optional<Simulation> simulation;
+  SceneSession session(options.scenePath, "", InstrumentDriver::Script);
+  Simulation* const simulation = &session.simulation();
   try {
-    simulation.emplace(loadSceneFile(options.scenePath));
-  } catch (const std::exception& error) {
-    throw CommandError(error.what());
-  }
-  std::optional<InstrumentScript> script;
-  try {
-    script.emplace(randomSession(*simulation, options.duration_s, options.seed));
+    session.useScript(randomSession(*simulation, options.duration_s, options.seed));
   } catch (const std::invalid_argument& error) {
     throw CommandError(options.scenePath + ": " + error.what());
   }
-  const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(*simulation);
-  simulation->setContactProvider(contact.get());
-  simulation->setInstrumentSource(&*script);
 
   const Eigen::Matrix3Xd start = simulation->state().x;
   const Eigen::VectorXd& mass = simulation->springMesh().nodeMass_kg;
@@ -160,7 +150,7 @@ void runSoak(const SoakOptions& options) {
   report["steps"] = simulation->steps();
   report["failed_steps"] = badSteps;
   report["grasps"] = grasps;
-  report["instability_events"] = simulation->eventCount();
+  report["instability_event_count"] = simulation->eventCount();
   report["non_finite_events"] = nonFinite;
   report["events_by_kind"] = eventsByKind;  // of the first events().size()
   report["instability_events_kept"] = simulation->events().size();
@@ -177,11 +167,8 @@ void runSoak(const SoakOptions& options) {
                                  {"max_tool_force_n", w.maxToolForce_N},
                                  {"resident_memory_mb", w.residentMemory_mb}});
   }
-  if (!options.reportPath.empty()) {
-    std::ofstream out(options.reportPath);
-    if (!out) throw CommandError("cannot write --report " + options.reportPath);
-    out << report.dump(2) << "\n";
-  }
+  if (!options.reportPath.empty())
+    writeTextFile(options.reportPath, "--report", report.dump(2) + "\n");
   std::printf(
       "soak of %s: %.0f s simulated in %.0f s, %ld steps, %ld grasps; %ld failed steps, %zu "
       "instability events (of the first %zu: %s); kinetic energy at most %.3g J, nodes at most "

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "SegmentTriangleDistance.h"
+#include "mesh/TetLocator.h"
 
 namespace tissuesim {
 
@@ -31,17 +32,14 @@ CapsuleContact::CapsuleContact(const TetMesh& mesh, CapsuleContactSettings setti
 
 CapsuleContact::CapsuleContact(const TetMesh& mesh, const TriangleSurface& visual,
                                const SurfaceEmbedding& embedding, CapsuleContactSettings settings)
-    : m_settings(settings),
-      m_faces(visual.triangles),
-      m_embedding(&embedding),
-      m_restVertices(&visual.vertices_m),
-      m_locator(std::make_unique<TetLocator>(mesh)) {
+    : m_settings(settings), m_faces(visual.triangles), m_embedding(&embedding) {
   // Each face is carried by one tet: the one holding its centroid at rest (among those near the
   // face and those carrying its corners, which hold it where the surface lies outside the mesh).
   // One tet a face, not one a contact point: a point sliding across a tet boundary moved its
   // force to other nodes at once, and the tip's contacts chattered (0.45 -> 0.62 -> 0.56 N from
   // one 50 ms to the next, pressing steadily).
-  m_faceTet.reserve(static_cast<std::size_t>(m_faces.cols()));
+  const TetLocator locator(mesh);
+  m_carriers.reserve(static_cast<std::size_t>(m_faces.cols()));
   std::vector<int> candidates;
   for (Eigen::Index f = 0; f < m_faces.cols(); ++f) {
     Eigen::Vector3d lower = visual.vertices_m.col(m_faces(0, f)), upper = lower;
@@ -52,12 +50,17 @@ CapsuleContact::CapsuleContact(const TetMesh& mesh, const TriangleSurface& visua
     candidates.clear();
     for (int k = 0; k < 3; ++k)
       candidates.push_back(embedding.tets()[static_cast<std::size_t>(m_faces(k, f))]);
-    m_locator->tetsNear(lower, upper, candidates);
+    locator.tetsNear(lower, upper, candidates);
     const Eigen::Vector3d centroid =
         (visual.vertices_m.col(m_faces(0, f)) + visual.vertices_m.col(m_faces(1, f)) +
          visual.vertices_m.col(m_faces(2, f))) /
         3.0;
-    m_faceTet.push_back(m_locator->locateAmong(candidates, centroid).tet);
+    const int tet = locator.locateAmong(candidates, centroid).tet;
+    FaceCarrier carrier;
+    for (int k = 0; k < 4; ++k) carrier.nodes[static_cast<std::size_t>(k)] = mesh.tets(k, tet);
+    for (int k = 0; k < 3; ++k)
+      carrier.cornerWeights.col(k) = locator.weightsIn(tet, visual.vertices_m.col(m_faces(k, f)));
+    m_carriers.push_back(carrier);
   }
   buildBvh(visual.vertices_m.transpose());
 }
@@ -82,13 +85,9 @@ void CapsuleContact::carry(Eigen::Index f, const Eigen::Vector3d& onTriangle,
     return;
   }
   // The point at rest, in the tet that carries its face.
-  const Eigen::Vector3d rest = onTriangle[0] * m_restVertices->col(m_faces(0, f)) +
-                               onTriangle[1] * m_restVertices->col(m_faces(1, f)) +
-                               onTriangle[2] * m_restVertices->col(m_faces(2, f));
-  const int tet = m_faceTet[static_cast<std::size_t>(f)];
-  const Eigen::Vector4d weights = m_locator->weightsIn(tet, rest);
-  const TetMesh& mesh = m_locator->mesh();
-  for (int k = 0; k < 4; ++k) contact.nodes[static_cast<std::size_t>(k)] = mesh.tets(k, tet);
+  const FaceCarrier& carrier = m_carriers[static_cast<std::size_t>(f)];
+  contact.nodes = carrier.nodes;
+  const Eigen::Vector4d weights = carrier.cornerWeights * onTriangle;
   // A point outside the tet (the drawn surface reaches past the lattice by up to half a tet on
   // the bundled liver) is carried by the tet's nearest point: extrapolated weights (as low as
   // -0.45 there) made each contact a lever on the tet, and the tip's one or two contacts

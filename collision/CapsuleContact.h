@@ -39,11 +39,12 @@
 // the gap p - s(x) at the step's start is frozen into the contact's offset. On the boundary,
 // s(x) is the triangle's own point over its three corners.
 
+#include <array>
 #include <memory>
+#include <vector>
 
 #include "SurfaceBvh.h"
 #include "mesh/SurfaceEmbedding.h"
-#include "mesh/TetLocator.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/ContactProvider.h"
@@ -84,12 +85,15 @@ class CapsuleContact final : public ContactProvider {
   Eigen::Matrix3Xi m_faces;  ///< the touchable faces, local vertex indices
   // The boundary: local index -> mesh node.
   std::vector<int> m_surfaceNodes;
-  // The drawn surface: its embedding, its vertices at rest (3 by #V), and per face the tet that
-  // carries it.
+  // The drawn surface: its embedding, and per face the tet that carries it: the tet's nodes and
+  // the face's three corners' barycentric weights in it at rest (a column each). A point with
+  // weights b on the face has weights W b in the tet: barycentric coordinates are affine.
+  struct FaceCarrier {
+    std::array<int, kMaxTermNodes> nodes{};
+    Eigen::Matrix<double, 4, 3> cornerWeights = Eigen::Matrix<double, 4, 3>::Zero();
+  };
   const SurfaceEmbedding* m_embedding = nullptr;
-  const Eigen::Matrix3Xd* m_restVertices = nullptr;
-  std::unique_ptr<TetLocator> m_locator;
-  std::vector<int> m_faceTet;
+  std::vector<FaceCarrier> m_carriers;
   Eigen::MatrixX3d m_vertices;  ///< #local by 3 scratch for refits
   std::unique_ptr<SurfaceBvh> m_bvh;
   std::vector<int> m_touched;  ///< scratch: the touched triangles

@@ -136,13 +136,7 @@ void TimeSeriesExport::write(double time_s, const Eigen::Matrix3Xd& x) {
   if (m_geometry.surface && m_geometry.embedding) {
     m_surfaceX.resize(3, m_surfaceRest_m.cols());
     m_geometry.embedding->apply(x, m_surfaceX);
-    const Eigen::Matrix4Xi& nodes = m_geometry.embedding->nodes();
-    const Eigen::Matrix4Xd& weights = m_geometry.embedding->weights();
-    m_surfaceStretch.resize(m_surfaceX.cols());
-    for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) {
-      m_surfaceStretch[v] = 0.0;
-      for (int k = 0; k < 4; ++k) m_surfaceStretch[v] += weights(k, v) * m_nodeStretch[nodes(k, v)];
-    }
+    m_geometry.embedding->interpolate(m_nodeStretch, m_surfaceStretch);
     setFrame(m_surface, m_surfaceX, m_surfaceRest_m, m_surfaceStretch);
   } else {
     setFrame(m_surface, x, m_surfaceRest_m, m_nodeStretch);

@@ -242,18 +242,9 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
   setPoints(m_surface->GetPoints(), m_surfaceX);
   if (m_isColourMap) {
     nodeStretch(m_springs, x, m_nodeStretch);
-    for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) {
-      double value = 0.0;
-      if (isEmbedded) {
-        for (int k = 0; k < 4; ++k) {
-          value += m_geometry.embedding->weights()(k, v) *
-                   m_nodeStretch[m_geometry.embedding->nodes()(k, v)];
-        }
-      } else {
-        value = m_nodeStretch[v];
-      }
-      m_surfaceStretch->SetValue(v, value);
-    }
+    if (isEmbedded) m_geometry.embedding->interpolate(m_nodeStretch, m_vertexStretch);
+    const Eigen::VectorXd& values = isEmbedded ? m_vertexStretch : m_nodeStretch;
+    for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) m_surfaceStretch->SetValue(v, values[v]);
     m_surfaceStretch->Modified();
   }
   m_surface->Modified();

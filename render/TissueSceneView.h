@@ -87,8 +87,9 @@ class TissueSceneView {
   vtkSmartPointer<vtkActor> m_trayActor;
   double m_trayHeight_m = 0.0;  ///< along the up axis (y)
 
-  Eigen::Matrix3Xd m_surfaceX;    ///< scratch: surface vertices (m)
-  Eigen::VectorXd m_nodeStretch;  ///< scratch: per tet node
+  Eigen::Matrix3Xd m_surfaceX;      ///< scratch: surface vertices (m)
+  Eigen::VectorXd m_nodeStretch;    ///< scratch: per tet node
+  Eigen::VectorXd m_vertexStretch;  ///< scratch: per drawn vertex
   bool m_isColourMap = false;
   bool m_isWireframe = false;
 };

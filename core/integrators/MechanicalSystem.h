@@ -1,9 +1,9 @@
 #pragma once
 // The mechanical system the integrators advance: lumped masses M (kg), internal forces of the
-// spring network and the optional volume term, gravity, the instrument's penalty contacts
-// (evaluated at every trial state, with their stiffness in K), external forces (the grasp, set
-// by the caller each step) and fixed degrees of freedom (clamps and prescribed motion: a fixed DOF
-// keeps whatever value the caller puts in the state).
+// spring network and the optional volume term, gravity, penalty contacts (the instrument's, the
+// tray's, the grasp's springs: evaluated at every trial state, with their stiffness in K),
+// constant external forces set by the caller (none in the simulator) and fixed degrees of freedom
+// (clamps and prescribed motion: a fixed DOF keeps whatever value the caller puts in the state).
 //
 //   f(x) = f_springs(x) + f_volume(x) + f_contacts(x) + M g + f_ext                      (N)
 //   K(x) = -df/dx, PSD-projected per spring, Gauss-Newton per tet, exact for contacts  (N/m)

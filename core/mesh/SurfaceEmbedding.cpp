@@ -29,4 +29,14 @@ void SurfaceEmbedding::apply(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& surfac
   for (Eigen::Index v = 0; v < m_nodes.cols(); ++v) surface.col(v) = position(v, x);
 }
 
+void SurfaceEmbedding::interpolate(const Eigen::VectorXd& nodeValues,
+                                   Eigen::VectorXd& values) const {
+  values.resize(m_nodes.cols());  // a no-op once sized
+  for (Eigen::Index v = 0; v < m_nodes.cols(); ++v) {
+    values[v] =
+        m_weights(0, v) * nodeValues[m_nodes(0, v)] + m_weights(1, v) * nodeValues[m_nodes(1, v)] +
+        m_weights(2, v) * nodeValues[m_nodes(2, v)] + m_weights(3, v) * nodeValues[m_nodes(3, v)];
+  }
+}
+
 }  // namespace tissuesim

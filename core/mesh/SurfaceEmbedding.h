@@ -23,6 +23,9 @@ class SurfaceEmbedding {
 
   /// surface (3 by #V_surface) overwritten with the embedded positions for tet-node positions x.
   void apply(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& surface) const;
+  /// A per-node scalar (#V of the mesh) at the surface's vertices, through the same weights:
+  /// values (#V_surface) overwritten. The stretch colour map and the export use it.
+  void interpolate(const Eigen::VectorXd& nodeValues, Eigen::VectorXd& values) const;
   /// Surface vertex v's position for tet-node positions x.
   Eigen::Vector3d position(Eigen::Index v, const Eigen::Matrix3Xd& x) const {
     return m_weights(0, v) * x.col(m_nodes(0, v)) + m_weights(1, v) * x.col(m_nodes(1, v)) +

@@ -33,4 +33,31 @@ double windingNumber(const TriangleSurface& surface, const Eigen::Vector3d& p) {
   return total / (4.0 * std::numbers::pi);
 }
 
+Eigen::VectorXd vertexAreas(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(vertices.cols());
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    const Eigen::Vector3d a = vertices.col(triangles(0, t));
+    const double third =
+        (vertices.col(triangles(1, t)) - a).cross(vertices.col(triangles(2, t)) - a).norm() / 6.0;
+    for (int k = 0; k < 3; ++k) area[triangles(k, t)] += third;
+  }
+  return area;
+}
+
+Eigen::Matrix3Xd vertexNormals(const TriangleSurface& surface) {
+  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, surface.vertices_m.cols());
+  for (Eigen::Index f = 0; f < surface.triangles.cols(); ++f) {
+    const Eigen::Vector3d a = surface.vertices_m.col(surface.triangles(0, f));
+    const Eigen::Vector3d b = surface.vertices_m.col(surface.triangles(1, f));
+    const Eigen::Vector3d c = surface.vertices_m.col(surface.triangles(2, f));
+    const Eigen::Vector3d areaNormal = (b - a).cross(c - a);  // twice the area, outward
+    for (int k = 0; k < 3; ++k) normals.col(surface.triangles(k, f)) += areaNormal;
+  }
+  for (Eigen::Index v = 0; v < normals.cols(); ++v) {
+    const double length = normals.col(v).norm();
+    if (length > 0.0) normals.col(v) /= length;
+  }
+  return normals;
+}
+
 }  // namespace tissuesim

@@ -33,4 +33,12 @@ double enclosedVolume(const TriangleSurface& surface);
 /// inside a closed outward surface, 0 outside, and a graceful fraction near holes.
 double windingNumber(const TriangleSurface& surface, const Eigen::Vector3d& p);
 
+/// Each vertex's share of the surface's area: a third of every triangle it is a corner of (m^2;
+/// #V). Vertices (3 by #V) and triangles (3 by #F) apart, for a tet mesh's boundary faces too.
+Eigen::VectorXd vertexAreas(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles);
+
+/// Area-weighted vertex normals (3 by #V, unit; outward for an outward surface; zero for a
+/// vertex no triangle uses).
+Eigen::Matrix3Xd vertexNormals(const TriangleSurface& surface);
+
 }  // namespace tissuesim

@@ -22,23 +22,6 @@ Eigen::Vector3d upwardOf(const Simulation& simulation) {
                                      : Eigen::Vector3d::UnitY();
 }
 
-/// Area-weighted vertex normals of a closed surface (unit, outward for outward triangles).
-Eigen::Matrix3Xd vertexNormals(const TriangleSurface& surface) {
-  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, surface.vertices_m.cols());
-  for (Eigen::Index f = 0; f < surface.triangles.cols(); ++f) {
-    const Eigen::Vector3d a = surface.vertices_m.col(surface.triangles(0, f));
-    const Eigen::Vector3d b = surface.vertices_m.col(surface.triangles(1, f));
-    const Eigen::Vector3d c = surface.vertices_m.col(surface.triangles(2, f));
-    const Eigen::Vector3d areaNormal = (b - a).cross(c - a);  // twice the area, outward
-    for (int k = 0; k < 3; ++k) normals.col(surface.triangles(k, f)) += areaNormal;
-  }
-  for (Eigen::Index v = 0; v < normals.cols(); ++v) {
-    const double length = normals.col(v).norm();
-    if (length > 0.0) normals.col(v) /= length;
-  }
-  return normals;
-}
-
 /// Vertices of the drawn surface (as settled) facing up, away from the held nodes: where a
 /// trainee pokes. Falls back to the tet mesh's nodes when the scene draws no surface.
 std::vector<Eigen::Vector3d> upperSurfacePoints(const Simulation& simulation) {

@@ -201,7 +201,6 @@ void Simulation::settle() {
   int step = 0;
   bool isSettled = false;
   for (; step < kSettlingMaxSteps && !isSettled; ++step) {
-    m_system->externalForces_N.setZero();
     m_system->contacts.clear();
     if (m_tray) m_tray->findContacts(state.x, m_system->contacts);
     const StepReport report = settler.step(*m_system, state, kSettlingTimeStep_s);
@@ -258,7 +257,6 @@ StepOutcome Simulation::step() {
   StepOutcome outcome;
   const double next = m_time_s + m_timeStep_s;
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
-  m_system->externalForces_N.setZero();
   findContacts();
   if (m_grasp) m_grasp->apply(m_state.x, m_pose, m_system->contacts);
   outcome.integrator = m_integrator->step(*m_system, m_state, m_timeStep_s);

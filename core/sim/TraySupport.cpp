@@ -3,24 +3,13 @@
 #include <algorithm>
 
 #include "mesh/TetLocator.h"
+#include "mesh/TriangleSurface.h"
 
 namespace tissuesim {
 namespace {
 /// The explicit integrator's damping per unit of a point's stiffness (s): the instrument's ratio
 /// (6 N s/m per 10^4 N/m, CapsuleContactSettings).
 constexpr double kDampingPerStiffness_s = 6e-4;
-
-/// Each vertex's share of the surface's area: a third of every triangle it is a corner of (m^2).
-Eigen::VectorXd vertexAreas(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles) {
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(vertices.cols());
-  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
-    const Eigen::Vector3d a = vertices.col(triangles(0, t));
-    const double third =
-        (vertices.col(triangles(1, t)) - a).cross(vertices.col(triangles(2, t)) - a).norm() / 6.0;
-    for (int k = 0; k < 3; ++k) area[triangles(k, t)] += third;
-  }
-  return area;
-}
 }  // namespace
 
 TraySupport::TraySupport(const SceneGeometry& geometry, const SceneTray& tray)

@@ -37,6 +37,18 @@ TEST(SurfaceReader, ReadsAScaledClosedSurface) {
   EXPECT_NEAR(cube.vertices_m.maxCoeff(), 0.01, 1e-15);
 }
 
+TEST(TriangleSurface, VertexAreasShareTheSurfaceAndNormalsPointOut) {
+  const TriangleSurface cube = readSurface(meshPath("cube.obj"), {0.01, ""});  // 1 cm cube
+  const Eigen::VectorXd areas = vertexAreas(cube.vertices_m, cube.triangles);
+  EXPECT_NEAR(areas.sum(), 6e-4, 1e-15);
+  const Eigen::Matrix3Xd normals = vertexNormals(cube);
+  const Eigen::Vector3d centre = cube.vertices_m.rowwise().mean();
+  for (Eigen::Index v = 0; v < cube.vertexCount(); ++v) {
+    EXPECT_NEAR(normals.col(v).norm(), 1.0, 1e-12) << v;
+    EXPECT_GT(normals.col(v).dot(cube.vertices_m.col(v) - centre), 0.0) << v;  // outward
+  }
+}
+
 TEST(SurfaceReader, SelectsPartsOfAMultiPartFile) {
   const std::string glb =
       std::string(TISSUESIM_TEST_DATA_DIR) + "/../../assets/meshes/liver-smooth.obj";
