@@ -4,11 +4,11 @@
 #include <memory>
 
 #include "TestTissues.h"
-#include "integrators/MechanicalSystem.h"
 #include "material/StiffnessTable.h"
 #include "mesh/BlockMesher.h"
 #include "springs/SpringForceLaw.h"
 #include "springs/SpringMesh.h"
+#include "system/MechanicalSystem.h"
 
 namespace tissuesim::test {
 

@@ -40,7 +40,7 @@ struct BenchScene {
         springs(mesh, law),
         system(springs, nullptr),
         state(system.restState()) {
-    system.gravity_m_s2 = {0.0, 0.0, -9.81};
+    system.gravity.acceleration_m_s2 = {0.0, 0.0, -9.81};
     for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
       if (mesh.restPositions_m(2, i) < 1e-12) system.fixNode(static_cast<int>(i));
     }

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "analysis/UniaxialTest.h"
-#include "integrators/NewtonSolver.h"
 #include "springs/SpringForceLaw.h"
+#include "system/NewtonSolver.h"
 
 namespace tissuesim {
 

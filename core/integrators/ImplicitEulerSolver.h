@@ -8,7 +8,8 @@
 // energy (numerical damping grows with h). Baraff and Witkin 1998 take one Newton iteration;
 // here iterations run to `forceTolerance_N` or `maxIterations`, whichever comes first.
 
-#include "integrators/NewtonSolver.h"
+#include "integrators/TimeIntegrator.h"
+#include "system/NewtonSolver.h"
 
 namespace tissuesim {
 

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "integrators/MechanicalSystem.h"
+#include "system/MechanicalSystem.h"
 
 namespace tissuesim {
 

@@ -6,7 +6,7 @@
 // stored as five numbers a column (5 by #E): rows 0-2 n_e, row 3 c_e, row 4 l_e. A spring's
 // stiffness has this form (c = axial - lateral stiffness, l = lateral, N/m; SpringForceField):
 // 40 bytes a spring instead of the 72 of the full block, which is what CG's matrix-free product
-// reads per spring (SpringSystemOperator).
+// reads per spring (SpringStiffnessProduct).
 
 #include <Eigen/Core>
 

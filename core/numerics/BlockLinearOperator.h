@@ -2,7 +2,7 @@
 // A symmetric linear operator on 3-vectors per node, y = A x (A: 3#V by 3#V), as conjugate
 // gradients needs it: the product in kParts fixed node ranges that may run on different threads
 // at once, and the 3x3 diagonal blocks for the preconditioner. Implemented by the assembled
-// NodeBlockMatrix and by the matrix-free SpringSystemOperator (integrators/). The ranges belong
+// NodeBlockMatrix and by the matrix-free SystemOperator (system/). The ranges belong
 // to the operator (its product's work decides where to cut) and never depend on the thread
 // count, so a solve on them is bit-identical with any number of threads.
 
@@ -11,6 +11,8 @@
 #include <Eigen/Core>
 
 namespace tissuesim {
+
+class NodeBlockMatrix;
 
 class BlockLinearOperator {
  public:
@@ -27,6 +29,8 @@ class BlockLinearOperator {
   virtual void multiplyPart(int part, const double* x, double* y) const = 0;
   /// Block (j, j) of A.
   virtual Eigen::Matrix3d diagonalBlock(Eigen::Index j) const = 0;
+  /// A itself when it is stored assembled (what a direct solver factorises), else null.
+  virtual const NodeBlockMatrix* assembled() const { return nullptr; }
 
   /// Bounds of kParts consecutive node ranges holding about equal shares of a product's work,
   /// from workBefore(j): the work of nodes [0, j) (non-decreasing, 0 at j = 0).

@@ -64,17 +64,22 @@ NodeBlockMatrix::NodeBlockMatrix(Eigen::Index nodeCount, const Eigen::Matrix2Xi&
 
 void NodeBlockMatrix::assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
                                           ForkJoinPool* pool) {
-  assignEdges(
+  assignEdges<false>(
       k.cols(), [&](Eigen::Index e) { return Eigen::Map<const Eigen::Matrix3d>(k.col(e).data()); },
       pool);
 }
 
 void NodeBlockMatrix::assignAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* pool) {
-  assignEdges(
+  assignEdges<false>(
       k.cols(), [&](Eigen::Index e) { return axialBlock(k.col(e).data()); }, pool);
 }
 
-template <typename BlockOf>
+void NodeBlockMatrix::addAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* pool) {
+  assignEdges<true>(
+      k.cols(), [&](Eigen::Index e) { return axialBlock(k.col(e).data()); }, pool);
+}
+
+template <bool IsAdded, typename BlockOf>
 void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockOf,
                                   ForkJoinPool* pool) {
   if (blockCount != edgeCount()) {
@@ -83,7 +88,7 @@ void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockO
         std::to_string(edgeCount()) + " edges");
   }
   if (m_hasRepeatedEdges) {  // two edges share a block: they must be summed
-    setZero();
+    if constexpr (!IsAdded) setZero();
     for (Eigen::Index e = 0; e < edgeCount(); ++e) {
       const Eigen::Matrix3d block = blockOf(e);
       addEdgeStiffness(e, block.data());
@@ -93,13 +98,13 @@ void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockO
   // Each node's columns are written from its own edges' blocks only: node ranges are
   // independent, and the values written do not depend on how the nodes are cut.
   const auto part = [&](int p) {
-    assignNodeColumns(blockOf, m_partBounds[static_cast<std::size_t>(p)],
-                      m_partBounds[static_cast<std::size_t>(p) + 1]);
+    assignNodeColumns<IsAdded>(blockOf, m_partBounds[static_cast<std::size_t>(p)],
+                               m_partBounds[static_cast<std::size_t>(p) + 1]);
   };
   runParts(pool, kParts, part);
 }
 
-template <typename BlockOf>
+template <bool IsAdded, typename BlockOf>
 void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin,
                                         Eigen::Index end) {
   double* const values = m_matrix.valuePtr();
@@ -122,13 +127,23 @@ void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index beg
       const Eigen::Matrix3d ke = blockOf(e);
       for (int c = 0; c < 3; ++c) {
         for (int r = 0; r < 3; ++r) {
-          block[c * stride + r] = -ke(r, c);
+          if constexpr (IsAdded) {
+            block[c * stride + r] -= ke(r, c);
+          } else {
+            block[c * stride + r] = -ke(r, c);
+          }
           diagonal[3 * c + r] += ke(r, c);
         }
       }
     }
     for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 3; ++r) diagonalBlock[c * stride + r] = diagonal[3 * c + r];
+      for (int r = 0; r < 3; ++r) {
+        if constexpr (IsAdded) {
+          diagonalBlock[c * stride + r] += diagonal[3 * c + r];
+        } else {
+          diagonalBlock[c * stride + r] = diagonal[3 * c + r];
+        }
+      }
     }
   }
 }

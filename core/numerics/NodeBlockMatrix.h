@@ -59,6 +59,8 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   /// The same from blocks in the axial form c n n^T + l I (numerics/AxialBlocks.h), each
   /// expanded as it is written.
   void assignAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* pool = nullptr);
+  /// The same, added to what the matrix holds (another force's stiffness, say).
+  void addAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* pool = nullptr);
 
   /// Adds `value` to the three diagonal entries of node i (a lumped mass, say).
   void addToDiagonal(int i, double value);
@@ -88,6 +90,8 @@ class NodeBlockMatrix final : public BlockLinearOperator {
                   m_partBounds[static_cast<std::size_t>(part) + 1], x, y);
   }
 
+  const NodeBlockMatrix* assembled() const override { return this; }
+
   /// Block (j, j), 3x3.
   Eigen::Matrix3d diagonalBlock(Eigen::Index j) const override {
     const double* start = m_matrix.valuePtr() + m_diagonalStart[static_cast<std::size_t>(j)];
@@ -111,11 +115,12 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   Eigen::Index edgeCount() const { return static_cast<Eigen::Index>(m_edgeSlots.size()); }
 
  private:
-  /// assignEdgeStiffness() from blockOf(e) (a column-major 3x3 block, Eigen::Matrix3d).
-  template <typename BlockOf>
+  /// assignEdgeStiffness() from blockOf(e) (a column-major 3x3 block, Eigen::Matrix3d); added to
+  /// the values when IsAdded.
+  template <bool IsAdded, typename BlockOf>
   void assignEdges(Eigen::Index blockCount, const BlockOf& blockOf, ForkJoinPool* pool);
   /// The same for the columns of nodes [begin, end).
-  template <typename BlockOf>
+  template <bool IsAdded, typename BlockOf>
   void assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin, Eigen::Index end);
   /// Where node i stands in m_neighbourIndex among j's neighbours; throws if no edge joins them.
   std::size_t neighbourSlot(int i, int j) const;

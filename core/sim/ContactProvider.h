@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
 
-#include "integrators/PenaltyContacts.h"
+#include "forces/PenaltyContacts.h"
 
 namespace tissuesim {
 

@@ -18,7 +18,7 @@
 
 #include <vector>
 
-#include "integrators/PenaltyContacts.h"
+#include "forces/PenaltyContacts.h"
 #include "sim/ContactProvider.h"
 
 namespace tissuesim {

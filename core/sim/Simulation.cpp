@@ -45,10 +45,10 @@ Simulation::Simulation(const SceneDescription& scene)
 
 void Simulation::replaceTissue(const TissueParameters& parameters) {
   const MechanicalState kept = m_state;
-  const Eigen::Vector3d gravity = m_system->gravity_m_s2;
+  const Eigen::Vector3d gravity = m_system->gravity.acceleration_m_s2;
   buildPhysics(parameters);
   settle();  // the new tissue's own start (under the scene's gravity)
-  m_system->gravity_m_s2 = gravity;
+  m_system->gravity.acceleration_m_s2 = gravity;
   m_state = kept;
   m_activeConditions.clear();
 }
@@ -59,9 +59,9 @@ void Simulation::setSoftening(bool isOn) {
 }
 
 void Simulation::setGravity(const Eigen::Vector3d& gravity_m_s2) {
-  m_system->gravity_m_s2 = gravity_m_s2;
+  m_system->gravity.acceleration_m_s2 = gravity_m_s2;
 }
-Eigen::Vector3d Simulation::gravity() const { return m_system->gravity_m_s2; }
+Eigen::Vector3d Simulation::gravity() const { return m_system->gravity.acceleration_m_s2; }
 
 void Simulation::buildPhysics(const TissueParameters& parameters) {
   const SceneDescription& scene = m_scene;
@@ -126,7 +126,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_volume->setThreadPool(m_pool.get());
   }
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
-  m_system->gravity_m_s2 = scene.gravity_m_s2;
+  m_system->gravity.acceleration_m_s2 = scene.gravity_m_s2;
   // The instrument's few contacts and every tray point at once, without allocating.
   if (m_tray) m_system->contacts.reserve(256 + static_cast<std::size_t>(m_tray->pointCount()));
   for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);

@@ -20,7 +20,7 @@
 
 #include <Eigen/Core>
 
-#include "integrators/PenaltyContacts.h"
+#include "forces/PenaltyContacts.h"
 #include "sim/SceneFile.h"
 #include "sim/SceneGeometry.h"
 

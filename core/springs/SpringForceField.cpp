@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "numerics/CpuFeatures.h"
+#include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
 #include "springs/SpringStressBatch.h"
 
@@ -20,7 +21,8 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
       m_inverseRestLength(mesh.restLength_m.cwiseInverse()),
       m_areaOverLength(mesh.volume_m3.cwiseQuotient(mesh.restLength_m)),
       m_peaks(static_cast<std::size_t>(mesh.springCount()), law.peak(1.0)),
-      m_lambdaMax(Eigen::VectorXd::Constant(mesh.springCount(), law.peak(1.0).lambdaMax)) {
+      m_lambdaMax(Eigen::VectorXd::Constant(mesh.springCount(), law.peak(1.0).lambdaMax)),
+      m_slots{AxialBlocks(5, mesh.springCount()), AxialBlocks(5, mesh.springCount())} {
   // NaN: no pass has run yet, so no positions equal these.
   m_passPositions.setConstant(3, mesh.nodeCount(), std::numeric_limits<double>::quiet_NaN());
   m_passStretch.setZero(mesh.springCount());
@@ -38,6 +40,49 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
     touched.begin = std::min(touched.begin, touched.end);  // a part without springs: empty
   }
   setBatched(true);
+}
+
+SpringForceField::~SpringForceField() = default;
+
+void SpringForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                 const ForcePass& pass, ForceReport& report) const {
+  if (pass.nodeStiffness != nullptr) {
+    report.springs = accumulate<false, true>(x, f, nullptr, pass.nodeStiffness, true);
+  } else if (pass.stiffness == StiffnessSlot::None) {
+    report.springs = addForces(x, f);
+  } else {
+    const int slot = pass.stiffness == StiffnessSlot::Current ? m_current : m_current ^ 1;
+    report.springs =
+        addForcesAndStiffness(x, f, m_slots[static_cast<std::size_t>(slot)], pass.isProjected);
+  }
+}
+
+void SpringForceField::prepareProducts(const PartBounds& bounds) {
+  if (m_product && m_product->bounds() == bounds) return;
+  m_product = std::make_unique<SpringStiffnessProduct>(m_mesh, bounds);
+}
+
+void SpringForceField::addStiffness(NodeBlockMatrix& matrix) const {
+  // The matrix's edges are the springs, in order (MechanicalSystem::makeMatrix).
+  matrix.addAxialEdgeStiffness(currentBlocks(), m_pool);
+}
+
+double SpringForceField::energy(const Eigen::Matrix3Xd& x) const {
+  double energy = 0.0;
+  for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
+    const double lambda =
+        (x.col(m_mesh.springs(1, s)) - x.col(m_mesh.springs(0, s))).norm() / m_mesh.restLength_m[s];
+    // Simpson's rule on [1, lambda]: accurate for any of the three laws.
+    constexpr int kPanels = 16;
+    const double h = (lambda - 1.0) / kPanels;
+    double sum = 0.0;
+    for (int k = 0; k <= kPanels; ++k) {
+      const double weight = (k == 0 || k == kPanels) ? 1.0 : (k % 2 == 1 ? 4.0 : 2.0);
+      sum += weight * m_law.evaluate(1.0 + k * h, 1.0).stress;
+    }
+    energy += m_mesh.volume_m3[s] * sum * h / 3.0;
+  }
+  return energy;
 }
 
 bool SpringForceField::setBatched(bool isBatched) {
@@ -73,7 +118,6 @@ SpringFieldReport SpringForceField::accumulate(const Eigen::Matrix3Xd& x, Eigen:
                                begin, end, x, rangeForces, blocks, rangeStiffness, isProjected);
     };
     if (p == 0) {
-      if constexpr (withNodeStiffness) nodeStiffness->setZero();
       reports[0] = range(forces, nodeStiffness);
       return;
     }
@@ -270,6 +314,7 @@ SpringFieldReport SpringForceField::addForcesAndStiffness(const Eigen::Matrix3Xd
 
 SpringFieldReport SpringForceField::addForcesAndNodeStiffness(
     const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces, Eigen::VectorXd& nodeStiffness) const {
+  nodeStiffness.setZero();  // the passes add
   return accumulate<false, true>(x, forces, nullptr, &nodeStiffness, true);
 }
 

@@ -12,44 +12,32 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "forces/ForceField.h"
 #include "numerics/AxialBlocks.h"
 #include "parallel/ForkJoinPool.h"
 
 #include "springs/SpringForceLaw.h"
 #include "springs/SpringMesh.h"
+#include "springs/SpringStiffnessProduct.h"
 
 namespace tissuesim {
-
-/// What one evaluation saw (for the instability report).
-struct SpringFieldReport {
-  int beyondRangeCount = 0;  ///< springs past the material's usable range (locking barrier)
-  int collapsedCount = 0;    ///< springs of (near) zero length: no direction, no force
-  double minStretch = 1.0;
-  double maxStretch = 1.0;
-
-  /// Adds another range's counts and widens the stretch range to its.
-  void include(const SpringFieldReport& other) {
-    beyondRangeCount += other.beyondRangeCount;
-    collapsedCount += other.collapsedCount;
-    minStretch = std::min(minStretch, other.minStretch);
-    maxStretch = std::max(maxStretch, other.maxStretch);
-  }
-};
 
 /// Parallel passes: the springs are cut into kSpringParts contiguous ranges, each summed into
 /// its own force buffer (over the nodes its springs touch), and the buffers are added in part
 /// order, node range by node range. The partitions do not depend on the thread count, so
 /// results are bit-identical with 1, 2 or 4 threads.
-class SpringForceField {
+class SpringForceField final : public ForceField {
  public:
   static constexpr int kSpringParts = 4;
 
   /// Both must outlive this object.
   SpringForceField(const SpringMesh& mesh, const SpringForceLaw& law);
+  ~SpringForceField() override;
 
   /// Runs the spring passes on `pool` (which must outlive this object), or on the calling
   /// thread when null (the default). Not thread-safe itself: one caller at a time.
@@ -98,7 +86,29 @@ class SpringForceField {
   /// law; the two agree to about 1e-15 relative, not to the bit. Returns whether it is on now.
   bool setBatched(bool isBatched);
 
+  // ForceField. K: the blocks above, projected or exact as the pass asks.
+  const char* name() const override { return "springs"; }
+  /// sum_e V_e W(lambda_e), W the integral of the virgin law's stress from 1 (J): Simpson's rule,
+  /// 16 panels a spring. Without softening (an unloading branch has no energy of its own).
+  double energy(const Eigen::Matrix3Xd& x) const override;
+  void addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, const ForcePass& pass,
+                 ForceReport& report) const override;
+  void acceptTrialStiffness() const override { m_current ^= 1; }
+  void addProductWork(std::vector<Eigen::Index>& nodeWork) const override {
+    SpringStiffnessProduct::addWork(m_mesh, nodeWork);
+  }
+  void prepareProducts(const PartBounds& bounds) override;
+  void addStiffnessProduct(int part, const double* x, double* y) const override {
+    m_product->addPart(part, currentBlocks(), x, y);
+  }
+  void addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const override {
+    m_product->addDiagonalBlock(j, currentBlocks(), block);
+  }
+  void addStiffness(NodeBlockMatrix& matrix) const override;
+
  private:
+  const AxialBlocks& currentBlocks() const { return m_slots[static_cast<std::size_t>(m_current)]; }
+
   template <bool withBlocks, bool withNodeStiffness>
   SpringFieldReport accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
                                AxialBlocks* blocks, Eigen::VectorXd* nodeStiffness,
@@ -151,6 +161,11 @@ class SpringForceField {
     Eigen::Index size() const { return end - begin; }
   };
   std::array<NodeSpan, kSpringParts> m_partNodes;
+  // The stiffness slots (ForceField.h): the current one is m_slots[m_current]. Mutable: scratch
+  // of the const passes, sized at construction.
+  mutable std::array<AxialBlocks, 2> m_slots;
+  mutable int m_current = 0;
+  std::unique_ptr<SpringStiffnessProduct> m_product;  ///< prepareProducts()'s
 };
 
 }  // namespace tissuesim

@@ -4,33 +4,86 @@
 #include <array>
 
 #include "mesh/TetMesh.h"
+#include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
 
 namespace tissuesim {
-
-TetIncidence::TetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount)
-    : start(static_cast<std::size_t>(nodeCount) + 1, 0) {
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    for (int i = 0; i < 4; ++i) ++start[static_cast<std::size_t>(tets(i, t)) + 1];
-  }
-  for (std::size_t j = 0; j < static_cast<std::size_t>(nodeCount); ++j) start[j + 1] += start[j];
-  entries.resize(static_cast<std::size_t>(start.back()));
-  std::vector<int> fill(start.begin(), start.end() - 1);
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    for (int i = 0; i < 4; ++i) {
-      entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(tets(i, t))]++)] =
-          static_cast<int>(4 * t + i);
-    }
-  }
-}
 
 VolumeForceField::VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa)
     : m_mesh(mesh),
       m_bulkModulus_Pa(bulkModulus_Pa),
       m_incidence(mesh.tets, mesh.nodeCount()),
       m_inverseRestVolume_1_m3(mesh.tetRestVolume_m3.cwiseInverse()),
+      m_slots{VolumeBlocks(13, mesh.tets.cols()), VolumeBlocks(13, mesh.tets.cols())},
       m_ownBlocks(13, mesh.tets.cols()),
       m_pressure_Pa(mesh.tets.cols()) {}
+
+VolumeForceField::~VolumeForceField() = default;
+
+void VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                 const ForcePass& pass, ForceReport& report) const {
+  VolumeBlocks* slot = nullptr;
+  if (pass.stiffness == StiffnessSlot::Current)
+    slot = &m_slots[static_cast<std::size_t>(m_current)];
+  if (pass.stiffness == StiffnessSlot::Trial)
+    slot = &m_slots[static_cast<std::size_t>(m_current ^ 1)];
+  report.volume = addForces(x, f, slot);
+  if (pass.nodeStiffness != nullptr) addNodeStiffnessBound(*pass.nodeStiffness);
+}
+
+void VolumeForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
+  for (std::size_t j = 0; j + 1 < m_incidence.start.size(); ++j)
+    nodeWork[j] += m_incidence.start[j + 1] - m_incidence.start[j];
+}
+
+void VolumeForceField::prepareProducts(const PartBounds& bounds) {
+  if (m_product && m_product->bounds() == bounds) return;
+  m_product = std::make_unique<TetStiffnessProduct>(m_mesh.tets, bounds);
+}
+
+void VolumeForceField::addStiffnessProduct(int part, const double* x, double* y) const {
+  m_product->addPart(part, currentBlocks(), x, y);
+}
+
+void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
+  const auto node = static_cast<std::size_t>(j);
+  const VolumeBlocks& blocks = currentBlocks();
+  double b00 = 0.0, b01 = 0.0, b02 = 0.0, b11 = 0.0, b12 = 0.0, b22 = 0.0;
+  for (int e = m_incidence.start[node]; e < m_incidence.start[node + 1]; ++e) {
+    const int entry = m_incidence.entries[static_cast<std::size_t>(e)];
+    const double* const column = blocks.data() + 13 * static_cast<std::ptrdiff_t>(entry >> 2);
+    const double* const g = column + 3 * (entry & 3);
+    const double c = column[12];
+    b00 += c * g[0] * g[0];
+    b01 += c * g[0] * g[1];
+    b02 += c * g[0] * g[2];
+    b11 += c * g[1] * g[1];
+    b12 += c * g[1] * g[2];
+    b22 += c * g[2] * g[2];
+  }
+  block(0, 0) += b00;
+  block(0, 1) += b01;
+  block(0, 2) += b02;
+  block(1, 0) += b01;
+  block(1, 1) += b11;
+  block(1, 2) += b12;
+  block(2, 0) += b02;
+  block(2, 1) += b12;
+  block(2, 2) += b22;
+}
+
+void VolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
+  const VolumeBlocks& blocks = currentBlocks();
+  for (Eigen::Index t = 0; t < m_mesh.tets.cols(); ++t) {
+    const auto g = blocks.col(t);
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        matrix.addBlock(m_mesh.tets(i, t), m_mesh.tets(j, t),
+                        g[12] * g.segment<3>(3 * i) * g.segment<3>(3 * j).transpose());
+      }
+    }
+  }
+}
 
 VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
                                               VolumeBlocks* blocks) const {

@@ -13,55 +13,33 @@
 // mirrored equilibrium for a flipped tet; this term has none (E_t(J = -1) = 2 kappa V0).
 //
 // Its stiffness is rank one per tet, so Newton's matrix-free operator applies it as c g (g . x)
-// (SpringSystemOperator) from the 13 numbers a tet this pass stores: no 12x12 block.
+// (TetStiffnessProduct) from the 13 numbers a tet this pass stores: no 12x12 block.
 //
 // Passes: the tets in kParts fixed ranges compute g, J and the pressure (on the pool when one is
 // set); then each node gathers its tets' forces in a node-wise pass, over a node-to-tet
 // incidence list in a fixed order. No two threads write one node, and sums run in the same
 // order for any thread count: bit-identical results with 1, 2 or 4 threads.
 
-#include <algorithm>
+#include <array>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "forces/ForceField.h"
 #include "parallel/ForkJoinPool.h"
 #include "springs/SpringMesh.h"
+#include "springs/TetStiffnessProduct.h"
 
 namespace tissuesim {
 
-struct VolumeFieldReport {
-  int invertedTetCount = 0;  ///< J <= 0
-  double minVolumeRatio = 1.0;
-  double maxVolumeRatio = 1.0;
-
-  void include(const VolumeFieldReport& other) {
-    invertedTetCount += other.invertedTetCount;
-    minVolumeRatio = std::min(minVolumeRatio, other.minVolumeRatio);
-    maxVolumeRatio = std::max(maxVolumeRatio, other.maxVolumeRatio);
-  }
-};
-
-/// The term's linearisation, a column per tet (13 by #T): rows 0-11 g = dV/dx on the tet's four
-/// nodes, node after node (m^2), row 12 c = kappa / V0 (Pa/m^3). The tet's stiffness block is
-/// c g g^T (N/m).
-using VolumeBlocks = Eigen::Matrix<double, 13, Eigen::Dynamic>;
-
-/// Each node's tets: entries tet * 4 + (the node's place in the tet, 0-3), in tet order.
-struct TetIncidence {
-  std::vector<int> start;  ///< #V + 1
-  std::vector<int> entries;
-
-  TetIncidence() = default;
-  TetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount);
-};
-
-class VolumeForceField {
+class VolumeForceField final : public ForceField {
  public:
   static constexpr int kParts = 4;
 
   /// @param bulkModulus_Pa kappa > 0. `mesh` must outlive this object.
   VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa);
+  ~VolumeForceField() override;
 
   /// Runs the passes on `pool` (which must outlive this object), or on the caller when null.
   void setThreadPool(ForkJoinPool* pool) { m_pool = pool; }
@@ -73,9 +51,6 @@ class VolumeForceField {
   /// addForces() pass's blocks: the explicit integrator's stability bound.
   void addNodeStiffnessBound(Eigen::VectorXd& nodeStiffness) const;
 
-  /// sum_t E_t at x (J).
-  double energy(const Eigen::Matrix3Xd& x) const;
-
   /// Counts tets with J <= 0 at x without computing forces; in kInspectParts tet ranges on
   /// `pool` when given (the report is the same: a count and a minimum).
   static VolumeFieldReport inspect(const SpringMesh& mesh, const Eigen::Matrix3Xd& x,
@@ -86,17 +61,37 @@ class VolumeForceField {
   const TetIncidence& incidence() const { return m_incidence; }
   const SpringMesh& mesh() const { return m_mesh; }
 
+  // ForceField: the Gauss-Newton K = sum_t c g g^T, PSD whether or not the pass asks for the
+  // projection (the exact Hessian's other part, kappa (J - 1) d^2V/dx^2, is left out).
+  const char* name() const override { return "volume"; }
+  /// sum_t E_t at x (J).
+  double energy(const Eigen::Matrix3Xd& x) const override;
+  void addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, const ForcePass& pass,
+                 ForceReport& report) const override;
+  void acceptTrialStiffness() const override { m_current ^= 1; }
+  void addProductWork(std::vector<Eigen::Index>& nodeWork) const override;
+  void prepareProducts(const PartBounds& bounds) override;
+  void addStiffnessProduct(int part, const double* x, double* y) const override;
+  void addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const override;
+  void addStiffness(NodeBlockMatrix& matrix) const override;
+
  private:
+  const VolumeBlocks& currentBlocks() const { return m_slots[static_cast<std::size_t>(m_current)]; }
+
   const SpringMesh& m_mesh;
   double m_bulkModulus_Pa;
   ForkJoinPool* m_pool = nullptr;
   TetIncidence m_incidence;
   Eigen::VectorXd m_inverseRestVolume_1_m3;  ///< #T, 1 / V0: no division in the pass
+  // The stiffness slots (ForceField.h): the current one is m_slots[m_current]. Mutable: scratch
+  // of the const passes, sized at construction.
+  mutable std::array<VolumeBlocks, 2> m_slots;
+  mutable int m_current = 0;
   // The last pass's blocks when the caller keeps none, and its pressures kappa (J - 1) (Pa).
-  // Mutable: scratch of the const passes, sized at construction.
   mutable VolumeBlocks m_ownBlocks;
   mutable const VolumeBlocks* m_lastBlocks = nullptr;
   mutable Eigen::VectorXd m_pressure_Pa;
+  std::unique_ptr<TetStiffnessProduct> m_product;  ///< prepareProducts()'s
 };
 
 }  // namespace tissuesim

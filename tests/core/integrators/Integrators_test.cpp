@@ -38,7 +38,7 @@ class EachIntegrator : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EachIntegrator, FreeFallFollowsTheDiscreteAndAnalyticTrajectory) {
   test::BlockSystem block({0.01, 0.01, 0.01}, {1, 1, 1});
-  block.system.gravity_m_s2 = kGravity;
+  block.system.gravity.acceleration_m_s2 = kGravity;
   IntegratorSettings settings;
   settings.forceTolerance_N = 1e-12;
   auto integrator = makeIntegrator(GetParam(), settings);
@@ -128,7 +128,7 @@ TEST(SymplecticEuler, OscillationPeriodMatchesTheLinearisedSystem) {
 
 TEST(SymplecticEuler, HundredThousandStepsStayFiniteWithBoundedEnergy) {
   test::BlockSystem block({0.01, 0.01, 0.01}, {1, 1, 1});
-  block.system.gravity_m_s2 = kGravity;
+  block.system.gravity.acceleration_m_s2 = kGravity;
   IntegratorSettings settings;
   SymplecticEulerSolver integrator(settings);
   MechanicalState state = block.system.restState();
@@ -142,10 +142,10 @@ TEST(SymplecticEuler, HundredThousandStepsStayFiniteWithBoundedEnergy) {
     const Eigen::Vector3d vcm = s.v * block.mesh.nodeMass_kg / block.mesh.nodeMass_kg.sum();
     relative.v = s.v.colwise() - vcm;
     MechanicalSystem& system = block.system;
-    const Eigen::Vector3d g = system.gravity_m_s2;
-    system.gravity_m_s2.setZero();
+    const Eigen::Vector3d g = system.gravity.acceleration_m_s2;
+    system.gravity.acceleration_m_s2.setZero();
     const double energy = system.totalEnergy(relative);
-    system.gravity_m_s2 = g;
+    system.gravity.acceleration_m_s2 = g;
     return energy;
   };
   const double initial = internalEnergy(state);
@@ -275,7 +275,7 @@ TEST(ImplicitEuler, NewtonConvergesQuadraticallyWithTheExactHessian) {
 
 TEST(QuasiNewton, ConvergesToImplicitEulerAsIterationsGrow) {
   test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
-  block.system.gravity_m_s2 = kGravity;
+  block.system.gravity.acceleration_m_s2 = kGravity;
   for (int node = 0; node < 9; ++node) block.system.fixNode(node);  // the z = 0 face
   MechanicalState start = block.system.restState();
   start.x.row(0) *= 1.15;
@@ -344,7 +344,7 @@ TEST(Slivers, AMeshWithASliverTetSimulatesFinitely) {
   const SpringForceLaw law(SpringLaw::Eesm, liver.table, liver.parameters, 0.0, false);
   SpringForceField springs(springsMesh, law);
   MechanicalSystem system(springs, nullptr);
-  system.gravity_m_s2 = kGravity;
+  system.gravity.acceleration_m_s2 = kGravity;
   system.fixNode(1);
   system.fixNode(3);
   IntegratorSettings settings;
@@ -362,7 +362,7 @@ TEST(ParallelPasses, AMeshAboveTheNodePassMinimumStepsBitIdenticallyOnAnyThreadC
   const auto run = [](const std::string& name, ForkJoinPool* pool) {
     test::BlockSystem block({0.1, 0.1, 0.1}, {20, 20, 20}, SpringLaw::Eesm, true);
     EXPECT_GE(block.mesh.nodeCount(), kParallelNodePassMinimum);
-    block.system.gravity_m_s2 = kGravity;
+    block.system.gravity.acceleration_m_s2 = kGravity;
     for (Eigen::Index i = 0; i < block.mesh.nodeCount(); ++i) {
       if (block.mesh.restPositions_m(2, i) < 1e-12) block.system.fixNode(static_cast<int>(i));
     }

@@ -28,7 +28,7 @@ struct BlockOnTray {
     tray.height_m = -0.001;
     tray.stiffness_Pa_per_m = stiffness_Pa_per_m;
     support = std::make_unique<TraySupport>(geometry, tray);
-    block.system.gravity_m_s2 = {0.0, 0.0, -kGravity_m_s2};
+    block.system.gravity.acceleration_m_s2 = {0.0, 0.0, -kGravity_m_s2};
     block.system.contacts.reserve(static_cast<std::size_t>(support->pointCount()));
     state = block.system.restState();
     IntegratorSettings settings;

@@ -1,4 +1,4 @@
-#include "integrators/PenaltyContacts.h"
+#include "forces/PenaltyContacts.h"
 
 #include <gtest/gtest.h>
 #include <Eigen/SVD>

@@ -18,13 +18,16 @@
 // springs (a tet's nodes and a surface triangle's corners are, being tet edges).
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
 
+#include "forces/ForceField.h"
 #include "numerics/NodeBlockMatrix.h"
 #include "numerics/RankOneTerm.h"
+#include "numerics/RankOneTermDiagonals.h"
 
 namespace tissuesim {
 
@@ -58,11 +61,16 @@ struct PenaltyContact {
   double penetration(const Eigen::Matrix3Xd& x) const { return normal.dot(point(x)) - offset_m; }
 };
 
-class PenaltyContactSet {
+/// The contacts of one step as a force field: their stiffness is kept as rank-one terms (the
+/// instrument's first), which the matrix-free operator applies and CG's preconditioner inverts.
+class PenaltyContactSet final : public ForceField {
  public:
-  PenaltyContactSet() { m_contacts.reserve(256); }  // a step's contacts fit without allocating
+  static constexpr std::size_t kReservedContacts = 256;
+
+  /// Room for a step's contacts without allocating.
+  PenaltyContactSet() { reserve(kReservedContacts); }
   /// Room for `count` contacts (a scene with a tray: its points and the instrument's).
-  void reserve(std::size_t count) { m_contacts.reserve(count); }
+  void reserve(std::size_t count);
 
   void clear() { m_contacts.clear(); }
   void add(const PenaltyContact& contact) { m_contacts.push_back(contact); }
@@ -101,8 +109,39 @@ class PenaltyContactSet {
   /// active contacts), from the instrument's contacts alone.
   ContactResult reaction(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m) const;
 
+  // ForceField. K: the exact sum of k w_i w_j n n^T over the active contacts (PSD).
+  const char* name() const override { return "contacts"; }
+  /// sum over the active contacts of k delta^2 / 2 (J).
+  double energy(const Eigen::Matrix3Xd& x) const override;
+  /// The terms at x, u zeroed on pass.fixedDofs, into the slot; the node bound adds k w_k.
+  void addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, const ForcePass& pass,
+                 ForceReport& report) const override;
+  void acceptTrialStiffness() const override { m_current ^= 1; }
+  void prepareProducts(const PartBounds& bounds) override;
+  void addStiffnessProduct(int part, const double* x, double* y) const override;
+  void addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const override;
+  void addStiffness(NodeBlockMatrix& matrix) const override;
+  /// The current slot's instrument terms: the few stiff ones on light surface nodes that CG's
+  /// preconditioner inverts exactly (a support's hundreds stay in the block diagonal).
+  std::span<const RankOneTerm> instrumentTerms() const {
+    const auto slot = static_cast<std::size_t>(m_current);
+    return {m_terms[slot].data(), m_instrumentTermCount[slot]};
+  }
+
  private:
+  /// rankOneTerms() with isFixed optional (null: none fixed).
+  std::size_t collectTerms(const Eigen::Matrix3Xd& x, const std::vector<char>* isFixed,
+                           std::vector<RankOneTerm>& terms) const;
+
   std::vector<PenaltyContact> m_contacts;
+  // The stiffness slots (ForceField.h): terms, how many are the instrument's, and their diagonal
+  // blocks (sized by prepareProducts()). Mutable: scratch of the const passes.
+  mutable std::array<std::vector<RankOneTerm>, 2> m_terms;
+  mutable std::array<std::size_t, 2> m_instrumentTermCount{};
+  mutable std::array<RankOneTermDiagonals, 2> m_diagonals;
+  mutable int m_current = 0;
+  PartBounds m_bounds{};
+  bool m_hasDiagonals = false;
 };
 
 }  // namespace tissuesim

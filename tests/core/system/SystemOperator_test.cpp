@@ -1,9 +1,10 @@
 // The matrix-free Newton operator against the assembled matrix it stands for, its parts'
 // independence of the thread count, and Newton with it against Newton with Cholesky.
 
-#include "integrators/SpringSystemOperator.h"
+#include "system/SystemOperator.h"
 
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -25,73 +26,63 @@ Eigen::Matrix3Xd jiggled(const SpringMesh& mesh, double amplitude_m, unsigned se
   return x;
 }
 
-// Everything the operator carries: spring blocks and the volume term's at a deformed state,
-// inertia weight and shift, a fixed node and a single fixed DOF, and two contact terms sharing a
-// node (one across the parts' boundary region), each u zero on the fixed DOFs as
-// PenaltyContacts makes it.
+// Everything the operator carries: the springs' and the volume term's stiffness at a deformed
+// state, inertia weight and shift, a fixed node and a single fixed DOF, and three contacts pushed
+// in (two sharing nodes and the fixed DOF, one carried by a tet's four nodes).
 struct OperatorCase {
   test::BlockSystem block{{0.03, 0.03, 0.03}, {4, 4, 4}, SpringLaw::Eesm, false, 5e4};
-  AxialBlocks blocks;
-  VolumeBlocks volumeBlocks;
-  std::vector<char> fixed;
-  std::vector<RankOneTerm> terms;
+  Eigen::Matrix3Xd x = jiggled(block.mesh, 5e-4, 3);
   double massWeight = 1e6;  // (1 + alpha h) / h^2 at h = 1 ms
   double shift = 3.5;
 
   OperatorCase() {
-    const Eigen::Matrix3Xd x = jiggled(block.mesh, 5e-4, 3);
-    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-    blocks.resize(5, block.mesh.springCount());
-    block.springs.addForcesAndStiffness(x, f, blocks);
-    volumeBlocks.resize(13, block.mesh.tets.cols());
-    block.volume->addForces(x, f, &volumeBlocks);
-    const Eigen::Index nodes = block.mesh.nodeCount();
-    fixed.assign(static_cast<std::size_t>(3 * nodes), 0);
-    for (int axis = 0; axis < 3; ++axis) fixed[static_cast<std::size_t>(3 * 7 + axis)] = 1;
-    fixed[static_cast<std::size_t>(3 * (nodes / 2) + 1)] = 1;
-    const auto term = [&](std::array<int, kMaxTermNodes> at, Eigen::Vector4d weights,
-                          Eigen::Vector3d normal, double k) {
-      RankOneTerm t;
-      t.nodes = at;
-      t.stiffness_N_m = k;
-      for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
-        for (int axis = 0; axis < 3; ++axis) {
-          const bool isFree = fixed[static_cast<std::size_t>(3 * at[i] + axis)] == 0;
-          t.blocks[i][axis] =
-              isFree ? weights[static_cast<Eigen::Index>(i)] * normal.normalized()[axis] : 0.0;
-        }
-      }
-      terms.push_back(t);
+    // Contacts on tet nodes (joined by springs, as a contact's must be: the matrix's pattern).
+    const Eigen::Vector4i middle = block.mesh.tets.col(block.mesh.tets.cols() / 2);
+    const Eigen::Vector4i other = block.mesh.tets.col(block.mesh.tets.cols() / 3);
+    block.system.fixNode(7);
+    block.system.fixDof(middle[1], 1);
+    const auto contact = [&](std::array<int, kMaxTermNodes> at, Eigen::Vector4d weights,
+                             Eigen::Vector3d normal, double k) {
+      PenaltyContact c;
+      c.nodes = at;
+      c.weights = weights;
+      c.normal = normal.normalized();
+      c.offset_m = c.normal.dot(c.point(x)) - 1e-3;  // 1 mm in at x
+      c.stiffness_N_m = k;
+      block.system.contacts.add(c);
     };
-    const int middle = static_cast<int>(nodes / 2);
-    term({middle, middle + 1, middle + 5, middle}, {0.5, 0.3, 0.2, 0.0}, {0.1, 1.0, 0.3}, 1e4);
-    term({middle + 1, 2, 3, middle + 1}, {0.2, 0.2, 0.6, 0.0}, {-0.3, 0.2, 1.0}, 2e4);
+    contact({middle[0], middle[1], middle[2], middle[0]}, {0.5, 0.3, 0.2, 0.0}, {0.1, 1.0, 0.3},
+            1e4);
+    contact({middle[1], middle[2], middle[3], middle[1]}, {0.2, 0.2, 0.6, 0.0}, {-0.3, 0.2, 1.0},
+            2e4);
     // A point on the drawn surface: carried by a tet's four nodes.
-    const Eigen::Vector4i tet = block.mesh.tets.col(block.mesh.tets.cols() / 3);
-    term({tet[0], tet[1], tet[2], tet[3]}, {0.1, 0.4, 0.3, 0.2}, {0.7, -0.2, 0.5}, 3e4);
+    contact({other[0], other[1], other[2], other[3]}, {0.1, 0.4, 0.3, 0.2}, {0.7, -0.2, 0.5}, 3e4);
   }
 
-  SpringSystemOperator makeOperator() const {
-    SpringSystemOperator a(block.mesh);
-    a.setSpringBlocks(blocks);
-    a.setVolumeBlocks(&volumeBlocks);
-    a.setDiagonal(massWeight, shift);
-    a.setFixedDofs(fixed);
-    a.setTerms(&terms);
+  /// The operator, with every field's stiffness at x in its current slot.
+  std::unique_ptr<SystemOperator> makeOperator() {
+    auto a = std::make_unique<SystemOperator>(block.system);
+    Eigen::Matrix3Xd f(3, x.cols());
+    block.system.forces(x, f, {StiffnessSlot::Current});
+    a->setDiagonal(massWeight, shift);
+    a->setFixedDofs(block.system.fixedDofs());
     return a;
   }
 
-  /// The same system assembled, as Newton assembles it (dense, for the comparison).
-  Eigen::MatrixXd assembled() const {
+  /// The same system written out by hand (dense): the springs' blocks from their own pass, the
+  /// volume term's c g g^T and the contacts' k u u^T from their formulas, when asked for.
+  Eigen::MatrixXd dense(bool withVolume, bool withContacts) const {
     NodeBlockMatrix m = block.system.makeMatrix();
+    AxialBlocks blocks(5, block.mesh.springCount());
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+    block.springs.addForcesAndStiffness(x, f, blocks);
     m.assignAxialEdgeStiffness(blocks);
     for (Eigen::Index i = 0; i < block.mesh.nodeCount(); ++i) {
       m.addToDiagonal(static_cast<int>(i), massWeight * block.mesh.nodeMass_kg[i] + shift);
     }
     Eigen::MatrixXd dense(m.matrix());
-    for (Eigen::Index t = 0; t < block.mesh.tets.cols(); ++t) {
+    for (Eigen::Index t = 0; withVolume && t < block.mesh.tets.cols(); ++t) {
       // c g g^T, g_i = dV/dx_i: a third of the area vector of the face opposite node i.
-      const Eigen::Matrix3Xd x = jiggled(block.mesh, 5e-4, 3);
       const auto p = [&](int i) -> Eigen::Vector3d { return x.col(block.mesh.tets(i, t)); };
       Eigen::Matrix<double, 12, 1> g;
       g.segment<3>(0) = (p(3) - p(1)).cross(p(2) - p(1)) / 6.0;
@@ -106,11 +97,14 @@ struct OperatorCase {
         }
       }
     }
-    for (const RankOneTerm& t : terms) {
+    for (const PenaltyContact& c : block.system.contacts.contacts()) {
+      if (!withContacts) break;
       Eigen::VectorXd u = Eigen::VectorXd::Zero(dense.rows());
-      for (std::size_t i = 0; i < kMaxTermNodes; ++i) u.segment<3>(3 * t.nodes[i]) += t.blocks[i];
-      dense += t.stiffness_N_m * u * u.transpose();
+      for (std::size_t i = 0; i < kMaxTermNodes; ++i)
+        u.segment<3>(3 * c.nodes[i]) += c.weights[static_cast<Eigen::Index>(i)] * c.normal;
+      dense += c.stiffness_N_m * u * u.transpose();
     }
+    const std::vector<char>& fixed = block.system.fixedDofs();
     for (std::size_t d = 0; d < fixed.size(); ++d) {
       if (fixed[d] == 0) continue;
       dense.row(static_cast<Eigen::Index>(d)).setZero();
@@ -122,16 +116,17 @@ struct OperatorCase {
 
   /// Random, zero on the fixed DOFs (the product's precondition).
   Eigen::VectorXd randomDirection(unsigned seed) const {
+    const std::vector<char>& fixed = block.system.fixedDofs();
     std::mt19937 random(seed);
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    Eigen::VectorXd x(static_cast<Eigen::Index>(fixed.size()));
-    for (Eigen::Index d = 0; d < x.size(); ++d)
-      x[d] = fixed[static_cast<std::size_t>(d)] != 0 ? 0.0 : uniform(random);
-    return x;
+    Eigen::VectorXd direction(static_cast<Eigen::Index>(fixed.size()));
+    for (Eigen::Index d = 0; d < direction.size(); ++d)
+      direction[d] = fixed[static_cast<std::size_t>(d)] != 0 ? 0.0 : uniform(random);
+    return direction;
   }
 };
 
-Eigen::VectorXd multiply(const SpringSystemOperator& a, const Eigen::VectorXd& x,
+Eigen::VectorXd multiply(const SystemOperator& a, const Eigen::VectorXd& x,
                          bool isReversed = false) {
   Eigen::VectorXd y = Eigen::VectorXd::Constant(x.size(), std::nan(""));
   for (int p = 0; p < BlockLinearOperator::kParts; ++p) {
@@ -140,51 +135,79 @@ Eigen::VectorXd multiply(const SpringSystemOperator& a, const Eigen::VectorXd& x
   return y;
 }
 
-TEST(SpringSystemOperator, IsTheAssembledMatrix) {
-  const OperatorCase c;
-  const SpringSystemOperator a = c.makeOperator();
-  const Eigen::MatrixXd dense = c.assembled();
+TEST(SystemOperator, IsTheAssembledMatrix) {
+  OperatorCase c;
+  const std::unique_ptr<SystemOperator> a = c.makeOperator();
+  const Eigen::MatrixXd dense = c.dense(true, true);
   const double scale = dense.cwiseAbs().maxCoeff();
   // The parts cover every node once, in order.
-  const BlockLinearOperator::PartBounds& bounds = a.partBounds();
+  const BlockLinearOperator::PartBounds& bounds = a->partBounds();
   EXPECT_EQ(bounds.front(), 0);
   EXPECT_EQ(bounds.back(), c.block.mesh.nodeCount());
   for (int p = 0; p < BlockLinearOperator::kParts; ++p) EXPECT_LT(bounds[p], bounds[p + 1]) << p;
   for (const unsigned seed : {1u, 2u}) {
     const Eigen::VectorXd x = c.randomDirection(seed);
-    const Eigen::VectorXd y = multiply(a, x);
+    const Eigen::VectorXd y = multiply(*a, x);
     ASSERT_TRUE(y.allFinite()) << "every row written";
     EXPECT_LT((y - dense * x).cwiseAbs().maxCoeff(), 1e-12 * scale * x.cwiseAbs().sum()) << seed;
   }
   // The preconditioner's blocks, and the shift's scale.
   double largest = 0.0;
-  for (Eigen::Index j = 0; j < a.nodeCount(); ++j) {
+  for (Eigen::Index j = 0; j < a->nodeCount(); ++j) {
     const Eigen::Matrix3d expected = dense.block<3, 3>(3 * j, 3 * j);
-    EXPECT_LT((a.diagonalBlock(j) - expected).cwiseAbs().maxCoeff(), 1e-12 * scale) << "node " << j;
+    EXPECT_LT((a->diagonalBlock(j) - expected).cwiseAbs().maxCoeff(), 1e-12 * scale)
+        << "node " << j;
     largest = std::max(largest, expected.diagonal().maxCoeff());
   }
-  EXPECT_NEAR(a.largestDiagonalEntry(), largest, 1e-12 * largest);
-  // The terms and the volume term matter here (the comparison would fail without either).
-  SpringSystemOperator withoutTerms = c.makeOperator();
-  withoutTerms.setTerms(nullptr);
+  EXPECT_NEAR(a->largestDiagonalEntry(), largest, 1e-12 * largest);
+  // The contacts and the volume term matter here (the comparison would fail without either).
   const Eigen::VectorXd x = c.randomDirection(1);
-  EXPECT_GT((multiply(withoutTerms, x) - dense * x).cwiseAbs().maxCoeff(), 1.0);
-  SpringSystemOperator withoutVolume = c.makeOperator();
-  withoutVolume.setVolumeBlocks(nullptr);
-  EXPECT_GT((multiply(withoutVolume, x) - dense * x).cwiseAbs().maxCoeff(), 1.0);
+  EXPECT_GT((multiply(*a, x) - c.dense(true, false) * x).cwiseAbs().maxCoeff(), 1.0);
+  EXPECT_GT((multiply(*a, x) - c.dense(false, true) * x).cwiseAbs().maxCoeff(), 1.0);
 }
 
-TEST(SpringSystemOperator, PartsAreIndependentOfOrderAndThreads) {
-  const OperatorCase c;
-  const SpringSystemOperator a = c.makeOperator();
+TEST(SystemOperator, TheFieldsAssembleWhatTheOperatorApplies) {
+  // The direct solver's path: every field's addStiffness into the system's pattern.
+  OperatorCase c;
+  const std::unique_ptr<SystemOperator> a = c.makeOperator();
+  NodeBlockMatrix m = c.block.system.makeMatrix();
+  c.block.system.assembleStiffness(m);
+  for (Eigen::Index i = 0; i < c.block.mesh.nodeCount(); ++i)
+    m.addToDiagonal(static_cast<int>(i), c.massWeight * c.block.mesh.nodeMass_kg[i] + c.shift);
+  m.applyFixedDofs(c.block.system.fixedDofs());
+  const Eigen::MatrixXd dense = c.dense(true, true);
+  EXPECT_LT((Eigen::MatrixXd(m.matrix()) - dense).cwiseAbs().maxCoeff(),
+            1e-12 * dense.cwiseAbs().maxCoeff());
+}
+
+TEST(SystemOperator, AnAcceptedTrialIsTheStiffnessAtTheTrial) {
+  // Current at x, a trial at x2, accepted: the operator applies K at x2, as a pass at x2 would.
+  OperatorCase c;
+  const std::unique_ptr<SystemOperator> a = c.makeOperator();
+  const Eigen::Matrix3Xd x2 = jiggled(c.block.mesh, 5e-4, 11);
+  Eigen::Matrix3Xd f(3, x2.cols());
+  const Eigen::VectorXd direction = c.randomDirection(4);
+  const Eigen::VectorXd atX = multiply(*a, direction);
+  c.block.system.forces(x2, f, {StiffnessSlot::Trial});
+  EXPECT_EQ(multiply(*a, direction), atX) << "a trial pass leaves the current slot alone";
+  c.block.system.acceptTrialStiffness();
+  const Eigen::VectorXd accepted = multiply(*a, direction);
+  c.block.system.forces(x2, f, {StiffnessSlot::Current});
+  EXPECT_EQ(accepted, multiply(*a, direction));
+  EXPECT_GT((accepted - atX).cwiseAbs().maxCoeff(), 1e-3) << "x and x2 differ in stiffness";
+}
+
+TEST(SystemOperator, PartsAreIndependentOfOrderAndThreads) {
+  OperatorCase c;
+  const std::unique_ptr<SystemOperator> a = c.makeOperator();
   const Eigen::VectorXd x = c.randomDirection(5);
-  const Eigen::VectorXd expected = multiply(a, x);
-  EXPECT_EQ(multiply(a, x, /*isReversed=*/true), expected);
+  const Eigen::VectorXd expected = multiply(*a, x);
+  EXPECT_EQ(multiply(*a, x, /*isReversed=*/true), expected);
   for (const int threads : {2, 4}) {
     ForkJoinPool pool(threads);
     Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
     runParts(&pool, BlockLinearOperator::kParts,
-             [&](int p) { a.multiplyPart(p, x.data(), y.data()); });
+             [&](int p) { a->multiplyPart(p, x.data(), y.data()); });
     EXPECT_EQ(y, expected) << threads << " threads";
   }
 }
@@ -192,11 +215,11 @@ TEST(SpringSystemOperator, PartsAreIndependentOfOrderAndThreads) {
 // One implicit Euler step of a clamped block pressed by a contact and pulled by gravity, with and
 // without the volume term, converged tightly: CG on the matrix-free operator and Cholesky on the
 // assembled matrix reach the same state.
-TEST(SpringSystemOperator, NewtonWithItMatchesCholesky) {
+TEST(SystemOperator, NewtonWithItMatchesCholesky) {
   for (const double bulkModulus : {0.0, 2e4}) {
     test::BlockSystem block({0.03, 0.03, 0.03}, {3, 3, 3}, SpringLaw::Eesm, false, bulkModulus);
     for (int node = 0; node < 16; ++node) block.system.fixNode(node);  // the z = 0 face
-    block.system.gravity_m_s2 = Eigen::Vector3d(0.0, 0.0, -9.81);
+    block.system.gravity.acceleration_m_s2 = Eigen::Vector3d(0.0, 0.0, -9.81);
     MechanicalState start = block.system.restState();
     // A surface triangle on the top face: three nodes of one tet there (joined by springs).
     PenaltyContact contact;

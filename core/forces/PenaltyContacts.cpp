@@ -1,9 +1,90 @@
-#include "integrators/PenaltyContacts.h"
+#include "forces/PenaltyContacts.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace tissuesim {
+
+void PenaltyContactSet::reserve(std::size_t count) {
+  m_contacts.reserve(count);
+  for (std::vector<RankOneTerm>& terms : m_terms) terms.reserve(count);
+}
+
+void PenaltyContactSet::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                  const ForcePass& pass, ForceReport&) const {
+  addForces(x, f);
+  if (pass.nodeStiffness != nullptr) {
+    // Gershgorin: node k's rows of k w w^T n n^T sum to at most k w_k (the weights sum to 1).
+    for (const PenaltyContact& c : m_contacts) {
+      if (!(c.penetration(x) > 0.0)) continue;
+      for (std::size_t k = 0; k < kMaxTermNodes; ++k)
+        (*pass.nodeStiffness)[c.nodes[k]] +=
+            c.stiffness_N_m * c.weights[static_cast<Eigen::Index>(k)];
+    }
+  }
+  if (pass.stiffness == StiffnessSlot::None) return;
+  const auto slot = static_cast<std::size_t>(
+      pass.stiffness == StiffnessSlot::Current ? m_current : m_current ^ 1);
+  m_instrumentTermCount[slot] = collectTerms(x, pass.fixedDofs, m_terms[slot]);
+  if (m_hasDiagonals) m_diagonals[slot].set(m_terms[slot]);
+}
+
+void PenaltyContactSet::prepareProducts(const PartBounds& bounds) {
+  if (m_hasDiagonals && bounds == m_bounds) return;
+  m_bounds = bounds;
+  for (std::size_t slot = 0; slot < 2; ++slot) {
+    m_diagonals[slot].resize(bounds[kParts], kReservedContacts);
+    m_diagonals[slot].set(m_terms[slot]);  // a pass before this call kept terms already
+  }
+  m_hasDiagonals = true;
+}
+
+void PenaltyContactSet::addStiffnessProduct(int part, const double* x, double* y) const {
+  const Eigen::Index first = m_bounds[static_cast<std::size_t>(part)];
+  const Eigen::Index last = m_bounds[static_cast<std::size_t>(part) + 1];
+  // k u (u . x) on this part's nodes of each term.
+  for (const RankOneTerm& term : m_terms[static_cast<std::size_t>(m_current)]) {
+    double ux = 0.0;
+    bool touchesPart = false;
+    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
+      ux += term.blocks[i].dot(Eigen::Map<const Eigen::Vector3d>(x + 3 * term.nodes[i]));
+      touchesPart = touchesPart || (term.nodes[i] >= first && term.nodes[i] < last);
+    }
+    if (!touchesPart) continue;
+    const double scale = term.stiffness_N_m * ux;
+    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
+      if (term.nodes[i] < first || term.nodes[i] >= last) continue;
+      Eigen::Map<Eigen::Vector3d>(y + 3 * term.nodes[i]) += scale * term.blocks[i];
+    }
+  }
+}
+
+void PenaltyContactSet::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
+  if (const Eigen::Matrix3d* diagonal = m_diagonals[static_cast<std::size_t>(m_current)].at(j))
+    block += *diagonal;
+}
+
+void PenaltyContactSet::addStiffness(NodeBlockMatrix& matrix) const {
+  for (const RankOneTerm& term : m_terms[static_cast<std::size_t>(m_current)]) {
+    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
+      if (term.blocks[i].isZero(0.0)) continue;
+      for (std::size_t j = 0; j < kMaxTermNodes; ++j) {
+        if (term.blocks[j].isZero(0.0)) continue;
+        matrix.addBlock(term.nodes[i], term.nodes[j],
+                        term.stiffness_N_m * term.blocks[i] * term.blocks[j].transpose());
+      }
+    }
+  }
+}
+
+double PenaltyContactSet::energy(const Eigen::Matrix3Xd& x) const {
+  double energy = 0.0;
+  for (const PenaltyContact& c : m_contacts) {
+    const double delta = c.penetration(x);
+    if (delta > 0.0) energy += 0.5 * c.stiffness_N_m * delta * delta;
+  }
+  return energy;
+}
 
 void PenaltyContactSet::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces) const {
   for (const PenaltyContact& c : m_contacts) {
@@ -65,6 +146,12 @@ void PenaltyContactSet::addStiffness(const Eigen::Matrix3Xd& x, NodeBlockMatrix&
 std::size_t PenaltyContactSet::rankOneTerms(const Eigen::Matrix3Xd& x,
                                             const std::vector<char>& isFixed,
                                             std::vector<RankOneTerm>& terms) const {
+  return collectTerms(x, &isFixed, terms);
+}
+
+std::size_t PenaltyContactSet::collectTerms(const Eigen::Matrix3Xd& x,
+                                            const std::vector<char>* isFixed,
+                                            std::vector<RankOneTerm>& terms) const {
   terms.clear();
   std::size_t instrumentCount = 0;
   for (const bool isSupportPass : {false, true}) {
@@ -77,7 +164,8 @@ std::size_t PenaltyContactSet::rankOneTerms(const Eigen::Matrix3Xd& x,
       for (std::size_t k = 0; k < kMaxTermNodes; ++k) {
         if (c.weights[static_cast<Eigen::Index>(k)] == 0.0) continue;
         for (int axis = 0; axis < 3; ++axis) {
-          const bool isFree = isFixed[static_cast<std::size_t>(3 * c.nodes[k] + axis)] == 0;
+          const bool isFree = isFixed == nullptr ||
+                              (*isFixed)[static_cast<std::size_t>(3 * c.nodes[k] + axis)] == 0;
           term.blocks[k][axis] =
               isFree ? c.weights[static_cast<Eigen::Index>(k)] * c.normal[axis] : 0.0;
         }

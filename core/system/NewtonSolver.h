@@ -12,27 +12,27 @@
 // singular (statics). When a factorisation fails or no step length reduces |r|, a
 // Levenberg-Marquardt shift mu I is added (raised tenfold each time, relaxed after a good step);
 // the solve stops, unconverged, when even a vanishing gradient step gives no descent (a kink in the
-// force, say) and reports it. Linear solves: sparse Cholesky (Eigen SimplicialLDLT, symbolic
-// analysis once per pattern) or conjugate gradients (3x3 block-Jacobi preconditioner,
-// BlockConjugateGradient: on the springs' thread pool when they have one). CG runs matrix-free
-// (SpringSystemOperator, on the force pass's linearisation: springs and volume term); Cholesky
-// needs the assembled matrix.
+// force, say) and reports it. K is the system's force fields' (forces/ForceField.h), which each
+// pass keeps at the iterate or at a line-search trial. Linear solves behind LinearSolver: an
+// iterative one (conjugate gradients, ConjugateGradientSolver: on the system's thread pool when
+// it has one) runs matrix-free on SystemOperator; a direct one (sparse Cholesky, CholeskySolver)
+// on the matrix the fields assemble.
 
 #include <array>
 #include <memory>
 
-#include <Eigen/SparseCholesky>
-
-#include "numerics/BlockConjugateGradient.h"
+#include "numerics/LinearSolver.h"
+#include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
-
-#include "integrators/SpringSystemOperator.h"
-
-#include "integrators/TimeIntegrator.h"
+#include "system/MechanicalSystem.h"
+#include "system/SystemOperator.h"
 
 namespace tissuesim {
 
 enum class LinearSolverKind { Cholesky, ConjugateGradient };
+
+/// The solver of that kind; `tolerance`: an iterative one's relative residual.
+std::unique_ptr<LinearSolver> makeLinearSolver(LinearSolverKind kind, double tolerance);
 
 /// Norms of a residual r (N): max |r_i| (NaN when any entry is not finite) and ||r||^2, its
 /// per-range partial sums (parallel/NodeRanges.h) added in range order.
@@ -53,7 +53,7 @@ struct NewtonReport {
 class NewtonSolver {
  public:
   explicit NewtonSolver(LinearSolverKind kind, double linearTolerance = 1e-6)
-      : m_kind(kind), m_linearTolerance(linearTolerance) {}
+      : m_linearSolver(makeLinearSolver(kind, linearTolerance)) {}
 
   /// Up to `count` iterations beyond a solve's budget while max |r| stays above residual_N (a
   /// real-time step's budget is one iteration; a step that leaves a residual a trainee could
@@ -64,9 +64,9 @@ class NewtonSolver {
   }
 
   /// Solves from the initial guess in x (3 by #V), overwriting it; fixed DOFs are not moved.
-  NewtonReport solve(const MechanicalSystem& system, Eigen::Matrix3Xd& x,
-                     const Eigen::Matrix3Xd& xHat, double inertiaWeight, double regularization,
-                     int maxIterations, double tolerance_N);
+  NewtonReport solve(MechanicalSystem& system, Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& xHat,
+                     double inertiaWeight, double regularization, int maxIterations,
+                     double tolerance_N);
 
  private:
   ResidualNorms residual(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
@@ -77,33 +77,23 @@ class NewtonSolver {
   ResidualNorms residualFromForce(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
                                   const Eigen::Matrix3Xd& xHat, double inertiaWeight,
                                   Eigen::Matrix3Xd& r);
-  void prepare(const MechanicalSystem& system);
-  /// Forces at x into m_force and the stiffness there into the matrix or the spring blocks
-  /// (the trial's when `isTrial`).
+  void prepare(MechanicalSystem& system);
+  /// Forces at x into m_force, and the fields' stiffness there into their current or trial slot.
   ForceReport forcesAndStiffness(const MechanicalSystem& system, const Eigen::Matrix3Xd& x,
-                                 bool isTrial, bool isProjected);
+                                 StiffnessSlot slot, bool isProjected);
 
-  LinearSolverKind m_kind;
-  double m_linearTolerance;  ///< CG's relative residual (inexact Newton)
+  std::unique_ptr<LinearSolver> m_linearSolver;
   int m_extraIterations = 0;
   double m_extraIterationResidual_N = 0.0;
   const MechanicalSystem* m_preparedFor = nullptr;
-  bool m_isMatrixFree = false;  ///< CG on SpringSystemOperator; else on the assembled matrix
-  // Assembled (Cholesky):
+  // The operator A: assembled from the fields for a direct solver, else matrix-free.
   std::unique_ptr<NodeBlockMatrix> m_matrix;
-  std::unique_ptr<NodeBlockMatrix> m_trialMatrix;  ///< the line search's trials' stiffness
-  // Matrix-free: the linearisation at the iterate and at the line search's trials.
-  std::unique_ptr<SpringSystemOperator> m_operator;
-  SystemLinearization m_linearization, m_trialLinearization;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
-  BlockConjugateGradient m_cg;
-  bool m_isPatternAnalysed = false;
+  std::unique_ptr<SystemOperator> m_operator;
   Eigen::Matrix3Xd m_force, m_r, m_trialR, m_trialX;
   Eigen::VectorXd m_rhs, m_step;
-  /// The last time step's first Newton step (CG): the next step's first CG starts from it, zero
-  /// (a cold start) until there is one.
+  /// The last time step's first Newton step (iterative solves): the next step's first solve
+  /// starts from it, zero (a cold start) until there is one.
   Eigen::VectorXd m_firstStep;
-  std::vector<RankOneTerm> m_contactTerms;  ///< the contacts' stiffness, for CG's preconditioner
   // residualFromForce's partials, one per node range.
   std::array<double, kNodeRanges> m_rangeLargest{};
   std::array<double, kNodeRanges> m_rangeSquares{};
