@@ -13,8 +13,10 @@
 #include "ImageSize.h"
 #include "LoadedTissue.h"
 #include "OutputFile.h"
+#include "analysis/FemTensileTest.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/TensileTest.h"
+#include "fem/FemModel.h"
 #include "material/TissueFile.h"
 
 namespace tissuesim::app {
@@ -54,11 +56,61 @@ SpringLaw parseLaw(const std::string& name) {
   if (name == "eesm") return SpringLaw::Eesm;
   if (name == "eesm-paper") return SpringLaw::EesmPaper;
   if (name == "smm") return SpringLaw::Smm;
-  throw CommandError("unknown --model '" + name + "'; expected one of eesm, eesm-paper, smm");
+  throw CommandError("unknown --model '" + name +
+                     "'; expected one of eesm, eesm-paper, smm (spring laws) or fem");
+}
+
+/// The FEM reference (fem/FemModel.h) through the same specimen and protocol: hyperelastic, so
+/// its loading branches are compared with sedf's and its unloading ones are not.
+void runFemTensile(const TensileCommandOptions& options, const LoadedTissue& tissue,
+                   const UniaxialProtocol& protocol, const std::vector<CurveBranch>& reference) {
+  const TensileSpecimen specimen{parseSize(options.size), options.resolution};
+  const double bulkModulus_Pa = options.bulkModulus_kPa > 0.0
+                                    ? options.bulkModulus_kPa * 1000.0
+                                    : defaultFemBulkModulus(tissue.energy);
+  std::fprintf(stderr,
+               "tensile: %.4g x %.4g x %.4g mm, %d cells across the thickness, FEM (quadratic "
+               "tets, mean dilatation), bulk modulus %.4g kPa, no softening\n",
+               specimen.size_m.x() * 1e3, specimen.size_m.y() * 1e3, specimen.size_m.z() * 1e3,
+               specimen.cellsAcrossThickness, bulkModulus_Pa / 1000.0);
+  FemTensileStats stats;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<CurveBranch> curve;
+  try {
+    curve = runFemTensileTest(tissue.energy, specimen, bulkModulus_Pa, protocol, &stats);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // Against sedf's virgin curve at the same stretches: the FEM has no softening, so sedf's
+  // reloading and unloading branches (softened) are not what it stands for.
+  std::fprintf(stderr, "%-11s %-28s %12s\n", "model", "branch", "R^2 virgin");
+  for (std::size_t b = 0; b < curve.size(); b += 2) {
+    std::vector<double> virgin;
+    for (const double lambda : curve[b].stretch) virgin.push_back(tissue.energy.stress(lambda));
+    char branch[64];
+    std::snprintf(branch, sizeof branch, "cycle %d (lambda_max %.3f)", curve[b].cycle,
+                  options.lambdaMax[static_cast<std::size_t>(curve[b].cycle - 1)]);
+    std::fprintf(stderr, "%-11s %-28s %11.4f%%\n", "fem", branch,
+                 100.0 * coefficientOfDetermination(virgin, curve[b].stress_Pa));
+  }
+  std::fprintf(stderr,
+               "fem         %d nodes, %d quadratic tets; max |net force| %.2g N (worst %d "
+               "iterations), %d unconverged points; volume ratio %.5f to %.5f; %.2f s\n",
+               stats.nodes, stats.elements, stats.worstResidual_N, stats.worstIterations,
+               stats.unconvergedPoints, stats.minVolumeRatio, stats.maxVolumeRatio, seconds);
+  writeCurveCsv(options.outputPath, curve);
+  if (!options.plotPath.empty()) {
+    std::vector<std::pair<std::string, std::vector<CurveBranch>>> plotted;
+    plotted.emplace_back("fem", std::move(curve));
+    writeCurvePlot(options.plotPath, tissue.parameters.name + ": tensile test", plotted, reference);
+  }
 }
 
 void runTensile(const TensileCommandOptions& options) {
-  const SpringLaw law = parseLaw(options.modelName);
+  const bool isFem = options.modelName == "fem";
+  const SpringLaw law = isFem ? SpringLaw::Eesm : parseLaw(options.modelName);
   if (options.calibration != "small-strain" && options.calibration != "with-volume" &&
       options.calibration != "none") {
     throw CommandError("unknown --calibration '" + options.calibration +
@@ -83,6 +135,13 @@ void runTensile(const TensileCommandOptions& options) {
   const UniaxialProtocol protocol{options.lambdaMax, options.points};
   tissue.validate(protocol);
   const std::vector<CurveBranch> reference = tissue.continuum.run(UniaxialModel::Sedf, protocol);
+  if (isFem) {
+    if (options.isComparing)
+      throw CommandError("--compare is for the spring laws, not --model fem");
+    if (integrator != "static") throw CommandError("--model fem runs static equilibria only");
+    runFemTensile(options, tissue, protocol, reference);
+    return;
+  }
 
   const TensileSpecimen specimen{parseSize(options.size), options.resolution};
   const TensileTest test(energy, table, specimen);
@@ -160,7 +219,10 @@ void registerTensileCommand(CLI::App& app) {
       "Virtual tensile test: a meshed block specimen pulled quasi-statically through the spring "
       "network to each lambda_max and back. CSV as `uniaxial`; R^2 against sedf on stderr.");
   command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")->required();
-  command->add_option("--model", options->modelName, "Spring law: eesm, eesm-paper, smm")
+  command
+      ->add_option("--model", options->modelName,
+                   "Spring law (eesm, eesm-paper, smm) or fem: the finite-element reference "
+                   "(quadratic tets, mean dilatation; hyperelastic, no softening)")
       ->capture_default_str();
   command
       ->add_option("--lambda-max", options->lambdaMax,
@@ -188,7 +250,8 @@ void registerTensileCommand(CLI::App& app) {
       ->capture_default_str();
   command
       ->add_option("--bulk-modulus-kpa", options->bulkModulus_kPa,
-                   "Volume term's bulk modulus in kPa (0: off)")
+                   "Volume term's bulk modulus in kPa (0: off); with --model fem, the FEM's "
+                   "(0: its default, 200 times the tissue's stiffest tangent up to lambda 1.3)")
       ->capture_default_str();
   command->add_flag("--no-softening", options->isSofteningOff, "Turn the Mullins effect off");
   command->add_flag("--compare", options->isComparing,

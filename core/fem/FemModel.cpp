@@ -1,0 +1,220 @@
+#include "fem/FemModel.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/LU>
+
+#include "fem/IsochoricMaterialPoint.h"
+#include "fem/QuadraticTetShape.h"
+
+namespace tissuesim {
+
+double defaultFemBulkModulus(const StrainEnergy& energy) {
+  // The uniaxial tangent dP/dlambda rises monotonically with the stretch: its value at the top
+  // of the range is the stiffest the tissue gets there.
+  const double top = std::min(kFemBulkModulusStretch, energy.usableRange().upper);
+  const double stiffest =
+      std::max(3.0 * energy.initialShearModulus(), energy.stressAndSlope(top).slope);
+  return kFemBulkModulusFactor * stiffest;
+}
+
+FemModel::FemModel(const QuadraticTetMesh& mesh, const StrainEnergy& energy, double bulkModulus_Pa)
+    : m_mesh(mesh),
+      m_energy(energy),
+      m_bulkModulus_Pa(bulkModulus_Pa),
+      m_restVolume_m3(mesh.tetCount()) {
+  if (!(bulkModulus_Pa > 0.0) || !std::isfinite(bulkModulus_Pa))
+    throw std::invalid_argument("the FEM's bulk modulus must be positive and finite");
+  const auto energyRule = tetQuadratureDegree2();
+  const auto volumeRule = tetQuadratureDegree3();
+  m_energyPoints.reserve(4 * static_cast<std::size_t>(mesh.tetCount()));
+  m_volumePoints.reserve(5 * static_cast<std::size_t>(mesh.tetCount()));
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+    // Straight edges: X(xi) is affine, dX/dxi the corners' edge vectors.
+    const Eigen::Vector3d x0 = mesh.nodes_m.col(mesh.tets(0, t));
+    Eigen::Matrix3d jacobian;
+    for (int c = 0; c < 3; ++c) jacobian.col(c) = mesh.nodes_m.col(mesh.tets(c + 1, t)) - x0;
+    const double determinant = jacobian.determinant();
+    if (!(determinant > 0.0)) {
+      throw std::invalid_argument("FEM: element " + std::to_string(t) +
+                                  " is flat or inverted at rest");
+    }
+    const Eigen::Matrix3d inverse = jacobian.inverse();
+    m_restVolume_m3[t] = determinant / 6.0;
+    for (const TetQuadraturePoint& point : energyRule)
+      m_energyPoints.push_back(
+          {quadraticTetShapeGradients(point.xi) * inverse, point.weight * determinant});
+    for (const TetQuadraturePoint& point : volumeRule)
+      m_volumePoints.push_back(
+          {quadraticTetShapeGradients(point.xi) * inverse, point.weight * determinant});
+  }
+}
+
+FemState FemModel::evaluate(const Eigen::Matrix3Xd& x) const {
+  return accumulate(x, nullptr, nullptr, nullptr);
+}
+
+FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradient) const {
+  gradient.setZero(3, x.cols());
+  return accumulate(x, &gradient, nullptr, nullptr);
+}
+
+FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradient,
+                            Eigen::SparseMatrix<double>& hessian,
+                            const std::vector<char>& isFixed) const {
+  gradient.setZero(3, x.cols());
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(900 * static_cast<std::size_t>(m_mesh.tetCount()));
+  const FemState state = accumulate(x, &gradient, &triplets, &isFixed);
+  const Eigen::Index dofs = 3 * x.cols();
+  for (Eigen::Index d = 0; d < dofs; ++d) {
+    if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0)
+      triplets.emplace_back(d, d, 1.0);
+  }
+  hessian.resize(dofs, dofs);
+  hessian.setFromTriplets(triplets.begin(), triplets.end());
+  return state;
+}
+
+namespace {
+
+using ElementMatrix = Eigen::Matrix<double, 30, 30>;
+using ElementVector = Eigen::Matrix<double, 30, 1>;
+
+/// F = sum_a x_a (dN_a/dX)^T of element nodes `xe` (3 by 10).
+Eigen::Matrix3d deformationGradient(const Eigen::Matrix<double, 3, 10>& xe,
+                                    const Eigen::Matrix<double, 10, 3>& gradients) {
+  return xe * gradients;
+}
+
+}  // namespace
+
+FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
+                              std::vector<Eigen::Triplet<double>>* triplets,
+                              const std::vector<char>* isFixed) const {
+  FemState state;
+  state.minVolumeRatio = std::numeric_limits<double>::infinity();
+  state.maxVolumeRatio = -std::numeric_limits<double>::infinity();
+  const bool withGradient = gradient != nullptr;
+  const bool withHessian = triplets != nullptr;
+  ElementVector ge;
+  ElementMatrix he;
+  for (Eigen::Index t = 0; t < m_mesh.tetCount(); ++t) {
+    Eigen::Matrix<double, 3, 10> xe;
+    for (int a = 0; a < 10; ++a) xe.col(a) = x.col(m_mesh.tets(a, t));
+    ge.setZero();
+    he.setZero();
+    // Isochoric part, four points.
+    for (int q = 0; q < 4; ++q) {
+      const PointData& point = m_energyPoints[static_cast<std::size_t>(4 * t + q)];
+      const Eigen::Matrix3d f = deformationGradient(xe, point.gradients);
+      const IsochoricResponse response = evaluateIsochoric(m_energy, f, withHessian);
+      if (!response.isAdmissible) {
+        state.isAdmissible = false;
+        state.energy_J = std::numeric_limits<double>::infinity();
+        return state;
+      }
+      state.energy_J += point.weight_m3 * response.energy_Pa;
+      if (!withGradient) continue;
+      for (int a = 0; a < 10; ++a) {
+        ge.segment<3>(3 * a) +=
+            point.weight_m3 * response.stress_Pa * point.gradients.row(a).transpose();
+      }
+      if (!withHessian) continue;
+      // H_ab(i, k) = sum_JL dN_a/dX_J T(iJ, kL) dN_b/dX_L.
+      for (int a = 0; a < 10; ++a) {
+        for (int i = 0; i < 3; ++i) {
+          Eigen::Matrix3d row;  // row(k, L) = sum_J dN_a/dX_J T(iJ, kL)
+          for (int k = 0; k < 3; ++k) {
+            for (int l = 0; l < 3; ++l) {
+              double sum = 0.0;
+              for (int j = 0; j < 3; ++j)
+                sum += point.gradients(a, j) * response.tangent_Pa(3 * i + j, 3 * k + l);
+              row(k, l) = sum;
+            }
+          }
+          for (int b = 0; b < 10; ++b) {
+            const Eigen::Vector3d column = row * point.gradients.row(b).transpose();
+            for (int k = 0; k < 3; ++k) he(3 * a + i, 3 * b + k) += point.weight_m3 * column[k];
+          }
+        }
+      }
+    }
+    // Volumetric part: theta = v / V, v by the degree-3 rule.
+    double deformedVolume = 0.0;
+    ElementVector dv = ElementVector::Zero();
+    std::array<Eigen::Matrix3d, 5> fs;
+    for (int q = 0; q < 5; ++q) {
+      const PointData& point = m_volumePoints[static_cast<std::size_t>(5 * t + q)];
+      fs[static_cast<std::size_t>(q)] = deformationGradient(xe, point.gradients);
+      const Eigen::Matrix3d& f = fs[static_cast<std::size_t>(q)];
+      deformedVolume += point.weight_m3 * f.determinant();
+      if (!withGradient) continue;
+      // dJ/dF = cof F: cof F dN_a/dX, the columns' cross products.
+      Eigen::Matrix3d cofactor;
+      cofactor.col(0) = f.col(1).cross(f.col(2));
+      cofactor.col(1) = f.col(2).cross(f.col(0));
+      cofactor.col(2) = f.col(0).cross(f.col(1));
+      for (int a = 0; a < 10; ++a)
+        dv.segment<3>(3 * a) += point.weight_m3 * cofactor * point.gradients.row(a).transpose();
+    }
+    const double restVolume = m_restVolume_m3[t];
+    const double theta = deformedVolume / restVolume;
+    state.minVolumeRatio = std::min(state.minVolumeRatio, theta);
+    state.maxVolumeRatio = std::max(state.maxVolumeRatio, theta);
+    if (!(theta > 0.0)) {
+      state.isAdmissible = false;
+      state.energy_J = std::numeric_limits<double>::infinity();
+      return state;
+    }
+    const double pressure = m_bulkModulus_Pa * (theta - 1.0);  // U'(theta)
+    state.energy_J += restVolume * 0.5 * m_bulkModulus_Pa * (theta - 1.0) * (theta - 1.0);
+    if (withGradient) ge += pressure * dv;
+    if (withHessian) {
+      he += (m_bulkModulus_Pa / restVolume) * dv * dv.transpose();
+      // U' d^2v/dx_a dx_b: (i, k) = sum_m eps_ikm (F (dN_a x dN_b))_m, summed over the points.
+      for (int q = 0; q < 5; ++q) {
+        const PointData& point = m_volumePoints[static_cast<std::size_t>(5 * t + q)];
+        const Eigen::Matrix3d& f = fs[static_cast<std::size_t>(q)];
+        for (int a = 0; a < 10; ++a) {
+          for (int b = 0; b < 10; ++b) {
+            const Eigen::Vector3d s =
+                f * point.gradients.row(a).transpose().cross(point.gradients.row(b).transpose());
+            const double c = pressure * point.weight_m3;
+            // eps_ikm s_m: (0,1) = s_2, (0,2) = -s_1, (1,2) = s_0, antisymmetric.
+            he(3 * a + 0, 3 * b + 1) += c * s[2];
+            he(3 * a + 1, 3 * b + 0) -= c * s[2];
+            he(3 * a + 0, 3 * b + 2) -= c * s[1];
+            he(3 * a + 2, 3 * b + 0) += c * s[1];
+            he(3 * a + 1, 3 * b + 2) += c * s[0];
+            he(3 * a + 2, 3 * b + 1) -= c * s[0];
+          }
+        }
+      }
+    }
+    if (withGradient) {
+      for (int a = 0; a < 10; ++a) gradient->col(m_mesh.tets(a, t)) += ge.segment<3>(3 * a);
+    }
+    if (withHessian) {
+      for (int a = 0; a < 10; ++a) {
+        for (int i = 0; i < 3; ++i) {
+          const Eigen::Index row = 3 * m_mesh.tets(a, t) + i;
+          if (!isFixed->empty() && (*isFixed)[static_cast<std::size_t>(row)] != 0) continue;
+          for (int b = 0; b < 10; ++b) {
+            for (int k = 0; k < 3; ++k) {
+              const Eigen::Index column = 3 * m_mesh.tets(b, t) + k;
+              if (!isFixed->empty() && (*isFixed)[static_cast<std::size_t>(column)] != 0) continue;
+              triplets->emplace_back(row, column, he(3 * a + i, 3 * b + k));
+            }
+          }
+        }
+      }
+    }
+  }
+  return state;
+}
+
+}  // namespace tissuesim

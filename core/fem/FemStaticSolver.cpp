@@ -1,0 +1,85 @@
+#include "fem/FemStaticSolver.h"
+
+#include <cmath>
+
+namespace tissuesim {
+namespace {
+
+double largestFree(const Eigen::Matrix3Xd& gradient, const std::vector<char>& isFixed) {
+  double largest = 0.0;
+  const double* flat = gradient.data();
+  for (Eigen::Index d = 0; d < gradient.size(); ++d) {
+    if (isFixed[static_cast<std::size_t>(d)] == 0) largest = std::max(largest, std::abs(flat[d]));
+  }
+  return largest;
+}
+
+}  // namespace
+
+FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x,
+                                      const std::vector<char>& isFixed) {
+  FemSolveReport report;
+  report.state = model.evaluate(x, m_gradient, m_hessian, isFixed);
+  if (!report.state.isAdmissible) return report;
+  if (m_analysedFixed != isFixed) {  // the fixed DOFs shape the pattern
+    m_cholesky.analyzePattern(m_hessian);
+    m_analysedFixed = isFixed;
+  }
+  report.residual_N = largestFree(m_gradient, isFixed);
+  double shift = 0.0;
+  const Eigen::Index dofs = x.size();
+  Eigen::VectorXd rhs(dofs), step(dofs);
+  while (report.residual_N > m_tolerance_N && report.iterations < m_maxIterations) {
+    ++report.iterations;
+    for (Eigen::Index d = 0; d < dofs; ++d)
+      rhs[d] = isFixed[static_cast<std::size_t>(d)] != 0 ? 0.0 : -m_gradient.data()[d];
+    // Factor, shifting until positive definite.
+    Eigen::SparseMatrix<double> shifted = m_hessian;
+    const double scale = m_hessian.diagonal().cwiseAbs().maxCoeff();
+    for (;;) {
+      if (shift > 0.0) {
+        shifted = m_hessian;
+        for (Eigen::Index d = 0; d < dofs; ++d) {
+          if (isFixed[static_cast<std::size_t>(d)] == 0) shifted.coeffRef(d, d) += shift;
+        }
+      }
+      m_cholesky.factorize(shifted);
+      if (m_cholesky.info() == Eigen::Success && (m_cholesky.vectorD().array() > 0.0).all()) break;
+      shift = shift > 0.0 ? 10.0 * shift : 1e-8 * scale;
+      if (shift > 1e8 * scale) return report;  // no definite matrix within reach
+    }
+    step = m_cholesky.solve(rhs);
+    // Backtracking on the energy while the step's predicted decrease stands above the energy's
+    // round-off; below it (close to the solution) on the residual's size instead.
+    const double slope = -step.dot(rhs);  // dE along the step (< 0)
+    const bool isEnergyResolved = -slope > 1e-11 * std::abs(report.state.energy_J);
+    double length = 1.0;
+    bool isAccepted = false;
+    for (int halving = 0; halving < 30 && !isAccepted; ++halving, length *= 0.5) {
+      m_trial = x + length * Eigen::Map<const Eigen::Matrix3Xd>(step.data(), 3, x.cols());
+      if (isEnergyResolved) {
+        const FemState trialState = model.evaluate(m_trial);
+        isAccepted = trialState.isAdmissible &&
+                     trialState.energy_J <= report.state.energy_J + 1e-4 * length * slope;
+      } else {
+        const FemState trialState = model.evaluate(m_trial, m_trialGradient);
+        isAccepted =
+            trialState.isAdmissible && largestFree(m_trialGradient, isFixed) < report.residual_N;
+      }
+    }
+    if (!isAccepted) {
+      shift = shift > 0.0 ? 10.0 * shift : 1e-8 * scale;
+      if (shift > 1e8 * scale) return report;
+      continue;
+    }
+    x = m_trial;
+    report.state = model.evaluate(x, m_gradient, m_hessian, isFixed);
+    report.residual_N = largestFree(m_gradient, isFixed);
+    shift *= 0.1;
+    if (shift < 1e-14 * scale) shift = 0.0;
+  }
+  report.converged = report.residual_N <= m_tolerance_N;
+  return report;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,53 @@
+#pragma once
+// Static equilibrium of the FEM model with prescribed displacements: Newton's method on
+//
+//   dE/dx = 0 on the free DOFs,   x fixed on the others (their values as the caller sets them)
+//
+// with the exact Hessian and a sparse direct solve (Eigen's SimplicialLDLT; the pattern is
+// analysed once). Where the Hessian is not positive definite on the free DOFs (a non-positive
+// pivot) a Levenberg-Marquardt shift mu I is added, raised tenfold until it is, relaxed after a
+// good step. Each step is backtracked on the energy (Armijo), so an element that would invert
+// or pass the chain's locking (infinite energy) is never stepped into.
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+
+#include "fem/FemModel.h"
+
+namespace tissuesim {
+
+struct FemSolveReport {
+  bool converged = false;
+  int iterations = 0;
+  double residual_N = 0.0;  ///< max |dE/dx| on the free DOFs at the end
+  FemState state;
+};
+
+class FemStaticSolver {
+ public:
+  /// converged when max |dE/dx| on the free DOFs <= tolerance_N.
+  explicit FemStaticSolver(double tolerance_N = 1e-9, int maxIterations = 50)
+      : m_tolerance_N(tolerance_N), m_maxIterations(maxIterations) {}
+
+  void setTolerance(double tolerance_N) { m_tolerance_N = tolerance_N; }
+
+  /// From the guess in x (3 by #V, admissible), overwritten; isFixed: 3#V flags.
+  FemSolveReport solve(const FemModel& model, Eigen::Matrix3Xd& x,
+                       const std::vector<char>& isFixed);
+
+  /// The last solve's dE/dx (3 by #V) at its end: on a fixed DOF, the force the support exerts
+  /// on the body there, negated (the reaction the grip feels).
+  const Eigen::Matrix3Xd& gradient() const { return m_gradient; }
+
+ private:
+  double m_tolerance_N;
+  int m_maxIterations;
+  Eigen::Matrix3Xd m_gradient, m_trialGradient, m_trial;
+  Eigen::SparseMatrix<double> m_hessian;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_cholesky;
+  std::vector<char> m_analysedFixed;  ///< the fixed set the pattern was analysed for
+};
+
+}  // namespace tissuesim
