@@ -1,5 +1,5 @@
 #pragma once
-// The force laws compared in uniaxial tests (shared/notes/model.md, "The EESM spring").
+// The force laws compared in uniaxial tests (docs/model.md, "The spring network").
 
 #include <optional>
 #include <string>

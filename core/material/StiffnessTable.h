@@ -1,6 +1,6 @@
 #pragma once
 // Per-tissue lookup tables, computed once at start-up from the strain energy, for the spring
-// force laws of the simulator (Moreno-Guerra et al. 2022, Eqs. 10-12; shared/notes/model.md).
+// force laws of the simulator (Moreno-Guerra et al. 2022, Eqs. 10-12; docs/model.md).
 //
 //   W_T(lambda)          strain energy density (Pa)                         Eq. 9, uniaxial
 //   P(lambda) = W_T'     energy-consistent spring force per unit volume

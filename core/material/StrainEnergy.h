@@ -1,7 +1,7 @@
 #pragma once
 // The strain energy density W_T of the tissue (Moreno-Guerra et al. 2022, Eqs. 2-9) and the
 // uniaxial engineering stress derived from it (Eqs. 13, 18, 21, as corrected in
-// shared/notes/model.md).
+// docs/model.md).
 //
 //   W_T     = (1 - f) W_iso + f W_aniso                                            (Eq. 2)
 //   W_iso   = mu [ N (beta r + ln(beta / sinh beta)) - ln(beta / r) ] + c,

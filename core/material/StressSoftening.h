@@ -1,6 +1,6 @@
 #pragma once
 // Stress softening with residual strain (the Mullins effect; Moreno-Guerra et al. 2022,
-// Eqs. 16, 17, 19, 20 as corrected in shared/notes/model.md).
+// Eqs. 16, 17, 19, 20 as corrected in docs/model.md).
 //
 // On unloading from the largest stretch reached, lambda_max, the engineering stress of a law
 // whose virgin stress is P_v(lambda) becomes

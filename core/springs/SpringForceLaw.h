@@ -4,7 +4,7 @@
 //
 //   |F| = (V_e / L0) P(lambda)                                                 (N)
 //
-// and its energy is V_e W(lambda) where W' = P (shared/notes/model.md, "The EESM spring").
+// and its energy is V_e W(lambda) where W' = P (docs/model.md, "The spring network").
 //   eesm        P = W_T'(lambda) from the StiffnessTable (energy-consistent, the default)
 //   eesm-paper  P = k_s(lambda) lambda / v_ij, the published secant force (Eq. 10)
 //   smm         P = E (lambda - 1), a linear spring with one fitted modulus E (Eq. 1)

@@ -9,7 +9,7 @@
 //
 // Volume share (our rule): each tet gives one sixth of its rest volume to each of its six
 // edges, so V_e = sum over tets t containing e of V_t / 6 and sum_e V_e = the mesh volume.
-// The spring then carries energy V_e W_T(lambda) (shared/notes/model.md), which makes the
+// The spring then carries energy V_e W_T(lambda) (docs/model.md), which makes the
 // network's energy density W_T when all springs share one stretch.
 // Masses: each tet gives rho V_t / 4 to each of its nodes (lumped mass matrix).
 
