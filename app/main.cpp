@@ -10,6 +10,7 @@
 #include "BenchCommand.h"
 #include "CommandError.h"
 #include "GuiCommand.h"
+#include "IndentCommand.h"
 #include "MeshCommand.h"
 #include "RunCommand.h"
 #include "SnapshotCommand.h"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   });
   tissuesim::app::registerUniaxialCommand(app);
   tissuesim::app::registerTensileCommand(app);
+  tissuesim::app::registerIndentCommand(app);
   tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerRunCommand(app);
   tissuesim::app::registerSnapshotCommand(app);

@@ -70,6 +70,13 @@ FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradien
   triplets.reserve(900 * static_cast<std::size_t>(m_mesh.tetCount()));
   const FemState state = accumulate(x, &gradient, &triplets, &isFixed);
   const Eigen::Index dofs = 3 * x.cols();
+  if (m_extra != nullptr && !isFixed.empty()) {
+    // The extra energy's entries on fixed rows or columns go (accumulate skipped the elements').
+    std::erase_if(triplets, [&](const Eigen::Triplet<double>& entry) {
+      return isFixed[static_cast<std::size_t>(entry.row())] != 0 ||
+             isFixed[static_cast<std::size_t>(entry.col())] != 0;
+    });
+  }
   for (Eigen::Index d = 0; d < dofs; ++d) {
     if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0)
       triplets.emplace_back(d, d, 1.0);
@@ -214,6 +221,7 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
       }
     }
   }
+  if (m_extra != nullptr) state.energy_J += m_extra->add(x, gradient, triplets);
   return state;
 }
 

@@ -39,6 +39,20 @@ double defaultFemBulkModulus(const StrainEnergy& energy);
 inline constexpr double kFemBulkModulusStretch = 1.3;
 inline constexpr double kFemBulkModulusFactor = 200.0;
 
+/// An energy added to the FEM's on the same nodes (a rigid tool's penalty, say).
+class FemExtraEnergy {
+ public:
+  virtual ~FemExtraEnergy() = default;
+  /// E at x (J); gradient += dE/dx and hessian += d^2E/dx^2 (3#V DOF numbering) where given.
+  virtual double add(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
+                     std::vector<Eigen::Triplet<double>>* hessian) const = 0;
+
+ protected:
+  FemExtraEnergy() = default;
+  FemExtraEnergy(const FemExtraEnergy&) = default;
+  FemExtraEnergy& operator=(const FemExtraEnergy&) = default;
+};
+
 struct FemState {
   bool isAdmissible = true;  ///< false: an element inverted or past the chain's locking
   double energy_J = 0.0;
@@ -52,6 +66,8 @@ class FemModel {
   FemModel(const QuadraticTetMesh& mesh, const StrainEnergy& energy, double bulkModulus_Pa);
 
   const QuadraticTetMesh& mesh() const { return m_mesh; }
+  /// Adds `extra` (which must outlive its use here) to every evaluation; null: none.
+  void setExtraEnergy(const FemExtraEnergy* extra) { m_extra = extra; }
   double bulkModulus() const { return m_bulkModulus_Pa; }
 
   /// E at x, and the element volume ratios.
@@ -79,6 +95,7 @@ class FemModel {
   std::vector<PointData> m_energyPoints;  ///< 4 per element
   std::vector<PointData> m_volumePoints;  ///< 5 per element
   Eigen::VectorXd m_restVolume_m3;        ///< V_e
+  const FemExtraEnergy* m_extra = nullptr;
 };
 
 }  // namespace tissuesim

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <stdexcept>
 
 namespace tissuesim {
@@ -13,6 +14,27 @@ TetMesh makeBlockMesh(const Eigen::Vector3d& size_m, const Eigen::Vector3i& cell
   }
   if ((cells.array() < 1).any())
     throw std::invalid_argument("a block needs at least one cell per axis");
+  std::array<std::vector<double>, 3> lines;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int i = 0; i <= cells[axis]; ++i)
+      lines[static_cast<std::size_t>(axis)].push_back(origin_m[axis] +
+                                                      size_m[axis] * i / cells[axis]);
+  }
+  return makeRectilinearMesh(lines[0], lines[1], lines[2]);
+}
+
+TetMesh makeRectilinearMesh(const std::vector<double>& xs, const std::vector<double>& ys,
+                            const std::vector<double>& zs) {
+  for (const std::vector<double>* line : {&xs, &ys, &zs}) {
+    // less_equal: a repeated coordinate counts as out of order.
+    if (line->size() < 2 || !std::is_sorted(line->begin(), line->end(), std::less_equal<>())) {
+      throw std::invalid_argument(
+          "a rectilinear mesh needs at least two increasing coordinates "
+          "per axis");
+    }
+  }
+  const Eigen::Vector3i cells(static_cast<int>(xs.size()) - 1, static_cast<int>(ys.size()) - 1,
+                              static_cast<int>(zs.size()) - 1);
   const int nx = cells.x() + 1;
   const int ny = cells.y() + 1;
   const int nz = cells.z() + 1;
@@ -24,8 +46,8 @@ TetMesh makeBlockMesh(const Eigen::Vector3d& size_m, const Eigen::Vector3i& cell
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         mesh.nodes_m.col(nodeIndex(i, j, k)) =
-            origin_m + Eigen::Vector3d(size_m.x() * i / cells.x(), size_m.y() * j / cells.y(),
-                                       size_m.z() * k / cells.z());
+            Eigen::Vector3d(xs[static_cast<std::size_t>(i)], ys[static_cast<std::size_t>(j)],
+                            zs[static_cast<std::size_t>(k)]);
       }
     }
   }

@@ -3,6 +3,8 @@
 // diagonal (Kuhn's subdivision), which needs no alternation for conforming faces. Used for the
 // virtual tensile specimen (the paper's samples were 55 x 20 x 5 mm) and for test blocks.
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "mesh/TetMesh.h"
@@ -15,5 +17,10 @@ namespace tissuesim {
 /// Node (i, j, k) has index i + (nx + 1) (j + (ny + 1) k). All tets are positively oriented.
 TetMesh makeBlockMesh(const Eigen::Vector3d& size_m, const Eigen::Vector3i& cells,
                       const Eigen::Vector3d& origin_m = Eigen::Vector3d::Zero());
+
+/// The same on a rectilinear grid: nodes at every (xs[i], ys[j], zs[k]) (m; each list strictly
+/// increasing, at least two entries), cells of any spacing (a grid graded towards a tool).
+TetMesh makeRectilinearMesh(const std::vector<double>& xs, const std::vector<double>& ys,
+                            const std::vector<double>& zs);
 
 }  // namespace tissuesim

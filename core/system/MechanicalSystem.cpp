@@ -17,6 +17,11 @@ MechanicalSystem::MechanicalSystem(SpringForceField& springs, VolumeForceField* 
   m_fields.assign(m_mutableFields.begin(), m_mutableFields.end());
 }
 
+void MechanicalSystem::addField(ForceField& field) {
+  m_mutableFields.insert(m_mutableFields.end() - 1, &field);  // the contacts stay last
+  m_fields.assign(m_mutableFields.begin(), m_mutableFields.end());
+}
+
 void MechanicalSystem::prepareProducts(const ForceField::PartBounds& bounds) {
   for (ForceField* field : m_mutableFields) field->prepareProducts(bounds);
 }

@@ -45,6 +45,9 @@ class MechanicalSystem {
   const VolumeForceField* volume() const { return m_volume; }
   /// Every field, in the order their forces are summed: springs, volume term, gravity, contacts.
   const std::vector<const ForceField*>& fields() const { return m_fields; }
+  /// Adds a field (which must outlive this object), summed before the contacts: a force a test
+  /// or a tool brings (CapsulePenalty). Before any solver is prepared on this system.
+  void addField(ForceField& field);
   /// Every field's products prepared on these node ranges (SystemOperator's).
   void prepareProducts(const ForceField::PartBounds& bounds);
   /// The thread pool the passes and solves run on (the springs'; null: the caller's thread).

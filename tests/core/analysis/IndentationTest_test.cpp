@@ -1,0 +1,85 @@
+// The indentation test: the probe's penalty is its energy's gradient through both of its
+// interfaces, the FEM's force converges as the grid is refined towards the probe, and the spring
+// network's sampled surface meets the probe between its nodes.
+
+#include "analysis/IndentationTest.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "TestSystems.h"
+#include "fem/FemModel.h"
+#include "forces/CapsulePenalty.h"
+
+namespace tissuesim {
+namespace {
+
+TEST(CapsulePenalty, ItsForcesAreItsEnergysGradientThroughBothInterfaces) {
+  // Three points pressed into a probe: a node alone, and two points of one triangle.
+  Eigen::Matrix3Xd x(3, 4);
+  x << 0.0, 0.002, 0.0, 0.001,  //
+      0.0, 0.0, 0.002, 0.0005,  //
+      0.0, 0.0, 0.0, 0.0;
+  CapsulePenalty probe({{{3, 3, 3}, {1.0, 0.0, 0.0}, 2e3},
+                        {{0, 1, 2}, {0.5, 0.3, 0.2}, 3e3},
+                        {{0, 1, 2}, {0.2, 0.2, 0.6}, 1e3}});
+  probe.tip_m = Eigen::Vector3d(0.0008, 0.0006, 0.0022);
+  probe.top_m = probe.tip_m + Eigen::Vector3d(0.0, 0.0, 0.3);
+  probe.radius_m = 0.0025;
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 4);
+  ForceReport report;
+  probe.addForces(x, f, {}, report);
+  Eigen::Matrix3Xd gradient = Eigen::Matrix3Xd::Zero(3, 4);
+  const double energy = probe.add(x, &gradient, nullptr);
+  EXPECT_DOUBLE_EQ(energy, probe.energy(x));
+  EXPECT_LT((f + gradient).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((probe.reaction(x) + f.rowwise().sum()).cwiseAbs().maxCoeff(), 1e-12);
+  std::mt19937 random(1);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::Matrix3Xd direction(3, 4);
+  for (Eigen::Index i = 0; i < direction.size(); ++i) direction.data()[i] = uniform(random);
+  constexpr double h = 1e-9;
+  const double slope =
+      (probe.energy(x + h * direction) - probe.energy(x - h * direction)) / (2.0 * h);
+  const double expected = gradient.cwiseProduct(direction).sum();
+  ASSERT_GT(std::abs(expected), 1e-3);
+  EXPECT_NEAR(slope, expected, 1e-6 * std::abs(expected));
+}
+
+IndentationSetup smallBlock() {
+  IndentationSetup setup;
+  setup.size_m = {0.01, 0.01, 0.005};
+  setup.depths_m = {0.0005};
+  return setup;
+}
+
+TEST(Indentation, TheFemForceConvergesAsTheGridIsRefined) {
+  const StrainEnergy& energy = test::LiverMaterial::instance().energy;
+  const double kappa = defaultFemBulkModulus(energy);
+  std::vector<double> forces;
+  for (const int refinement : {1, 2, 4}) {
+    const IndentationCurve curve = indentFem(energy, smallBlock(), refinement, kappa);
+    EXPECT_EQ(curve.unconvergedPoints, 0) << refinement;
+    ASSERT_GT(curve.force_N[0], 0.0);
+    forces.push_back(curve.force_N[0]);
+  }
+  // Each refinement changes the force less than the one before (by a factor of 2 at least).
+  EXPECT_LT(std::abs(forces[2] - forces[1]), 0.5 * std::abs(forces[1] - forces[0]));
+}
+
+TEST(Indentation, TheNetworksSurfaceMeetsTheProbeBetweenItsNodes) {
+  // About 1,000 springs on the small block: 1.3 mm between nodes, while the probe's footprint at
+  // 0.5 mm is about 1.6 mm across. The sampled surface carries the probe whether or not a node
+  // lies under it; the force is of the FEM's order.
+  const test::LiverMaterial& material = test::LiverMaterial::instance();
+  const IndentationCurve springs =
+      indentSprings(material.energy, material.table, smallBlock(), 1000, 0.0);
+  const IndentationCurve fem =
+      indentFem(material.energy, smallBlock(), 2, defaultFemBulkModulus(material.energy));
+  EXPECT_GT(springs.force_N[0], fem.force_N[0] / 3.0);
+  EXPECT_LT(springs.force_N[0], fem.force_N[0] * 3.0);
+}
+
+}  // namespace
+}  // namespace tissuesim
