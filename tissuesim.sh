@@ -15,7 +15,7 @@ cd "$(dirname "$0")"
 PACKAGES=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
-  libfcl-dev libccd-dev libassimp-dev libvtk9-qt-dev qtbase5-dev
+  libfcl-dev libccd-dev libassimp-dev libsuitesparse-dev libvtk9-qt-dev qtbase5-dev
   xvfb xauth libgl1-mesa-dri
   clang-format
 )

@@ -81,7 +81,8 @@ std::vector<CurveBranch> runFemTensileTest(const StrainEnergy& energy,
       currentStretch = lambda;
       // Tolerance relative to the grip force, as TensileTest's: round-off in the forces grows
       // with them (and with the stiff volumetric term).
-      solver.setTolerance(kForceTolerance * std::max(1.0, std::abs(lastReaction_N)));
+      // The floor: the stiff volumetric term's round-off leaves about 1e-9 N at rest.
+      solver.setTolerance(kForceTolerance * std::max(10.0, std::abs(lastReaction_N)));
       const FemSolveReport report = solver.solve(model, x, isFixed);
       double reaction_N = 0.0;
       for (const Eigen::Index node : moving) reaction_N += solver.gradient()(0, node);

@@ -2,7 +2,24 @@
 
 #include <cmath>
 
+#include <Eigen/CholmodSupport>
+
 namespace tissuesim {
+
+struct FemStaticSolver::Factorization {
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
+};
+
+FemStaticSolver::FemStaticSolver(double tolerance_N, int maxIterations)
+    : m_tolerance_N(tolerance_N),
+      m_maxIterations(maxIterations),
+      m_factorization(std::make_unique<Factorization>()) {
+  // An indefinite matrix is expected (the shift below handles it), not a message for stderr.
+  m_factorization->cholesky.cholmod().print = 0;
+}
+
+FemStaticSolver::~FemStaticSolver() = default;
+
 namespace {
 
 double largestFree(const Eigen::Matrix3Xd& gradient, const std::vector<char>& isFixed) {
@@ -22,7 +39,7 @@ FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x
   report.state = model.evaluate(x, m_gradient, m_hessian, isFixed);
   if (!report.state.isAdmissible) return report;
   if (m_analysedFixed != isFixed) {  // the fixed DOFs shape the pattern
-    m_cholesky.analyzePattern(m_hessian);
+    m_factorization->cholesky.analyzePattern(m_hessian);
     m_analysedFixed = isFixed;
   }
   report.residual_N = largestFree(m_gradient, isFixed);
@@ -43,12 +60,12 @@ FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x
           if (isFixed[static_cast<std::size_t>(d)] == 0) shifted.coeffRef(d, d) += shift;
         }
       }
-      m_cholesky.factorize(shifted);
-      if (m_cholesky.info() == Eigen::Success && (m_cholesky.vectorD().array() > 0.0).all()) break;
+      m_factorization->cholesky.factorize(shifted);
+      if (m_factorization->cholesky.info() == Eigen::Success) break;  // positive definite
       shift = shift > 0.0 ? 10.0 * shift : 1e-8 * scale;
       if (shift > 1e8 * scale) return report;  // no definite matrix within reach
     }
-    step = m_cholesky.solve(rhs);
+    step = m_factorization->cholesky.solve(rhs);
     // Backtracking on the energy while the step's predicted decrease stands above the energy's
     // round-off; below it (close to the solution) on the residual's size instead.
     const double slope = -step.dot(rhs);  // dE along the step (< 0)
