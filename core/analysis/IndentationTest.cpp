@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
 
 #include "analysis/TensileTest.h"
@@ -42,24 +43,21 @@ std::vector<double> gradedLine(double length, double finest) {
 /// (true of the grid's corners and of a quadratic mesh's added nodes alike): half the gaps to its
 /// neighbours along x times the same along y.
 std::vector<double> topAreas(const Eigen::Matrix3Xd& nodes, const std::vector<int>& top) {
-  std::map<double, int> xs, ys;
-  for (const int node : top) {
-    xs.emplace(nodes(0, node), 0);
-    ys.emplace(nodes(1, node), 0);
-  }
-  const auto halfGaps = [](std::map<double, int>& line) {
-    std::vector<double> coordinates;
-    for (const auto& entry : line) coordinates.push_back(entry.first);
+  // Per axis, each coordinate's share: half the gaps to the coordinates either side.
+  const auto shares = [&](int axis) {
+    std::set<double> line;
+    for (const int node : top) line.insert(nodes(axis, node));
+    const std::vector<double> sorted(line.begin(), line.end());
     std::map<double, double> share;
-    for (std::size_t i = 0; i < coordinates.size(); ++i) {
-      const double before = i > 0 ? coordinates[i] - coordinates[i - 1] : 0.0;
-      const double after = i + 1 < coordinates.size() ? coordinates[i + 1] - coordinates[i] : 0.0;
-      share[coordinates[i]] = 0.5 * (before + after);
+    for (std::size_t i = 0; i < sorted.size(); ++i) {
+      const double before = i > 0 ? sorted[i] - sorted[i - 1] : 0.0;
+      const double after = i + 1 < sorted.size() ? sorted[i + 1] - sorted[i] : 0.0;
+      share[sorted[i]] = 0.5 * (before + after);
     }
     return share;
   };
-  const std::map<double, double> shareX = halfGaps(xs);
-  const std::map<double, double> shareY = halfGaps(ys);
+  const std::map<double, double> shareX = shares(0);
+  const std::map<double, double> shareY = shares(1);
   std::vector<double> areas;
   for (const int node : top) areas.push_back(shareX.at(nodes(0, node)) * shareY.at(nodes(1, node)));
   return areas;

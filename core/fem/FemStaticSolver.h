@@ -4,9 +4,9 @@
 //   dE/dx = 0 on the free DOFs,   x fixed on the others (their values as the caller sets them)
 //
 // with the exact Hessian and a sparse direct solve (SuiteSparse's supernodal CHOLMOD through
-// Eigen; the pattern is analysed once per set of fixed DOFs). CHOLMOD factorises the FEM's
-// Hessians 4.3 to 4.9 times faster than Eigen's SimplicialLDLT (15k DOFs: 0.65-0.74 s against
-// 3.2 s), which decides whether a refined reference runs in minutes or in an hour. Where the
+// Eigen; the pattern is analysed once per set of fixed DOFs). Why CHOLMOD: on a block's 3D
+// Hessians it factorises several times faster than Eigen's simplicial LDLT, which decides
+// whether a refined reference runs in minutes or in an hour (docs/performance.md). Where the
 // Hessian is not positive definite on the free DOFs (a non-positive pivot) a Levenberg-Marquardt
 // shift mu I is added, raised tenfold until it is, relaxed after a good step. Each step is
 // backtracked on the energy (Armijo), so an element that would invert or pass the chain's locking

@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 
+#include "fem/QuadraticTetMesh.h"
+
 namespace tissuesim {
 
 struct TetQuadraturePoint {
@@ -51,13 +53,12 @@ inline Eigen::Matrix<double, 10, 3> quadraticTetShapeGradients(const Eigen::Vect
   const std::array<Eigen::Vector3d, 4> dl = {Eigen::Vector3d(-1.0, -1.0, -1.0),
                                              Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
                                              Eigen::Vector3d::UnitZ()};
-  constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
   Eigen::Matrix<double, 10, 3> gradients;
   for (std::size_t i = 0; i < 4; ++i)
     gradients.row(static_cast<Eigen::Index>(i)) = (4.0 * l[i] - 1.0) * dl[i].transpose();
   for (int e = 0; e < 6; ++e) {
-    const auto i = static_cast<std::size_t>(kEdges[e][0]);
-    const auto j = static_cast<std::size_t>(kEdges[e][1]);
+    const auto i = static_cast<std::size_t>(kQuadraticTetEdges[e][0]);
+    const auto j = static_cast<std::size_t>(kQuadraticTetEdges[e][1]);
     gradients.row(4 + e) = 4.0 * (l[j] * dl[i] + l[i] * dl[j]).transpose();
   }
   return gradients;
