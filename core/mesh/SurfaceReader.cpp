@@ -4,10 +4,23 @@
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstdint>
+#include <cstring>
 #include <functional>
+
+#include "mesh/IsolatedCall.h"
 
 namespace tissuesim {
 namespace {
+
+/// The formats an organ's surface comes in: medical and CAD exports (STL, OBJ, PLY, OFF) and
+/// glTF. assimp reads dozens more (game and scene formats), the least tested of its readers;
+/// they are refused before assimp sees them.
+constexpr std::array<const char*, 6> kSurfaceExtensions = {".stl", ".obj",  ".ply",
+                                                           ".off", ".gltf", ".glb"};
 
 /// Beyond this the units are almost certainly wrong (an organ is centimetres to decimetres).
 constexpr double kMaxCoordinate_m = 100.0;
@@ -40,9 +53,7 @@ std::string partName(const aiScene* scene, unsigned mesh) {
   return name.empty() ? "part" + std::to_string(mesh) : name;
 }
 
-}  // namespace
-
-std::vector<std::string> listSurfaceParts(const std::filesystem::path& path) {
+std::vector<std::string> importPartNames(const std::filesystem::path& path) {
   Assimp::Importer importer;
   const aiScene* scene = importScene(importer, path);
   std::vector<std::string> names;
@@ -50,11 +61,9 @@ std::vector<std::string> listSurfaceParts(const std::filesystem::path& path) {
   return names;
 }
 
-TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceReadOptions& options) {
+TriangleSurface importSurface(const std::filesystem::path& path,
+                              const SurfaceReadOptions& options) {
   const std::string name = path.string();
-  if (!(options.metresPerUnit > 0.0) || !std::isfinite(options.metresPerUnit)) {
-    throw MeshFileError(name + ": the scale must be a positive number of metres per unit");
-  }
   Assimp::Importer importer;
   const aiScene* scene = importScene(importer, path);
   if (!options.part.empty()) {
@@ -116,6 +125,90 @@ TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceRead
   for (std::size_t f = 0; f < triangles.size(); ++f) {
     surface.triangles.col(static_cast<Eigen::Index>(f)) = triangles[f];
   }
+  return surface;
+}
+
+/// The file checks a person should get before any import: there, a file, not empty, not huge,
+/// and of a format an organ comes in.
+void checkSurfaceFile(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    throw MeshFileError(name + ": cannot open the surface file (missing or not a file)");
+  }
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (std::find(kSurfaceExtensions.begin(), kSurfaceExtensions.end(), extension) ==
+      kSurfaceExtensions.end()) {
+    std::string list;
+    for (const char* each : kSurfaceExtensions)
+      list += (list.empty() ? "" : ", ") + std::string(each);
+    throw MeshFileError(name + ": '" + extension +
+                        "' is not a surface format read here; expected one of " + list);
+  }
+}
+
+/// Runs an import in a child process (IsolatedCall.h); its failure becomes a MeshFileError.
+std::string importIsolated(const std::filesystem::path& path,
+                           const std::function<std::string()>& work) {
+  const IsolatedResult result = runIsolated(work);
+  if (result.isOk) return result.bytes;
+  if (result.isThrown) throw MeshFileError(result.error);  // names the file already
+  throw MeshFileError(path.string() + ": " + result.error);
+}
+
+template <typename T>
+void append(std::string& bytes, const T* data, std::size_t count) {
+  bytes.append(reinterpret_cast<const char*>(data), count * sizeof(T));
+}
+
+}  // namespace
+
+std::vector<std::string> listSurfaceParts(const std::filesystem::path& path) {
+  checkSurfaceFile(path);
+  const std::string bytes = importIsolated(path, [&] {
+    std::string joined;
+    for (const std::string& part : importPartNames(path)) joined += part + '\n';
+    return joined;
+  });
+  std::vector<std::string> names;
+  std::size_t start = 0;
+  for (std::size_t end = bytes.find('\n'); end != std::string::npos;
+       start = end + 1, end = bytes.find('\n', start)) {
+    names.push_back(bytes.substr(start, end - start));
+  }
+  return names;
+}
+
+TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceReadOptions& options) {
+  const std::string name = path.string();
+  if (!(options.metresPerUnit > 0.0) || !std::isfinite(options.metresPerUnit)) {
+    throw MeshFileError(name + ": the scale must be a positive number of metres per unit");
+  }
+  checkSurfaceFile(path);
+  // Sent back as two counts, then the coordinates and the corners.
+  const std::string bytes = importIsolated(path, [&] {
+    const TriangleSurface surface = importSurface(path, options);
+    const std::array<std::int64_t, 2> counts{surface.vertexCount(), surface.triangleCount()};
+    std::string packed;
+    append(packed, counts.data(), 2);
+    append(packed, surface.vertices_m.data(), static_cast<std::size_t>(surface.vertices_m.size()));
+    append(packed, surface.triangles.data(), static_cast<std::size_t>(surface.triangles.size()));
+    return packed;
+  });
+  std::array<std::int64_t, 2> counts{};
+  std::memcpy(counts.data(), bytes.data(), sizeof counts);
+  TriangleSurface surface;
+  surface.vertices_m.resize(3, counts[0]);
+  surface.triangles.resize(3, counts[1]);
+  const std::size_t vertexBytes = static_cast<std::size_t>(3 * counts[0]) * sizeof(double);
+  const std::size_t triangleBytes = static_cast<std::size_t>(3 * counts[1]) * sizeof(int);
+  if (bytes.size() != sizeof counts + vertexBytes + triangleBytes) {
+    throw MeshFileError(name + ": the reader process sent back an incomplete surface");
+  }
+  std::memcpy(surface.vertices_m.data(), bytes.data() + sizeof counts, vertexBytes);
+  std::memcpy(surface.triangles.data(), bytes.data() + sizeof counts + vertexBytes, triangleBytes);
   return surface;
 }
 

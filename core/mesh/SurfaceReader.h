@@ -1,6 +1,9 @@
 #pragma once
-// Reading organ surfaces through assimp: OBJ, STL, PLY, glTF/GLB, OFF and the other formats
-// assimp knows. Node transforms are applied; each assimp mesh is a named part.
+// Reading organ surfaces through assimp: STL, OBJ, PLY, OFF and glTF/GLB, the formats an organ's
+// surface comes in; others are refused by their extension before assimp sees them. assimp runs
+// in a child process under memory and time limits (IsolatedCall.h): a file that crashes or
+// hangs it is refused with one line, and the program, and the window's running scene, go on.
+// Node transforms are applied; each assimp mesh is a named part.
 
 #include <filesystem>
 #include <string>

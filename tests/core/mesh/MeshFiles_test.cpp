@@ -80,6 +80,16 @@ TEST(SurfaceReader, RefusesBadFiles) {
               readSurface(meshPath("cube.obj"), {-1.0, ""});
             }).find("scale"),
             std::string::npos);
+  // A format no organ comes in is refused by its name, before assimp reads a byte of it.
+  const std::filesystem::path scene =
+      std::filesystem::temp_directory_path() / "tissuesim-refused-format.3ds";
+  std::filesystem::copy_file(meshPath("cube.obj"), scene,
+                             std::filesystem::copy_options::overwrite_existing);
+  EXPECT_NE(errorOf([&] {
+              readSurface(scene, {});
+            }).find("'.3ds' is not a surface format read here; expected one of .stl, .obj"),
+            std::string::npos);
+  std::filesystem::remove(scene);
 }
 
 TEST(MeshFiles, FarTooLargeFilesAreRefusedBeforeReading) {
