@@ -1,5 +1,6 @@
 #include "MeshCommand.h"
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -8,6 +9,7 @@
 #include "OutputFile.h"
 #include "VtkMeshFiles.h"
 #include "mesh/LatticeMesher.h"
+#include "mesh/LengthUnit.h"
 #include "mesh/SurfaceInspection.h"
 #include "mesh/SurfaceReader.h"
 #include "mesh/TetMeshFile.h"
@@ -20,18 +22,47 @@ struct MeshOptions {
   std::string output;
   double edgeLength_mm = 0.0;
   int targetSprings = 0;
-  std::string units = "m";
+  std::string units = "auto";
   double scale = 0.0;
   std::string part;
   double closeHoles_mm = -1.0;  ///< < 0: default, 2 % of the bounding-box diagonal
 };
 
+/// The scale to read with: given, or for --units auto the smallest candidate (millimetres), so
+/// that no file is refused as too large before its unit is guessed (rescaled after).
 double metresPerUnit(const MeshOptions& options) {
   if (options.scale > 0.0) return options.scale;
   if (options.units == "m") return 1.0;
   if (options.units == "cm") return 0.01;
-  if (options.units == "mm") return 0.001;
-  throw CommandError("unknown --units '" + options.units + "'; expected m, cm or mm (or --scale)");
+  if (options.units == "mm" || options.units == "auto") return 0.001;
+  throw CommandError("unknown --units '" + options.units +
+                     "'; expected auto, m, cm or mm (or --scale)");
+}
+
+bool isGuessingUnits(const MeshOptions& options) {
+  return options.scale <= 0.0 && options.units == "auto";
+}
+
+/// For --units auto: positions read in millimetres rescaled to the guessed unit, and what was
+/// assumed said in the report. Throws when the result is not an organ's size in any unit.
+void applyGuessedUnit(const std::string& input, Eigen::Matrix3Xd& positions_m) {
+  if (positions_m.cols() == 0) return;
+  const double diagonal =
+      (positions_m.rowwise().maxCoeff() - positions_m.rowwise().minCoeff()).norm() / 0.001;
+  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) return;  // the readers refuse these
+  const LengthUnit unit = guessLengthUnit(diagonal);
+  positions_m *= unit.metresPerUnit / 0.001;
+  const double farthest = positions_m.cwiseAbs().maxCoeff();
+  if (farthest > 100.0) {
+    throw CommandError(input + ": a node lies " + std::to_string(farthest) +
+                       " m from the origin even in " + unit.name +
+                       "; expected an organ within 100 m (give --scale)");
+  }
+  // With the report on stdout: stderr carries a failure's one line alone.
+  std::printf(
+      "assumed %s: the file is %.4g units across, %.3g cm in %s (give --units or --scale "
+      "to say otherwise)\n",
+      unit.name, diagonal, diagonal * unit.metresPerUnit * 100.0, unit.symbol);
 }
 
 void printQuality(const TetMesh& mesh, const char* what) {
@@ -75,6 +106,7 @@ void runMesh(const MeshOptions& options) {
       TetMeshReadReport report;
       mesh = isVtkMeshFile(input) ? readVtkTetMesh(input, scale, &report)
                                   : readTetMesh(input, scale, &report);
+      if (isGuessingUnits(options)) applyGuessedUnit(options.input, mesh.nodes_m);
       std::printf(
           "read %s (%s)%s%s\n", options.input.c_str(), report.format.c_str(),
           report.skippedElements > 0
@@ -86,6 +118,7 @@ void runMesh(const MeshOptions& options) {
     } else {
       TriangleSurface surface = isVtkMeshFile(input) ? readVtkSurface(input, scale)
                                                      : readSurface(input, {scale, options.part});
+      if (isGuessingUnits(options)) applyGuessedUnit(options.input, surface.vertices_m);
       const SurfaceReport before = inspectSurface(surface);
       const int merged = weldVertices(surface, 1e-6 * before.boundingDiagonal_m);
       SurfaceReport report = inspectSurface(surface);
@@ -157,7 +190,10 @@ void registerMeshCommand(CLI::App& app) {
   command->add_option("--edge-length", options->edgeLength_mm, "Lattice edge length in mm");
   command->add_option("--target-springs", options->targetSprings,
                       "About this many springs (default 5300 when no edge length)");
-  command->add_option("--units", options->units, "Units of the file: m, cm or mm")
+  command
+      ->add_option("--units", options->units,
+                   "Units of the file: m, cm, mm, or auto (the one that makes the mesh an "
+                   "organ's size, about 15 cm across; said in the report)")
       ->capture_default_str();
   command->add_option("--scale", options->scale, "Metres per file unit (overrides --units)");
   command->add_option("--part", options->part, "Use one named part of a multi-part file");
