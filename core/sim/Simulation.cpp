@@ -40,6 +40,7 @@ Simulation::Simulation(const SceneDescription& scene)
   buildPhysics(loadTissueFile(scene.tissue));
   settle();
   m_state = m_startState;
+  m_lastGoodState = m_state;
   if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
 }
 
@@ -50,6 +51,7 @@ void Simulation::replaceTissue(const TissueParameters& parameters) {
   settle();  // the new tissue's own start (under the scene's gravity)
   m_system->gravity.acceleration_m_s2 = gravity;
   m_state = kept;
+  m_lastGoodState = m_state;
   m_activeConditions.clear();
 }
 
@@ -226,6 +228,7 @@ void Simulation::settle() {
 
 void Simulation::reset() {
   m_state = m_startState;
+  m_lastGoodState = m_state;
   m_springs->restoreStretchHistory(m_startStretchHistory);
   m_time_s = 0.0;
   m_steps = 0;
@@ -255,6 +258,13 @@ void Simulation::findContacts() {
 
 StepOutcome Simulation::step() {
   StepOutcome outcome;
+  // The integrators never leave a non-finite state behind, so one here came from elsewhere (a
+  // bug, memory gone bad): the last good state is put back before anything reads it.
+  if (!m_state.isFinite()) {
+    m_state = m_lastGoodState;  // same sizes: no allocation
+    record("non-finite", "the state held a value that is not finite; the last good state (t = " +
+                             std::to_string(m_time_s) + " s) was put back");
+  }
   const double next = m_time_s + m_timeStep_s;
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
   findContacts();
@@ -307,6 +317,8 @@ StepOutcome Simulation::step() {
   if (outcome.isGood) {
     m_time_s = next;
     ++m_steps;
+    m_lastGoodState.x = m_state.x;  // same sizes: copies, no allocation
+    m_lastGoodState.v = m_state.v;
   }
   return outcome;
 }

@@ -88,6 +88,9 @@ class Simulation {
   /// The volume term's kappa (Pa); 0 when the scene has none.
   double bulkModulus() const { return m_bulkModulus_Pa; }
   const MechanicalState& state() const { return m_state; }
+  /// The state itself, writable: for tests of the recovery from a corrupted state (a step that
+  /// finds a value that is not finite puts the last good state back and records an event).
+  MechanicalState& stateForFaultInjection() { return m_state; }
   /// Where the simulation starts and reset() returns: the rest state, settled under the scene's
   /// gravity when it has any (velocities zero).
   const MechanicalState& startState() const { return m_startState; }
@@ -138,6 +141,7 @@ class Simulation {
   ContactProvider* m_contact = nullptr;
   const InstrumentSource* m_instrument = nullptr;
   MechanicalState m_state;
+  MechanicalState m_lastGoodState;  ///< after the last good step: what a corrupted state reverts to
   MechanicalState m_startState;
   std::vector<SofteningPeak> m_startStretchHistory;  ///< the Mullins memory settling left
   InstrumentPose m_pose;

@@ -127,6 +127,23 @@ TEST(Simulation, NonFiniteContactIsReportedAndTheStateKept) {
   EXPECT_EQ(simulation.steps(), 1);
 }
 
+TEST(Simulation, ANaNInTheStateIsFoundWithinAStepAndTheLastGoodStatePutBack) {
+  Simulation simulation(
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+  for (int n = 0; n < 20; ++n) ASSERT_TRUE(simulation.step().isGood);
+  const MechanicalState good = simulation.state();
+  simulation.stateForFaultInjection().x(1, 17) = std::numeric_limits<double>::quiet_NaN();
+  simulation.stateForFaultInjection().v(0, 400) = std::numeric_limits<double>::infinity();
+  const StepOutcome outcome = simulation.step();
+  ASSERT_FALSE(simulation.events().empty());
+  EXPECT_EQ(simulation.events().back().kind, std::string("non-finite"));
+  EXPECT_NE(simulation.events().back().detail.find("the last good state"), std::string::npos);
+  EXPECT_TRUE(outcome.isGood) << "the step goes on from the restored state";
+  EXPECT_TRUE(simulation.state().isFinite());
+  EXPECT_LT((simulation.state().x - good.x).cwiseAbs().maxCoeff(), 1e-3);
+  for (int n = 0; n < 20; ++n) EXPECT_TRUE(simulation.step().isGood);
+}
+
 TEST(Simulation, EventsPastTheFirstHundredAreCountedNotKept) {
   Simulation simulation(pokeScene());
   struct BrokenContact final : ContactProvider {
