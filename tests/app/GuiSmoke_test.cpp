@@ -159,6 +159,55 @@ class GuiSmokeTest : public QObject {
     if (QMessageBox* dialog = errorDialog()) dialog->close();
   }
 
+  void filesReplacedOrDeletedWhileRunningKeepTheRunningScene() {
+    // A scene and its files in a folder of their own, loaded; then, while it runs, its tissue
+    // and its scene replaced by garbage and its mesh deleted, each reloaded: an error dialog
+    // naming the file each time, and the running scene goes on with what it had.
+    QTemporaryDir folder;
+    const QString assets = QString(TISSUESIM_ASSET_DIR);
+    for (const auto& [from, to] :
+         {std::pair{assets + "/tissues/porcine-liver.json", QString("tissue.json")},
+          std::pair{assets + "/meshes/liver-smooth.obj", QString("liver-smooth.obj")},
+          std::pair{assets + "/meshes/liver-5300.msh", QString("liver-5300.msh")}}) {
+      QVERIFY(QFile::copy(from, folder.filePath(to)));
+    }
+    QFile bundled(assets + "/scenes/liver-poke.json");
+    QVERIFY(bundled.open(QIODevice::ReadOnly));
+    QByteArray scene = bundled.readAll();
+    scene.replace("../tissues/porcine-liver.json", "tissue.json");
+    scene.replace("../meshes/", "");
+    const auto write = [&](const QString& name, const QByteArray& bytes) {
+      QFile file(folder.filePath(name));
+      QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+      QCOMPARE(file.write(bytes), bytes.size());
+    };
+    write("scene.json", scene);
+    QVERIFY(m_window->loadScene(folder.filePath("scene.json")));
+    QVERIFY(m_window->loadTissue(folder.filePath("tissue.json")));
+    const Simulation* running = m_window->simulation();
+    const std::string tissueName = running->parameters().name;
+    const QByteArray garbage("\x00\xff{\"mu_kpa\": [oops", 19);
+    const auto expectRefusedAndRunning = [&](bool isLoaded, const QString& named) {
+      QVERIFY(!isLoaded);
+      QMessageBox* dialog = errorDialog();
+      QVERIFY(dialog != nullptr);
+      QVERIFY2(dialog->text().contains(named), qPrintable(dialog->text()));
+      QCOMPARE(m_window->simulation(), running);
+      QCOMPARE(m_window->simulation()->parameters().name, tissueName);
+      const long stepsThen = steps();
+      QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(), steps() > stepsThen + 20), 10000);
+      dialog->close();
+      QTest::qWait(20);  // deleted on close
+    };
+    write("tissue.json", garbage);
+    expectRefusedAndRunning(m_window->loadTissue(folder.filePath("tissue.json")), "tissue.json");
+    write("scene.json", garbage);
+    expectRefusedAndRunning(m_window->loadScene(folder.filePath("scene.json")), "scene.json");
+    write("scene.json", scene);
+    QVERIFY(QFile::remove(folder.filePath("liver-5300.msh")));
+    expectRefusedAndRunning(m_window->loadScene(folder.filePath("scene.json")), "liver-5300.msh");
+  }
+
   void pauseStopsThePhysics() {
     m_window->setPaused(true);
     QVERIFY(m_window->isPaused());
