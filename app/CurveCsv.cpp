@@ -1,10 +1,11 @@
 #include "CurveCsv.h"
 
 #include <cstdio>
-#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "CommandError.h"
+#include "OutputFile.h"
 
 namespace tissuesim::app {
 
@@ -26,10 +27,9 @@ void writeCurveCsv(const std::string& path, const std::vector<CurveBranch>& bran
     writeCurveCsv(std::cout, branches);
     return;
   }
-  std::ofstream out(path);
-  if (!out) throw CommandError("cannot write --output " + path);
-  writeCurveCsv(out, branches);
-  if (!out.flush()) throw CommandError("failed writing --output " + path);
+  std::ostringstream text;
+  writeCurveCsv(text, branches);
+  writeTextFile(path, "--output", text.str());
 }
 
 }  // namespace tissuesim::app

@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "CommandError.h"
+#include "io/WholeFile.h"
 
 namespace tissuesim::app {
 
@@ -20,8 +21,11 @@ void checkOutputWritable(const std::string& path, const std::string& option) {
 }
 
 void writeTextFile(const std::string& path, const std::string& option, const std::string& text) {
-  std::ofstream out(path);
-  if (!(out << text)) throw CommandError("cannot write " + option + " " + path);
+  try {
+    writeWholeFile(path, text);
+  } catch (const std::runtime_error& error) {
+    throw CommandError(option + ": " + error.what());
+  }
 }
 
 }  // namespace tissuesim::app

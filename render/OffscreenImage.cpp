@@ -10,6 +10,8 @@
 #include <vtkRenderer.h>
 #include <vtkWindowToImageFilter.h>
 
+#include "io/WholeFile.h"
+
 namespace tissuesim {
 
 OffscreenWindow::OffscreenWindow(vtkRenderer* renderer, int width, int height)
@@ -48,17 +50,18 @@ vtkSmartPointer<vtkImageData> renderOffscreen(vtkRenderer* renderer, int width, 
 }
 
 void writePng(vtkImageData* image, const std::filesystem::path& path) {
-  {
-    // vtkPNGWriter reports a failed open only through its error observer: check first.
-    std::ofstream probe(path, std::ios::binary);
-    if (!probe) throw std::runtime_error("cannot write the image " + path.string());
-  }
-  auto writer = vtkSmartPointer<vtkPNGWriter>::New();
-  writer->SetFileName(path.string().c_str());
-  writer->SetInputData(image);
-  writer->Write();
-  if (writer->GetErrorCode() != 0)
-    throw std::runtime_error("cannot write the image " + path.string());
+  writeWholeFileWith(path, [&](const std::filesystem::path& partial) {
+    {
+      // vtkPNGWriter reports a failed open only through its error observer: check first.
+      std::ofstream probe(partial, std::ios::binary);
+      if (!probe) return false;
+    }
+    auto writer = vtkSmartPointer<vtkPNGWriter>::New();
+    writer->SetFileName(partial.string().c_str());
+    writer->SetInputData(image);
+    writer->Write();
+    return writer->GetErrorCode() == 0;
+  });
 }
 
 vtkSmartPointer<vtkImageData> readPng(const std::filesystem::path& path) {

@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "io/WholeFile.h"
 #include "mesh/SurfaceReader.h"
 
 namespace tissuesim {
@@ -328,8 +329,7 @@ TetMesh readTetMesh(const std::filesystem::path& path, double metresPerUnit,
 }
 
 void writeGmsh(const std::filesystem::path& path, const TetMesh& mesh) {
-  std::ofstream out(path);
-  if (!out) throw MeshFileError(path.string() + ": cannot write");
+  std::ostringstream out;
   out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << mesh.nodeCount() << "\n";
   out.precision(17);
   for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
@@ -343,7 +343,11 @@ void writeGmsh(const std::filesystem::path& path, const TetMesh& mesh) {
     out << '\n';
   }
   out << "$EndElements\n";
-  if (!out.flush()) throw MeshFileError(path.string() + ": failed writing");
+  try {
+    writeWholeFile(path, out.str());
+  } catch (const std::runtime_error& error) {
+    throw MeshFileError(error.what());
+  }
 }
 
 }  // namespace tissuesim
