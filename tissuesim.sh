@@ -7,6 +7,8 @@
 #   ./tissuesim.sh sanitize   the same tests in a separate ASan+UBSan build (build-asan/)
 #   ./tissuesim.sh tsan       the physics loop's threaded tests under ThreadSanitizer (build-tsan/)
 #   ./tissuesim.sh bench      the Google Benchmark suite (tissuesim bench)
+#   ./tissuesim.sh fuzz       every parser under libFuzzer with ASan+UBSan (clang, build-fuzz/),
+#                             FUZZ_SECONDS each (default 12: a minute in all)
 #
 # Re-running is fast: packages are only installed when missing, and the build is incremental.
 set -euo pipefail
@@ -99,6 +101,25 @@ case "${1:-}" in
     say "threaded tests under ThreadSanitizer"
     TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/core_tests --gtest_filter='TripleBuffer.*:RealTimeLoop.*:ForkJoinPool.*:SpringForceField.ResultsDoNotDependOnTheThreadCount:BlockConjugateGradient.ResultsDoNotDependOnTheThreadCount:NodeBlockMatrix.ResultsDoNotDependOnTheThreadCount:SystemOperator.PartsAreIndependentOfOrderAndThreads:VolumeForceField.InspectionOnThePoolFindsWhatTheSerialOneDoes:VolumeForceField.PassesOnThePoolAreBitIdenticalToTheSerialOnes:ParallelPasses.*'
     ;;
+  fuzz)
+    PACKAGES+=(clang libclang-rt-14-dev)  # the compiler and its libFuzzer runtime
+    install_packages
+    if [ ! -f build-fuzz/CMakeCache.txt ]; then
+      CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DTISSUESIM_FUZZ=ON
+    fi
+    say "building build-fuzz (core and the fuzz targets)"
+    cmake --build build-fuzz -j "$JOBS"
+    seconds=${FUZZ_SECONDS:-12}
+    for target in tissue_file scene_file instrument_script tet_mesh_gmsh tet_mesh_tetgen; do
+      say "fuzzing $target for $seconds s"
+      mkdir -p "build-fuzz/corpus/$target" build-fuzz/findings
+      # New inputs go to build-fuzz/corpus; the seeds in tests/fuzz/corpus are only read.
+      "build-fuzz/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -max_len=65536 \
+        -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$target-" \
+        "build-fuzz/corpus/$target" "tests/fuzz/corpus/$target"
+    done
+    ;;
   bench)
     install_packages
     build build
@@ -106,7 +127,7 @@ case "${1:-}" in
     build/app/tissuesim bench "$@"
     ;;
   *)
-    echo "usage: ./tissuesim.sh run|test|sanitize|tsan|bench" >&2
+    echo "usage: ./tissuesim.sh run|test|sanitize|tsan|fuzz|bench" >&2
     exit 2
     ;;
 esac

@@ -32,8 +32,6 @@ struct NumberField {
   double upper;  // inclusive; +inf when unbounded
 };
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // The schema of docs/tissue-file.md. Required parameters have no default: a tissue without
 // its fitted constants is not a tissue. The upper bounds keep every derived quantity finite and
 // are far outside any soft tissue: moduli up to 1 GPa (kPa to a few MPa for organs; 1e308 kPa
