@@ -112,8 +112,10 @@ void readGmsh1(LineReader& reader, RawMesh& raw) {
     parse<long long>(in, reader, "a physical region");
     parse<long long>(in, reader, "an elementary region");
     const int count = parse<int>(in, reader, "a node count");
-    std::vector<long long> ids(static_cast<std::size_t>(std::max(0, count)));
-    for (auto& id : ids) id = parse<long long>(in, reader, "element node ids");
+    // Not trusted to size anything: the ids are read one by one, as many as the line holds.
+    if (count < 0) reader.fail("a negative node count");
+    std::vector<long long> ids;
+    for (int k = 0; k < count; ++k) ids.push_back(parse<long long>(in, reader, "element node ids"));
     if (type == 4 && count == 4) {
       raw.tets.push_back({ids[0], ids[1], ids[2], ids[3]});
     } else {
@@ -155,10 +157,12 @@ void readGmsh4(LineReader& reader, RawMesh& raw) {
         const int parametric = parse<int>(block, reader, "the parametric flag");
         const auto count = parse<long long>(block, reader, "a node count");
         if (parametric != 0) reader.fail("parametric nodes are not supported");
-        std::vector<long long> tags(static_cast<std::size_t>(count));
-        for (auto& tag : tags) {
+        if (count < 0) reader.fail("a negative node count");
+        // The count is not trusted to size anything: tags are kept as their lines are read.
+        std::vector<long long> tags;
+        for (long long k = 0; k < count; ++k) {
           std::istringstream in(reader.require("a node tag"));
-          tag = parse<long long>(in, reader, "a node tag");
+          tags.push_back(parse<long long>(in, reader, "a node tag"));
         }
         for (const long long tag : tags) {
           std::istringstream in(reader.require("node coordinates"));
