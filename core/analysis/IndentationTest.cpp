@@ -172,7 +172,7 @@ IndentationCurve indentSprings(const StrainEnergy& energy, const StiffnessTable&
   }
   // The top face's triangles near the probe, sampled as the simulator's contacts sample its
   // drawn surface: points of the triangles, their forces shared by barycentric weights. (The
-  // nodes alone let a 2.5 mm probe pass between them on a coarse lattice.)
+  // nodes alone let the probe pass between them on a coarse lattice.)
   const Eigen::Vector2d axis(0.5 * size.x(), 0.5 * size.y());
   std::vector<CapsulePenalty::Point> points;
   const Eigen::Matrix3Xi faces = boundaryFaces(tetMesh);

@@ -31,10 +31,9 @@
 namespace tissuesim {
 
 /// kappa = 200 times the stiffest uniaxial tangent dP/dlambda the tissue reaches up to lambda 1.3
-/// (the paper's range; 3 mu0 at least). For the porcine liver: 250 MPa, 1.35e5 mu0, where
-/// kappa = 1e4 mu0 (Poisson 0.49995 at rest) left the curve 1.4 % low at lambda 1.3 (R^2 0.99974).
-/// The volume then changes by less than 0.03 % over the range (docs/model.md, "The FEM
-/// reference").
+/// (the paper's range; 3 mu0 at least): set against the stiffened tissue, where a kappa set from
+/// mu0 leaves the stretched tissue compressible and soft (docs/model.md, "The FEM reference",
+/// has the figures).
 double defaultFemBulkModulus(const StrainEnergy& energy);
 inline constexpr double kFemBulkModulusStretch = 1.3;
 inline constexpr double kFemBulkModulusFactor = 200.0;
