@@ -13,10 +13,10 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
-#include <system_error>
 
+#include "io/WholeFile.h"
 #include "mesh/TetMesh.h"
 #include "springs/NodeStretch.h"
 
@@ -62,19 +62,14 @@ void addFrameArrays(vtkPointSet* data, Eigen::Index count) {
   data->GetPointData()->SetActiveScalars("stretch");
 }
 
-/// Writes with `writer` to a temporary name beside `path`, then renames it onto `path`.
+/// A VTK XML writer's file, whole or not at all (io/WholeFile.h).
 template <typename Writer>
 void writeAtomically(Writer* writer, const std::filesystem::path& path) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  writer->SetFileName(partial.c_str());
   writer->SetDataModeToBinary();
-  const bool isWritten = writer->Write() == 1;
-  std::error_code error;
-  if (isWritten) std::filesystem::rename(partial, path, error);
-  if (!isWritten || error) {
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error("cannot write " + path.string());
-  }
+  writeWholeFileWith(path, [&](const std::filesystem::path& partial) {
+    writer->SetFileName(partial.c_str());
+    return writer->Write() == 1;
+  });
 }
 
 std::string frameName(const char* stem, std::size_t frame, const char* extension) {
@@ -152,30 +147,19 @@ void TimeSeriesExport::write(double time_s, const Eigen::Matrix3Xd& x) {
 }
 
 void TimeSeriesExport::writeCollection() const {
-  const std::filesystem::path partial = m_collection.string() + ".partial";
-  {
-    std::ofstream out(partial);
-    out << "<?xml version=\"1.0\"?>\n"
-        << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-        << "  <Collection>\n";
-    out.precision(9);
-    for (std::size_t frame = 0; frame < m_times.size(); ++frame) {
-      out << "    <DataSet timestep=\"" << m_times[frame] << "\" part=\"0\" file=\""
-          << frameName("surface", frame, "vtp") << "\"/>\n"
-          << "    <DataSet timestep=\"" << m_times[frame] << "\" part=\"1\" file=\""
-          << frameName("tets", frame, "vtu") << "\"/>\n";
-    }
-    out << "  </Collection>\n</VTKFile>\n";
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(partial, ignored);
-      throw std::runtime_error("cannot write " + m_collection.string());
-    }
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <Collection>\n";
+  out.precision(9);
+  for (std::size_t frame = 0; frame < m_times.size(); ++frame) {
+    out << "    <DataSet timestep=\"" << m_times[frame] << "\" part=\"0\" file=\""
+        << frameName("surface", frame, "vtp") << "\"/>\n"
+        << "    <DataSet timestep=\"" << m_times[frame] << "\" part=\"1\" file=\""
+        << frameName("tets", frame, "vtu") << "\"/>\n";
   }
-  std::error_code error;
-  std::filesystem::rename(partial, m_collection, error);
-  if (error) throw std::runtime_error("cannot write " + m_collection.string());
+  out << "  </Collection>\n</VTKFile>\n";
+  writeWholeFile(m_collection, out.str());
 }
 
 }  // namespace tissuesim

@@ -8,7 +8,6 @@
 #include "fem/FemModel.h"
 #include "fem/FemStaticSolver.h"
 #include "fem/QuadraticTetMesh.h"
-#include "mesh/BlockMesher.h"
 
 namespace tissuesim {
 
@@ -25,40 +24,12 @@ std::vector<CurveBranch> runFemTensileTest(const StrainEnergy& energy,
                                   "], where this tissue is usable");
     }
   }
-  if (specimen.cellsAcrossThickness < 1)
-    throw std::invalid_argument("--resolution must be at least 1 cell across the thickness");
   const Eigen::Vector3d& size = specimen.size_m;
-  const double h = size.z() / specimen.cellsAcrossThickness;
-  const Eigen::Vector3i cells(std::max(1, static_cast<int>(std::lround(size.x() / h))),
-                              std::max(1, static_cast<int>(std::lround(size.y() / h))),
-                              specimen.cellsAcrossThickness);
-  const QuadraticTetMesh mesh = makeQuadraticTetMesh(makeBlockMesh(size, cells));
+  const QuadraticTetMesh mesh = makeQuadraticTetMesh(makeTensileSpecimenMesh(specimen));
   const FemModel model(mesh, energy, bulkModulus_Pa);
-
-  // The grips of TensileTest.h: x = 0 held in x, x = L moved in x, three DOFs against rigid
-  // motion.
-  std::vector<char> isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0);
-  std::vector<Eigen::Index> moving;
-  const auto fix = [&](Eigen::Index node, int axis) {
-    isFixed[static_cast<std::size_t>(3 * node + axis)] = 1;
-  };
-  constexpr double kOnFace = 1e-12;
-  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
-    const Eigen::Vector3d p = mesh.nodes_m.col(i);
-    if (std::abs(p.x()) < kOnFace) {
-      fix(i, 0);
-      if (p.y() < kOnFace && p.z() < kOnFace) {
-        fix(i, 1);
-        fix(i, 2);
-      }
-      if (std::abs(p.y() - size.y()) < kOnFace && p.z() < kOnFace) fix(i, 2);
-      if (p.y() < kOnFace && std::abs(p.z() - size.z()) < kOnFace) fix(i, 1);
-    }
-    if (std::abs(p.x() - size.x()) < kOnFace) {
-      fix(i, 0);
-      moving.push_back(i);
-    }
-  }
+  // TensileTest's grips, on the quadratic mesh's nodes (its edge midpoints among them).
+  std::vector<int> moving;
+  const std::vector<char> isFixed = tensileGripDofs(mesh.nodes_m, size, moving);
 
   FemTensileStats local;
   local.nodes = static_cast<int>(mesh.nodeCount());
@@ -77,7 +48,7 @@ std::vector<CurveBranch> runFemTensileTest(const StrainEnergy& energy,
       const double ratio = lambda / currentStretch;
       x.row(0) *= ratio;
       x.bottomRows(2) *= 1.0 / std::sqrt(ratio);
-      for (const Eigen::Index node : moving) x(0, node) = lambda * size.x();
+      for (const int node : moving) x(0, node) = lambda * size.x();
       currentStretch = lambda;
       // Tolerance relative to the grip force, as TensileTest's: round-off in the forces grows
       // with them (and with the stiff volumetric term).
@@ -85,7 +56,7 @@ std::vector<CurveBranch> runFemTensileTest(const StrainEnergy& energy,
       solver.setTolerance(kForceTolerance * std::max(10.0, std::abs(lastReaction_N)));
       const FemSolveReport report = solver.solve(model, x, isFixed);
       double reaction_N = 0.0;
-      for (const Eigen::Index node : moving) reaction_N += solver.gradient()(0, node);
+      for (const int node : moving) reaction_N += solver.gradient()(0, node);
       if (!report.converged) ++local.unconvergedPoints;
       local.worstIterations = std::max(local.worstIterations, report.iterations);
       local.worstResidual_N = std::max(local.worstResidual_N, report.residual_N);

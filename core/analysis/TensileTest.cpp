@@ -21,39 +21,11 @@ struct Specimen {
 };
 
 Specimen buildSpecimen(const TensileSpecimen& spec, double density) {
-  if (spec.cellsAcrossThickness < 1) {
-    throw std::invalid_argument("--resolution must be at least 1 cell across the thickness");
-  }
-  const double h = spec.size_m.z() / spec.cellsAcrossThickness;
-  const Eigen::Vector3i cells(std::max(1, static_cast<int>(std::lround(spec.size_m.x() / h))),
-                              std::max(1, static_cast<int>(std::lround(spec.size_m.y() / h))),
-                              spec.cellsAcrossThickness);
-  Specimen out{buildSpringMesh(makeBlockMesh(spec.size_m, cells), density),
+  Specimen out{buildSpringMesh(makeTensileSpecimenMesh(spec), density),
                {},
                spec.size_m.x(),
                spec.size_m.y() * spec.size_m.z()};
-  for (Eigen::Index i = 0; i < out.mesh.nodeCount(); ++i) {
-    if (std::abs(out.mesh.restPositions_m(0, i) - spec.size_m.x()) < 1e-12) {
-      out.movingNodes.push_back(static_cast<int>(i));
-    }
-  }
   return out;
-}
-
-void clampSpecimen(MechanicalSystem& system, const Specimen& specimen,
-                   const Eigen::Vector3d& size) {
-  const Eigen::Matrix3Xd& rest = specimen.mesh.restPositions_m;
-  for (Eigen::Index i = 0; i < rest.cols(); ++i) {
-    const Eigen::Vector3d p = rest.col(i);
-    const int node = static_cast<int>(i);
-    if (std::abs(p.x()) < 1e-12) {
-      system.fixDof(node, 0);
-      if (p.y() < 1e-12 && p.z() < 1e-12) system.fixNode(node);
-      if (std::abs(p.y() - size.y()) < 1e-12 && p.z() < 1e-12) system.fixDof(node, 2);
-      if (p.y() < 1e-12 && std::abs(p.z() - size.z()) < 1e-12) system.fixDof(node, 1);
-    }
-  }
-  for (const int node : specimen.movingNodes) system.fixDof(node, 0);
 }
 
 /// Damped pseudo-time relaxation with a time integrator, to the same force tolerance.
@@ -76,6 +48,45 @@ NewtonReport relax(TimeIntegrator& integrator, MechanicalSystem& system, Mechani
 
 }  // namespace
 
+TetMesh makeTensileSpecimenMesh(const TensileSpecimen& specimen) {
+  if (specimen.cellsAcrossThickness < 1) {
+    throw std::invalid_argument("--resolution must be at least 1 cell across the thickness");
+  }
+  const Eigen::Vector3d& size = specimen.size_m;
+  const double h = size.z() / specimen.cellsAcrossThickness;
+  const Eigen::Vector3i cells(std::max(1, static_cast<int>(std::lround(size.x() / h))),
+                              std::max(1, static_cast<int>(std::lround(size.y() / h))),
+                              specimen.cellsAcrossThickness);
+  return makeBlockMesh(size, cells);
+}
+
+std::vector<char> tensileGripDofs(const Eigen::Matrix3Xd& rest, const Eigen::Vector3d& size,
+                                  std::vector<int>& moving) {
+  constexpr double kOnFace = 1e-12;
+  std::vector<char> isFixed(static_cast<std::size_t>(rest.size()), 0);
+  const auto fix = [&](Eigen::Index node, int axis) {
+    isFixed[static_cast<std::size_t>(3 * node + axis)] = 1;
+  };
+  moving.clear();
+  for (Eigen::Index i = 0; i < rest.cols(); ++i) {
+    const Eigen::Vector3d p = rest.col(i);
+    if (std::abs(p.x()) < kOnFace) {
+      fix(i, 0);
+      if (p.y() < kOnFace && p.z() < kOnFace) {
+        fix(i, 1);
+        fix(i, 2);
+      }
+      if (std::abs(p.y() - size.y()) < kOnFace && p.z() < kOnFace) fix(i, 2);
+      if (p.y() < kOnFace && std::abs(p.z() - size.z()) < kOnFace) fix(i, 1);
+    }
+    if (std::abs(p.x() - size.x()) < kOnFace) {
+      fix(i, 0);
+      moving.push_back(static_cast<int>(i));
+    }
+  }
+  return isFixed;
+}
+
 TensileTest::TensileTest(const StrainEnergy& energy, const StiffnessTable& table,
                          TensileSpecimen specimen)
     : m_energy(energy), m_table(table), m_specimen(specimen) {}
@@ -95,7 +106,11 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
     volume = std::make_unique<VolumeForceField>(specimen.mesh, options.bulkModulus_Pa);
   }
   MechanicalSystem system(springs, volume.get());
-  clampSpecimen(system, specimen, m_specimen.size_m);
+  const std::vector<char> grips =
+      tensileGripDofs(specimen.mesh.restPositions_m, m_specimen.size_m, specimen.movingNodes);
+  for (std::size_t d = 0; d < grips.size(); ++d) {
+    if (grips[d] != 0) system.fixDof(static_cast<int>(d / 3), static_cast<int>(d % 3));
+  }
 
   IntegratorSettings settings;
   settings.massDamping_1_s = 0.0;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "analysis/UniaxialTest.h"
+#include "mesh/TetMesh.h"
 #include "springs/SpringForceLaw.h"
 #include "system/NewtonSolver.h"
 
@@ -27,6 +28,15 @@ struct TensileSpecimen {
   Eigen::Vector3d size_m{0.055, 0.020, 0.005};
   int cellsAcrossThickness = 2;  ///< resolution: cells along z; x and y get the same spacing
 };
+
+/// The specimen's tets: a Kuhn lattice, cellsAcrossThickness cells along z and cells of the same
+/// spacing along x and y. @throws std::invalid_argument for a resolution below 1.
+TetMesh makeTensileSpecimenMesh(const TensileSpecimen& specimen);
+
+/// The grips on nodes at `rest` (3 by #V) of a specimen of `size`: 3#V flags of the fixed DOFs
+/// (above), and the nodes of the moving face x = L into `moving`.
+std::vector<char> tensileGripDofs(const Eigen::Matrix3Xd& rest, const Eigen::Vector3d& size,
+                                  std::vector<int>& moving);
 
 struct TensileOptions {
   SpringLaw law = SpringLaw::Eesm;

@@ -70,13 +70,6 @@ FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradien
   triplets.reserve(900 * static_cast<std::size_t>(m_mesh.tetCount()));
   const FemState state = accumulate(x, &gradient, &triplets, &isFixed);
   const Eigen::Index dofs = 3 * x.cols();
-  if (m_extra != nullptr && !isFixed.empty()) {
-    // The extra energy's entries on fixed rows or columns go (accumulate skipped the elements').
-    std::erase_if(triplets, [&](const Eigen::Triplet<double>& entry) {
-      return isFixed[static_cast<std::size_t>(entry.row())] != 0 ||
-             isFixed[static_cast<std::size_t>(entry.col())] != 0;
-    });
-  }
   for (Eigen::Index d = 0; d < dofs; ++d) {
     if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0)
       triplets.emplace_back(d, d, 1.0);
@@ -221,7 +214,17 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
       }
     }
   }
-  if (m_extra != nullptr) state.energy_J += m_extra->add(x, gradient, triplets);
+  if (m_extra != nullptr) {
+    // Its entries on fixed rows and columns are left out, as the elements' are above.
+    std::vector<Eigen::Triplet<double>> extra;
+    state.energy_J += m_extra->add(x, gradient, triplets != nullptr ? &extra : nullptr);
+    for (const Eigen::Triplet<double>& entry : extra) {
+      const bool isOnFixed =
+          !isFixed->empty() && ((*isFixed)[static_cast<std::size_t>(entry.row())] != 0 ||
+                                (*isFixed)[static_cast<std::size_t>(entry.col())] != 0);
+      if (!isOnFixed) triplets->push_back(entry);
+    }
+  }
   return state;
 }
 

@@ -25,18 +25,9 @@ constexpr std::array<const char*, 6> kSurfaceExtensions = {".stl", ".obj",  ".pl
 /// Beyond this the units are almost certainly wrong (an organ is centimetres to decimetres).
 constexpr double kMaxCoordinate_m = 100.0;
 
+/// assimp on a file checkSurfaceFile() has passed (in the child process).
 const aiScene* importScene(Assimp::Importer& importer, const std::filesystem::path& path) {
   const std::string name = path.string();
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    throw MeshFileError(name + ": cannot open the surface file (missing or not a file)");
-  }
-  const auto size = std::filesystem::file_size(path, error);
-  if (!error && size == 0) throw MeshFileError(name + ": the file is empty");
-  if (!error && size > kMaxMeshFileBytes) {
-    throw MeshFileError(name + ": " + std::to_string(size >> 20) +
-                        " MiB is beyond the limit of 256 MiB for a mesh file");
-  }
   // No vertex joining here: welding is ours (SurfaceInspection), with a stated tolerance.
   // assimp fails on paths with '..' when an OBJ names a material file: give it a normal one.
   const std::string normal = std::filesystem::absolute(path).lexically_normal().string();
@@ -135,6 +126,12 @@ void checkSurfaceFile(const std::filesystem::path& path) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) {
     throw MeshFileError(name + ": cannot open the surface file (missing or not a file)");
+  }
+  const auto size = std::filesystem::file_size(path, error);
+  if (!error && size == 0) throw MeshFileError(name + ": the file is empty");
+  if (!error && size > kMaxMeshFileBytes) {
+    throw MeshFileError(name + ": " + std::to_string(size >> 20) +
+                        " MiB is beyond the limit of 256 MiB for a mesh file");
   }
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),

@@ -32,6 +32,13 @@ class BlockLinearOperator {
   /// A itself when it is stored assembled (what a direct solver factorises), else null.
   virtual const NodeBlockMatrix* assembled() const { return nullptr; }
 
+  /// The part whose range holds `node`.
+  static int partOf(const PartBounds& bounds, Eigen::Index node) {
+    int p = 0;
+    while (node >= bounds[static_cast<std::size_t>(p) + 1]) ++p;
+    return p;
+  }
+
   /// Bounds of kParts consecutive node ranges holding about equal shares of a product's work,
   /// from workBefore(j): the work of nodes [0, j) (non-decreasing, 0 at j = 0).
   template <typename WorkBefore>

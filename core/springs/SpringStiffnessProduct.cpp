@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "numerics/SymmetricBlock.h"
+
 namespace tissuesim {
 
 void SpringStiffnessProduct::addWork(const SpringMesh& mesh, std::vector<Eigen::Index>& nodeWork) {
@@ -35,11 +37,7 @@ SpringStiffnessProduct::SpringStiffnessProduct(const SpringMesh& mesh, const Par
           static_cast<int>(s);
     }
   }
-  const auto partOf = [&](int node) {
-    int p = 0;
-    while (node >= m_bounds[static_cast<std::size_t>(p) + 1]) ++p;
-    return p;
-  };
+  const auto partOf = [&](int node) { return BlockLinearOperator::partOf(m_bounds, node); };
   // Each part's three lists, in spring order.
   std::array<std::array<std::vector<Entry>, 3>, kParts> lists;
   for (Eigen::Index s = 0; s < springs; ++s) {
@@ -144,15 +142,7 @@ void SpringStiffnessProduct::addDiagonalBlock(Eigen::Index j, const AxialBlocks&
     b12 += c1 * ks[2];
     b22 += c2 * ks[2] + ks[4];
   }
-  block(0, 0) += b00;
-  block(0, 1) += b01;
-  block(0, 2) += b02;
-  block(1, 0) += b01;
-  block(1, 1) += b11;
-  block(1, 2) += b12;
-  block(2, 0) += b02;
-  block(2, 1) += b12;
-  block(2, 2) += b22;
+  addSymmetric(block, b00, b01, b02, b11, b12, b22);
 }
 
 }  // namespace tissuesim

@@ -20,11 +20,7 @@ TetIncidence::TetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount)
 
 TetStiffnessProduct::TetStiffnessProduct(const Eigen::Matrix4Xi& tets, const PartBounds& bounds)
     : m_bounds(bounds) {
-  const auto partOf = [&](int node) {
-    int p = 0;
-    while (node >= m_bounds[static_cast<std::size_t>(p) + 1]) ++p;
-    return p;
-  };
+  const auto partOf = [&](int node) { return BlockLinearOperator::partOf(m_bounds, node); };
   std::array<std::array<std::vector<Entry>, 2>, kParts> lists;
   for (Eigen::Index t = 0; t < tets.cols(); ++t) {
     std::array<int, 4> parts{};

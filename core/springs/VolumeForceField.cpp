@@ -5,6 +5,7 @@
 
 #include "mesh/TetMesh.h"
 #include "numerics/NodeBlockMatrix.h"
+#include "numerics/SymmetricBlock.h"
 #include "parallel/NodeRanges.h"
 
 namespace tissuesim {
@@ -61,15 +62,7 @@ void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) 
     b12 += c * g[1] * g[2];
     b22 += c * g[2] * g[2];
   }
-  block(0, 0) += b00;
-  block(0, 1) += b01;
-  block(0, 2) += b02;
-  block(1, 0) += b01;
-  block(1, 1) += b11;
-  block(1, 2) += b12;
-  block(2, 0) += b02;
-  block(2, 1) += b12;
-  block(2, 2) += b22;
+  addSymmetric(block, b00, b01, b02, b11, b12, b22);
 }
 
 void VolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
