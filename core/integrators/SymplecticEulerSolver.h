@@ -12,8 +12,8 @@
 // the velocity update, each stepped by backward Euler on its own (PenaltyContactSet::
 // applyImpulses), so they bound nothing. The step dt is split into ceil(dt / (safety h_max))
 // substeps, using the bound of the previous substep (the tangent stiffness changes little in one
-// substep; the safety factor covers it). A step needing more than maxSubsteps is refused, never
-// taken unstably.
+// substep; the safety factor covers it). A step needing more than maxSubsteps by the bound at its
+// own start, or running out of them, is refused, never taken unstably.
 
 #include <array>
 
