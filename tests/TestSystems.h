@@ -1,6 +1,8 @@
 #pragma once
 // Shared fixtures for the engine tests: the liver's tables and small spring systems.
 
+#include <array>
+#include <cmath>
 #include <memory>
 
 #include "TestTissues.h"
@@ -44,5 +46,14 @@ struct BlockSystem {
                                     : nullptr),
         system(springs, volume.get()) {}
 };
+
+/// The lattice cube (of edge h, from the origin) that tet t of a block mesh fills, from its rest
+/// centroid: the volume term's cells found independently of VolumeCells.
+inline std::array<long, 3> cubeOfTet(const SpringMesh& mesh, Eigen::Index t, double h) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 4; ++i) centroid += mesh.restPositions_m.col(mesh.tets(i, t)) / 4.0;
+  return {std::lround(std::floor(centroid.x() / h)), std::lround(std::floor(centroid.y() / h)),
+          std::lround(std::floor(centroid.z() / h))};
+}
 
 }  // namespace tissuesim::test

@@ -22,7 +22,9 @@ struct SpringFieldReport {
 };
 
 struct VolumeFieldReport {
-  int invertedTetCount = 0;  ///< J <= 0
+  int invertedTetCount = 0;  ///< tets with J <= 0
+  /// Deformed over rest volume: the volume term's cells' (VolumeCells.h) from its pass, each
+  /// tet's from VolumeForceField::inspect().
   double minVolumeRatio = 1.0;
   double maxVolumeRatio = 1.0;
 

@@ -82,14 +82,14 @@ void NodeBlockMatrix::addAxialEdgeStiffness(const AxialBlocks& k, ForkJoinPool* 
 template <bool IsAdded, typename BlockOf>
 void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockOf,
                                   ForkJoinPool* pool) {
-  if (blockCount != edgeCount()) {
+  if (blockCount > edgeCount()) {
     throw std::invalid_argument(
         "NodeBlockMatrix::assignEdgeStiffness: " + std::to_string(blockCount) + " blocks for " +
         std::to_string(edgeCount()) + " edges");
   }
   if (m_hasRepeatedEdges) {  // two edges share a block: they must be summed
     if constexpr (!IsAdded) setZero();
-    for (Eigen::Index e = 0; e < edgeCount(); ++e) {
+    for (Eigen::Index e = 0; e < blockCount; ++e) {
       const Eigen::Matrix3d block = blockOf(e);
       addEdgeStiffness(e, block.data());
     }
@@ -98,15 +98,15 @@ void NodeBlockMatrix::assignEdges(Eigen::Index blockCount, const BlockOf& blockO
   // Each node's columns are written from its own edges' blocks only: node ranges are
   // independent, and the values written do not depend on how the nodes are cut.
   const auto part = [&](int p) {
-    assignNodeColumns<IsAdded>(blockOf, m_partBounds[static_cast<std::size_t>(p)],
+    assignNodeColumns<IsAdded>(blockOf, blockCount, m_partBounds[static_cast<std::size_t>(p)],
                                m_partBounds[static_cast<std::size_t>(p) + 1]);
   };
   runParts(pool, kParts, part);
 }
 
 template <bool IsAdded, typename BlockOf>
-void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin,
-                                        Eigen::Index end) {
+void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index blockCount,
+                                        Eigen::Index begin, Eigen::Index end) {
   double* const values = m_matrix.valuePtr();
   const int* const outer = m_matrix.outerIndexPtr();
   for (Eigen::Index j = begin; j < end; ++j) {
@@ -122,6 +122,12 @@ void NodeBlockMatrix::assignNodeColumns(const BlockOf& blockOf, Eigen::Index beg
       const int e = m_neighbourEdge[static_cast<std::size_t>(first + p)];
       if (e < 0) {
         diagonalBlock = block;
+        continue;
+      }
+      if (e >= blockCount) {  // an edge past the blocks given: a zero block
+        if constexpr (!IsAdded) {
+          for (int c = 0; c < 3; ++c) std::fill_n(block + c * stride, 3, 0.0);
+        }
         continue;
       }
       const Eigen::Matrix3d ke = blockOf(e);

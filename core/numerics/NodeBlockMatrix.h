@@ -49,11 +49,12 @@ class NodeBlockMatrix final : public BlockLinearOperator {
     }
   }
 
-  /// Overwrites every stored value with the edges' stiffness (9 by #E, a column-major 3x3 K_e
-  /// per edge of the constructor's list): the matrix setZero() and addEdgeStiffness() on every
-  /// edge give (up to the order of the diagonal sums), written column by column, each value
-  /// once, with no clearing pass. On `pool` (when given, with more than one thread) the nodes'
-  /// columns are written in kParts ranges at once; the values are the same.
+  /// Overwrites every stored value with the edges' stiffness (9 by #B, a column-major 3x3 K_e
+  /// per edge of the constructor's list, the first #B <= #E edges; the others' blocks zero): the
+  /// matrix setZero() and addEdgeStiffness() on those edges give (up to the order of the
+  /// diagonal sums), written column by column, each value once, with no clearing pass. On `pool`
+  /// (when given, with more than one thread) the nodes' columns are written in kParts ranges at
+  /// once; the values are the same.
   void assignEdgeStiffness(const Eigen::Matrix<double, 9, Eigen::Dynamic>& k,
                            ForkJoinPool* pool = nullptr);
   /// The same from blocks in the axial form c n n^T + l I (numerics/AxialBlocks.h), each
@@ -121,7 +122,8 @@ class NodeBlockMatrix final : public BlockLinearOperator {
   void assignEdges(Eigen::Index blockCount, const BlockOf& blockOf, ForkJoinPool* pool);
   /// The same for the columns of nodes [begin, end).
   template <bool IsAdded, typename BlockOf>
-  void assignNodeColumns(const BlockOf& blockOf, Eigen::Index begin, Eigen::Index end);
+  void assignNodeColumns(const BlockOf& blockOf, Eigen::Index blockCount, Eigen::Index begin,
+                         Eigen::Index end);
   /// Where node i stands in m_neighbourIndex among j's neighbours; throws if no edge joins them.
   std::size_t neighbourSlot(int i, int j) const;
   /// Where the block at `slot` (an entry of m_neighbourIndex among j's) starts in the values.

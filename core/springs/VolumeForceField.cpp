@@ -13,11 +13,13 @@ namespace tissuesim {
 VolumeForceField::VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa)
     : m_mesh(mesh),
       m_bulkModulus_Pa(bulkModulus_Pa),
-      m_incidence(mesh.tets, mesh.nodeCount()),
-      m_inverseRestVolume_1_m3(mesh.tetRestVolume_m3.cwiseInverse()),
-      m_slots{VolumeBlocks(13, mesh.tets.cols()), VolumeBlocks(13, mesh.tets.cols())},
-      m_ownBlocks(13, mesh.tets.cols()),
-      m_pressure_Pa(mesh.tets.cols()) {}
+      m_cells(groupTetsIntoCells(mesh.restPositions_m, mesh.tets, mesh.tetRestVolume_m3)),
+      m_incidence(m_cells, mesh.nodeCount()),
+      m_inverseCellRestVolume_1_m3(m_cells.restVolume_m3.cwiseInverse()),
+      m_slots{VolumeBlocks::Zero(kVolumeBlockRows, m_cells.cellCount()),
+              VolumeBlocks::Zero(kVolumeBlockRows, m_cells.cellCount())},
+      m_ownBlocks(VolumeBlocks::Zero(kVolumeBlockRows, m_cells.cellCount())),
+      m_pressure_Pa(m_cells.cellCount()) {}
 
 VolumeForceField::~VolumeForceField() = default;
 
@@ -39,7 +41,7 @@ void VolumeForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const
 
 void VolumeForceField::prepareProducts(const PartBounds& bounds) {
   if (m_product && m_product->bounds() == bounds) return;
-  m_product = std::make_unique<TetStiffnessProduct>(m_mesh.tets, bounds);
+  m_product = std::make_unique<VolumeStiffnessProduct>(m_cells, bounds);
 }
 
 void VolumeForceField::addStiffnessProduct(int part, const double* x, double* y) const {
@@ -52,9 +54,11 @@ void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) 
   double b00 = 0.0, b01 = 0.0, b02 = 0.0, b11 = 0.0, b12 = 0.0, b22 = 0.0;
   for (int e = m_incidence.start[node]; e < m_incidence.start[node + 1]; ++e) {
     const int entry = m_incidence.entries[static_cast<std::size_t>(e)];
-    const double* const column = blocks.data() + 13 * static_cast<std::ptrdiff_t>(entry >> 2);
-    const double* const g = column + 3 * (entry & 3);
-    const double c = column[12];
+    const double* const column =
+        blocks.data() +
+        kVolumeBlockRows * static_cast<std::ptrdiff_t>(entry / VolumeCells::kMaxNodes);
+    const double* const g = column + 3 * (entry % VolumeCells::kMaxNodes);
+    const double c = column[kVolumeBlockRows - 1];
     b00 += c * g[0] * g[0];
     b01 += c * g[0] * g[1];
     b02 += c * g[0] * g[2];
@@ -67,12 +71,14 @@ void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) 
 
 void VolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
   const VolumeBlocks& blocks = currentBlocks();
-  for (Eigen::Index t = 0; t < m_mesh.tets.cols(); ++t) {
-    const auto g = blocks.col(t);
-    for (int i = 0; i < 4; ++i) {
-      for (int j = 0; j < 4; ++j) {
-        matrix.addBlock(m_mesh.tets(i, t), m_mesh.tets(j, t),
-                        g[12] * g.segment<3>(3 * i) * g.segment<3>(3 * j).transpose());
+  for (Eigen::Index c = 0; c < m_cells.cellCount(); ++c) {
+    const auto g = blocks.col(c);
+    const int count = m_cells.nodeCount[static_cast<std::size_t>(c)];
+    for (int i = 0; i < count; ++i) {
+      for (int j = 0; j < count; ++j) {
+        matrix.addBlock(
+            m_cells.nodes(i, c), m_cells.nodes(j, c),
+            g[kVolumeBlockRows - 1] * g.segment<3>(3 * i) * g.segment<3>(3 * j).transpose());
       }
     }
   }
@@ -82,34 +88,48 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
                                               VolumeBlocks* blocks) const {
   VolumeBlocks& out = blocks != nullptr ? *blocks : m_ownBlocks;
   m_lastBlocks = &out;
-  const Eigen::Index tets = m_mesh.tets.cols();
+  const Eigen::Index cells = m_cells.cellCount();
   std::array<VolumeFieldReport, kParts> parts;
-  // Per tet: g, c and the pressure.
-  const auto tetPass = [&](int p) {
+  // Per cell: g summed over its tets, J, k and the pressure; each tet's sign for the report.
+  const auto cellPass = [&](int p) {
     VolumeFieldReport& report = parts[static_cast<std::size_t>(p)];
-    const Eigen::Index end = tets * (p + 1) / kParts;
-    for (Eigen::Index t = tets * p / kParts; t < end; ++t) {
-      const Eigen::Vector3d a = x.col(m_mesh.tets(0, t));
-      const Eigen::Vector3d ab = x.col(m_mesh.tets(1, t)) - a;
-      const Eigen::Vector3d ac = x.col(m_mesh.tets(2, t)) - a;
-      const Eigen::Vector3d ad = x.col(m_mesh.tets(3, t)) - a;
-      double* const g = out.col(t).data();
-      Eigen::Map<Eigen::Vector3d> g0(g), g1(g + 3), g2(g + 6), g3(g + 9);
-      g1 = ac.cross(ad) / 6.0;
-      g2 = ad.cross(ab) / 6.0;
-      g3 = ab.cross(ac) / 6.0;
-      g0 = -(g1 + g2 + g3);
-      const double inverseRestVolume = m_inverseRestVolume_1_m3[t];
-      const double ratio = ab.dot(g1) * inverseRestVolume;  // V = (x_b - x_a) . g_b
-      g[12] = m_bulkModulus_Pa * inverseRestVolume;
-      m_pressure_Pa[t] = m_bulkModulus_Pa * (ratio - 1.0);  // dE/dV
+    const Eigen::Index end = cells * (p + 1) / kParts;
+    for (Eigen::Index c = cells * p / kParts; c < end; ++c) {
+      double* const g = out.col(c).data();
+      std::fill(g, g + kVolumeBlockRows - 1, 0.0);
+      double volume = 0.0;
+      for (int k = m_cells.tetStart[static_cast<std::size_t>(c)];
+           k < m_cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k) {
+        const int t = m_cells.tets[static_cast<std::size_t>(k)];
+        const Eigen::Vector3d a = x.col(m_mesh.tets(0, t));
+        const Eigen::Vector3d ab = x.col(m_mesh.tets(1, t)) - a;
+        const Eigen::Vector3d ac = x.col(m_mesh.tets(2, t)) - a;
+        const Eigen::Vector3d ad = x.col(m_mesh.tets(3, t)) - a;
+        const Eigen::Vector3d g1 = ac.cross(ad) / 6.0;
+        const Eigen::Vector3d g2 = ad.cross(ab) / 6.0;
+        const Eigen::Vector3d g3 = ab.cross(ac) / 6.0;
+        const Eigen::Vector3d g0 = -(g1 + g2 + g3);
+        const double tetVolume = ab.dot(g1);  // V = (x_b - x_a) . g_b
+        volume += tetVolume;
+        const auto addAt = [&](int i, const Eigen::Vector3d& gi) {
+          Eigen::Map<Eigen::Vector3d>(g + 3 * m_cells.tetSlots(i, t)) += gi;
+        };
+        addAt(0, g0);
+        addAt(1, g1);
+        addAt(2, g2);
+        addAt(3, g3);
+        report.invertedTetCount += tetVolume <= 0.0 ? 1 : 0;
+      }
+      const double inverseRestVolume = m_inverseCellRestVolume_1_m3[c];
+      const double ratio = volume * inverseRestVolume;
       report.minVolumeRatio = std::min(report.minVolumeRatio, ratio);
       report.maxVolumeRatio = std::max(report.maxVolumeRatio, ratio);
-      report.invertedTetCount += ratio <= 0.0 ? 1 : 0;
+      g[kVolumeBlockRows - 1] = m_bulkModulus_Pa * inverseRestVolume;
+      m_pressure_Pa[c] = m_bulkModulus_Pa * (ratio - 1.0);  // dE/dV
     }
   };
-  runParts(m_pool, kParts, tetPass);
-  // Each node gathers -p_t g_i from its tets.
+  runParts(m_pool, kParts, cellPass);
+  // Each node gathers -p_c g_i from its cells.
   const int* const start = m_incidence.start.data();
   const int* const entries = m_incidence.entries.data();
   const double* const pressure = m_pressure_Pa.data();
@@ -118,12 +138,12 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
     for (Eigen::Index j = begin; j < end; ++j) {
       double f0 = 0.0, f1 = 0.0, f2 = 0.0;
       for (int e = start[j]; e < start[j + 1]; ++e) {
-        const int t = entries[e] >> 2;
-        const double* const gi =
-            blockData + 13 * static_cast<std::ptrdiff_t>(t) + 3 * (entries[e] & 3);
-        f0 += pressure[t] * gi[0];
-        f1 += pressure[t] * gi[1];
-        f2 += pressure[t] * gi[2];
+        const int c = entries[e] / VolumeCells::kMaxNodes;
+        const double* const gi = blockData + kVolumeBlockRows * static_cast<std::ptrdiff_t>(c) +
+                                 3 * (entries[e] % VolumeCells::kMaxNodes);
+        f0 += pressure[c] * gi[0];
+        f1 += pressure[c] * gi[1];
+        f2 += pressure[c] * gi[2];
       }
       forces(0, j) -= f0;
       forces(1, j) -= f1;
@@ -143,8 +163,8 @@ void VolumeForceField::addNodeStiffnessBound(Eigen::VectorXd& nodeStiffness) con
     for (Eigen::Index j = begin; j < end; ++j) {
       double sum = 0.0;
       for (int e = start[j]; e < start[j + 1]; ++e) {
-        const auto column = blocks.col(entries[e] >> 2);
-        sum += column[12] * column.head<12>().squaredNorm();
+        const auto column = blocks.col(entries[e] / VolumeCells::kMaxNodes);
+        sum += column[kVolumeBlockRows - 1] * column.head<kVolumeBlockRows - 1>().squaredNorm();
       }
       nodeStiffness[j] += sum;
     }
@@ -153,9 +173,13 @@ void VolumeForceField::addNodeStiffnessBound(Eigen::VectorXd& nodeStiffness) con
 
 double VolumeForceField::energy(const Eigen::Matrix3Xd& x) const {
   double energy = 0.0;
-  for (Eigen::Index t = 0; t < m_mesh.tets.cols(); ++t) {
-    const double restVolume = m_mesh.tetRestVolume_m3[t];
-    const double ratio = signedTetVolume(x, m_mesh.tets, t) / restVolume;
+  for (Eigen::Index c = 0; c < m_cells.cellCount(); ++c) {
+    double volume = 0.0;
+    for (int k = m_cells.tetStart[static_cast<std::size_t>(c)];
+         k < m_cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k)
+      volume += signedTetVolume(x, m_mesh.tets, m_cells.tets[static_cast<std::size_t>(k)]);
+    const double restVolume = m_cells.restVolume_m3[c];
+    const double ratio = volume / restVolume;
     energy += 0.5 * m_bulkModulus_Pa * restVolume * (ratio - 1.0) * (ratio - 1.0);
   }
   return energy;

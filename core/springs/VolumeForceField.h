@@ -1,22 +1,26 @@
 #pragma once
-// The near-incompressibility term, per tet (docs/model.md, "The volume term"):
+// The near-incompressibility term, per cell of tets (VolumeCells.h: a lattice cube, else one
+// tet; docs/model.md, "The volume term"):
 //
-//   E_t = 1/2 kappa V0 (J - 1)^2,   J = V / V0,   V = (x_b - x_a) . ((x_c - x_a) x (x_d - x_a)) / 6
+//   E_c = 1/2 kappa V0 (J - 1)^2,   J = V / V0,   V = sum over the cell's tets of V_t,
+//   V_t = (x_b - x_a) . ((x_c - x_a) x (x_d - x_a)) / 6
 //   f_i = -kappa (J - 1) g_i,   g_i = dV/dx_i                                             (N)
-//   H_t ~= (kappa / V0) g g^T,  g = dV/dx (12)   (Gauss-Newton: the PSD part of the Hessian)
+//   H_c ~= (kappa / V0) g g^T,  g = dV/dx (3 x the cell's nodes)   (Gauss-Newton: PSD part)
 //
 // kappa (Pa) is a bulk modulus. Why this form and not a log or barrier in J: the energy and its
 // gradient stay finite through J = 0, so a tet that a fast poke has turned inside out is pushed
 // back (E grows as J falls below 1, and g does not vanish on a flat tet), where a log(J) term
 // has no value past J = 0 and no way back. It is the volumetric part of Smith, de Goes and
 // Kim's stable Neo-Hookean energy (2018) at its rest-stable form. The spring network alone has a
-// mirrored equilibrium for a flipped tet; this term has none (E_t(J = -1) = 2 kappa V0).
+// mirrored equilibrium for a flipped tet; with this term a flipped tet takes twice its volume
+// from its cell's (a sixth of a cube's: a third of the cube's volume is lost), which the term
+// restores, and the inversion check still looks at every tet.
 //
-// Its stiffness is rank one per tet, so Newton's matrix-free operator applies it as c g (g . x)
-// (TetStiffnessProduct) from the 13 numbers a tet this pass stores: no 12x12 block.
+// Its stiffness is rank one per cell, so Newton's matrix-free operator applies it as k g (g . x)
+// (VolumeStiffnessProduct) from the numbers a cell this pass stores: no dense block.
 //
-// Passes: the tets in kParts fixed ranges compute g, J and the pressure (on the pool when one is
-// set); then each node gathers its tets' forces in a node-wise pass, over a node-to-tet
+// Passes: the cells in kParts fixed ranges compute g, J and the pressure (on the pool when one
+// is set); then each node gathers its cells' forces in a node-wise pass, over a node-to-cell
 // incidence list in a fixed order. No two threads write one node, and sums run in the same
 // order for any thread count: bit-identical results with 1, 2 or 4 threads.
 
@@ -29,7 +33,8 @@
 #include "forces/ForceField.h"
 #include "parallel/ForkJoinPool.h"
 #include "springs/SpringMesh.h"
-#include "springs/TetStiffnessProduct.h"
+#include "springs/VolumeCells.h"
+#include "springs/VolumeStiffnessProduct.h"
 
 namespace tissuesim {
 
@@ -44,27 +49,31 @@ class VolumeForceField final : public ForceField {
   /// Runs the passes on `pool` (which must outlive this object), or on the caller when null.
   void setThreadPool(ForkJoinPool* pool) { m_pool = pool; }
 
-  /// forces (3 by #V) += volume forces at x; blocks (13 by #T) overwritten when not null.
+  /// forces (3 by #V) += volume forces at x; blocks (kVolumeBlockRows by #C) overwritten when
+  /// not null. The report's volume ratios are the cells' J (what the term holds), its inverted
+  /// count each tet's.
   VolumeFieldReport addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
                               VolumeBlocks* blocks = nullptr) const;
-  /// nodeStiffness (#V) += sum over each node's tets of ||H_t|| <= c |g|^2 (N/m), from the last
+  /// nodeStiffness (#V) += sum over each node's cells of ||H_c|| <= k |g|^2 (N/m), from the last
   /// addForces() pass's blocks: the explicit integrator's stability bound.
   void addNodeStiffnessBound(Eigen::VectorXd& nodeStiffness) const;
 
-  /// Counts tets with J <= 0 at x without computing forces; in kInspectParts tet ranges on
+  /// Counts tets with J <= 0 at x without computing forces (the ratios: each tet's J, with or
+  /// without a volume term); in kInspectParts tet ranges on
   /// `pool` when given (the report is the same: a count and a minimum).
   static VolumeFieldReport inspect(const SpringMesh& mesh, const Eigen::Matrix3Xd& x,
                                    ForkJoinPool* pool = nullptr);
   static constexpr int kInspectParts = 4;
 
   double bulkModulus() const { return m_bulkModulus_Pa; }
-  const TetIncidence& incidence() const { return m_incidence; }
+  const VolumeCells& cells() const { return m_cells; }
+  const CellIncidence& incidence() const { return m_incidence; }
   const SpringMesh& mesh() const { return m_mesh; }
 
-  // ForceField: the Gauss-Newton K = sum_t c g g^T, PSD whether or not the pass asks for the
+  // ForceField: the Gauss-Newton K = sum_c k g g^T, PSD whether or not the pass asks for the
   // projection (the exact Hessian's other part, kappa (J - 1) d^2V/dx^2, is left out).
   const char* name() const override { return "volume"; }
-  /// sum_t E_t at x (J).
+  /// sum_c E_c at x (J).
   double energy(const Eigen::Matrix3Xd& x) const override;
   void addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, const ForcePass& pass,
                  ForceReport& report) const override;
@@ -81,8 +90,9 @@ class VolumeForceField final : public ForceField {
   const SpringMesh& m_mesh;
   double m_bulkModulus_Pa;
   ForkJoinPool* m_pool = nullptr;
-  TetIncidence m_incidence;
-  Eigen::VectorXd m_inverseRestVolume_1_m3;  ///< #T, 1 / V0: no division in the pass
+  VolumeCells m_cells;
+  CellIncidence m_incidence;
+  Eigen::VectorXd m_inverseCellRestVolume_1_m3;  ///< #C, 1 / V0: no division in the pass
   // The stiffness slots (ForceField.h): the current one is m_slots[m_current]. Mutable: scratch
   // of the const passes, sized at construction.
   mutable std::array<VolumeBlocks, 2> m_slots;
@@ -91,7 +101,7 @@ class VolumeForceField final : public ForceField {
   mutable VolumeBlocks m_ownBlocks;
   mutable const VolumeBlocks* m_lastBlocks = nullptr;
   mutable Eigen::VectorXd m_pressure_Pa;
-  std::unique_ptr<TetStiffnessProduct> m_product;  ///< prepareProducts()'s
+  std::unique_ptr<VolumeStiffnessProduct> m_product;  ///< prepareProducts()'s
 };
 
 }  // namespace tissuesim

@@ -1,42 +1,47 @@
-#include "springs/TetStiffnessProduct.h"
+#include "springs/VolumeStiffnessProduct.h"
 
 namespace tissuesim {
 
-TetIncidence::TetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount)
+CellIncidence::CellIncidence(const VolumeCells& cells, Eigen::Index nodeCount)
     : start(static_cast<std::size_t>(nodeCount) + 1, 0) {
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    for (int i = 0; i < 4; ++i) ++start[static_cast<std::size_t>(tets(i, t)) + 1];
+  const auto cellNodes = [&](Eigen::Index c) {
+    return cells.nodeCount[static_cast<std::size_t>(c)];
+  };
+  for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+    for (int i = 0; i < cellNodes(c); ++i) ++start[static_cast<std::size_t>(cells.nodes(i, c)) + 1];
   }
   for (std::size_t j = 0; j < static_cast<std::size_t>(nodeCount); ++j) start[j + 1] += start[j];
   entries.resize(static_cast<std::size_t>(start.back()));
   std::vector<int> fill(start.begin(), start.end() - 1);
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    for (int i = 0; i < 4; ++i) {
-      entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(tets(i, t))]++)] =
-          static_cast<int>(4 * t + i);
+  for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+    for (int i = 0; i < cellNodes(c); ++i) {
+      entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(cells.nodes(i, c))]++)] =
+          static_cast<int>(VolumeCells::kMaxNodes * c + i);
     }
   }
 }
 
-TetStiffnessProduct::TetStiffnessProduct(const Eigen::Matrix4Xi& tets, const PartBounds& bounds)
+VolumeStiffnessProduct::VolumeStiffnessProduct(const VolumeCells& cells, const PartBounds& bounds)
     : m_bounds(bounds) {
   const auto partOf = [&](int node) { return BlockLinearOperator::partOf(m_bounds, node); };
   std::array<std::array<std::vector<Entry>, 2>, kParts> lists;
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    std::array<int, 4> parts{};
+  for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+    std::array<int, VolumeCells::kMaxNodes> parts{};
     Entry entry{};
-    entry.tet = static_cast<int>(t);
-    for (std::size_t i = 0; i < 4; ++i) {
-      entry.rows[i] = 3 * tets(static_cast<Eigen::Index>(i), t);
-      parts[i] = partOf(tets(static_cast<Eigen::Index>(i), t));
+    entry.cell = static_cast<int>(c);
+    entry.nodeCount = cells.nodeCount[static_cast<std::size_t>(c)];
+    for (std::size_t i = 0; i < static_cast<std::size_t>(entry.nodeCount); ++i) {
+      entry.rows[i] = 3 * cells.nodes(static_cast<Eigen::Index>(i), c);
+      parts[i] = partOf(cells.nodes(static_cast<Eigen::Index>(i), c));
     }
+    const unsigned all = (1u << entry.nodeCount) - 1u;
     for (int p = 0; p < kParts; ++p) {
       entry.ownNodes = 0;
-      for (std::size_t i = 0; i < 4; ++i) {
+      for (std::size_t i = 0; i < static_cast<std::size_t>(entry.nodeCount); ++i) {
         if (parts[i] == p) entry.ownNodes |= 1u << i;
       }
       if (entry.ownNodes == 0) continue;
-      lists[static_cast<std::size_t>(p)][entry.ownNodes == 15u ? 0 : 1].push_back(entry);
+      lists[static_cast<std::size_t>(p)][entry.ownNodes == all ? 0 : 1].push_back(entry);
     }
   }
   for (std::size_t p = 0; p < kParts; ++p) {
@@ -48,27 +53,28 @@ TetStiffnessProduct::TetStiffnessProduct(const Eigen::Matrix4Xi& tets, const Par
   }
 }
 
-void TetStiffnessProduct::addPart(int part, const VolumeBlocks& blocks, const double* x,
-                                  double* y) const {
+void VolumeStiffnessProduct::addPart(int part, const VolumeBlocks& blocks, const double* x,
+                                     double* y) const {
   const std::array<std::size_t, 3>& lists = m_listStart[static_cast<std::size_t>(part)];
   addRange<true>(lists[0], lists[1], blocks.data(), x, y);
   addRange<false>(lists[1], lists[2], blocks.data(), x, y);
 }
 
 template <bool AllOwn>
-void TetStiffnessProduct::addRange(std::size_t begin, std::size_t end, const double* blocks,
-                                   const double* x, double* y) const {
-  // c g (g . x) on the tet's own nodes.
+void VolumeStiffnessProduct::addRange(std::size_t begin, std::size_t end, const double* blocks,
+                                      const double* x, double* y) const {
+  // k g (g . x) on the cell's own nodes.
   for (std::size_t k = begin; k < end; ++k) {
     const Entry& entry = m_entries[k];
-    const double* const g = blocks + 13 * static_cast<std::ptrdiff_t>(entry.tet);
+    const double* const g = blocks + kVolumeBlockRows * static_cast<std::ptrdiff_t>(entry.cell);
+    const auto count = static_cast<std::size_t>(entry.nodeCount);
     double gx = 0.0;
-    for (std::size_t i = 0; i < 4; ++i) {
+    for (std::size_t i = 0; i < count; ++i) {
       const double* const xi = x + entry.rows[i];
       gx += g[3 * i] * xi[0] + g[3 * i + 1] * xi[1] + g[3 * i + 2] * xi[2];
     }
-    const double scale = g[12] * gx;
-    for (std::size_t i = 0; i < 4; ++i) {
+    const double scale = g[kVolumeBlockRows - 1] * gx;
+    for (std::size_t i = 0; i < count; ++i) {
       if constexpr (!AllOwn) {
         if ((entry.ownNodes & (1u << i)) == 0) continue;
       }

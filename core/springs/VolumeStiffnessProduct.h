@@ -1,11 +1,11 @@
 #pragma once
 // The volume term's part of Newton's matrix-free product, y += K x, with
 //
-//   K = sum_t c_t g_t g_t^T    (N/m; g_t = dV_t/dx on tet t's four nodes, c_t = kappa / V0)
+//   K = sum_c k_c g_c g_c^T    (N/m; g_c = dV_c/dx on cell c's nodes, k_c = kappa / V0_c)
 //
-// read from the force pass's VolumeBlocks (13 by #T): c g (g . x), no 12x12 block.
+// read from the force pass's VolumeBlocks: k g (g . x) per cell (VolumeCells.h), no dense block.
 //
-// Parallel parts: node ranges given by the operator. Part p takes g_t . x once for every tet
+// Parallel parts: node ranges given by the operator. Part p takes g_c . x once for every cell
 // with a node among its own, and adds to those nodes only: no two parts write one row, and each
 // row's sum runs in a fixed order, so products are bit-identical for any thread count.
 
@@ -15,50 +15,53 @@
 #include <Eigen/Core>
 
 #include "numerics/BlockLinearOperator.h"
+#include "springs/VolumeCells.h"
 
 namespace tissuesim {
 
-/// The volume term's linearisation, a column per tet (13 by #T): rows 0-11 g = dV/dx on the tet's
-/// four nodes, node after node (m^2), row 12 c = kappa / V0 (Pa/m^3). The tet's stiffness block
-/// is c g g^T (N/m).
-using VolumeBlocks = Eigen::Matrix<double, 13, Eigen::Dynamic>;
+/// The volume term's linearisation, a column per cell (kRows by #C): rows 0-23 g = dV/dx on the
+/// cell's node slots, slot after slot (m^2; zero in unused slots), row 24 k = kappa / V0
+/// (Pa/m^3). The cell's stiffness block is k g g^T (N/m).
+inline constexpr int kVolumeBlockRows = 3 * VolumeCells::kMaxNodes + 1;
+using VolumeBlocks = Eigen::Matrix<double, kVolumeBlockRows, Eigen::Dynamic>;
 
-/// Each node's tets: entries tet * 4 + (the node's place in the tet, 0-3), in tet order.
-struct TetIncidence {
+/// Each node's cells: entries cell * kMaxNodes + (the node's slot in the cell), in cell order.
+struct CellIncidence {
   std::vector<int> start;  ///< #V + 1
   std::vector<int> entries;
 
-  TetIncidence() = default;
-  TetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount);
+  CellIncidence() = default;
+  CellIncidence(const VolumeCells& cells, Eigen::Index nodeCount);
 };
 
-class TetStiffnessProduct {
+class VolumeStiffnessProduct {
  public:
   static constexpr int kParts = BlockLinearOperator::kParts;
   using PartBounds = BlockLinearOperator::PartBounds;
 
-  TetStiffnessProduct(const Eigen::Matrix4Xi& tets, const PartBounds& bounds);
+  VolumeStiffnessProduct(const VolumeCells& cells, const PartBounds& bounds);
 
   const PartBounds& bounds() const { return m_bounds; }
 
-  /// Rows of part p's nodes: y += K x (K from `blocks`, 13 by #T).
+  /// Rows of part p's nodes: y += K x (K from `blocks`).
   void addPart(int part, const VolumeBlocks& blocks, const double* x, double* y) const;
 
  private:
-  /// A tet as the product reads it: where its nodes' rows start, its index, and which of its
-  /// nodes (bit i: node i) lie in the part that lists it.
+  /// A cell as the product reads it: where its nodes' rows start, its index, its node count, and
+  /// which of its nodes (bit i: slot i) lie in the part that lists it.
   struct Entry {
-    std::array<int, 4> rows;
-    int tet;
+    std::array<int, VolumeCells::kMaxNodes> rows;
+    int cell;
+    int nodeCount;
     unsigned ownNodes;
   };
-  /// The tets [begin, end) of m_entries into y; AllOwn: every node of each is the part's.
+  /// The cells [begin, end) of m_entries into y; AllOwn: every node of each is the part's.
   template <bool AllOwn>
   void addRange(std::size_t begin, std::size_t end, const double* blocks, const double* x,
                 double* y) const;
 
   PartBounds m_bounds;
-  // Per part, its tets in two lists (all four nodes its own; some), m_listStart[p] = {all, some,
+  // Per part, its cells in two lists (all nodes its own; some), m_listStart[p] = {all, some,
   // end} into m_entries.
   std::vector<Entry> m_entries;
   std::array<std::array<std::size_t, 3>, kParts> m_listStart{};

@@ -1,5 +1,8 @@
 #include "system/MechanicalSystem.h"
 
+#include <algorithm>
+#include <cstdint>
+
 #include "parallel/NodeRanges.h"
 
 namespace tissuesim {
@@ -24,6 +27,32 @@ void MechanicalSystem::addField(ForceField& field) {
 
 void MechanicalSystem::prepareProducts(const ForceField::PartBounds& bounds) {
   for (ForceField* field : m_mutableFields) field->prepareProducts(bounds);
+}
+
+NodeBlockMatrix MechanicalSystem::makeMatrix() const {
+  const Eigen::Matrix2Xi& springs = mesh().springs;
+  if (m_volume == nullptr) return NodeBlockMatrix(mesh().nodeCount(), springs);
+  const auto key = [](int a, int b) {
+    return static_cast<std::uint64_t>(std::min(a, b)) << 32 |
+           static_cast<std::uint64_t>(std::max(a, b));
+  };
+  std::vector<std::uint64_t> springKeys;
+  springKeys.reserve(static_cast<std::size_t>(springs.cols()));
+  for (Eigen::Index s = 0; s < springs.cols(); ++s)
+    springKeys.push_back(key(springs(0, s), springs(1, s)));
+  std::sort(springKeys.begin(), springKeys.end());
+  const Eigen::Matrix2Xi cellPairs = m_volume->cells().nodePairs();
+  std::vector<Eigen::Index> extra;
+  for (Eigen::Index p = 0; p < cellPairs.cols(); ++p) {
+    if (!std::binary_search(springKeys.begin(), springKeys.end(),
+                            key(cellPairs(0, p), cellPairs(1, p))))
+      extra.push_back(p);
+  }
+  Eigen::Matrix2Xi edges(2, springs.cols() + static_cast<Eigen::Index>(extra.size()));
+  edges.leftCols(springs.cols()) = springs;
+  for (std::size_t k = 0; k < extra.size(); ++k)
+    edges.col(springs.cols() + static_cast<Eigen::Index>(k)) = cellPairs.col(extra[k]);
+  return NodeBlockMatrix(mesh().nodeCount(), edges);
 }
 
 MechanicalState MechanicalSystem::restState() const {

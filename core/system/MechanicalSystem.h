@@ -84,9 +84,10 @@ class MechanicalSystem {
   /// DOFs not yet applied).
   void assembleStiffness(NodeBlockMatrix& matrix) const;
 
-  /// A matrix with this system's pattern (springs' edges plus diagonal: a volume tet's and a
-  /// contact's nodes are joined by springs, being tet edges).
-  NodeBlockMatrix makeMatrix() const { return NodeBlockMatrix(mesh().nodeCount(), mesh().springs); }
+  /// A matrix with this system's pattern: the springs' edges (first, in order), then the node
+  /// pairs a volume cell joins that no spring does, plus the diagonal (a contact's nodes are a
+  /// tet's, joined by springs).
+  NodeBlockMatrix makeMatrix() const;
 
   /// Total energy (J) at a state: kinetic plus every field's (springs without softening).
   /// For checks of energy behaviour, not for the step loop.

@@ -134,6 +134,29 @@ TEST(NodeBlockMatrix, AssignedStiffnessEqualsClearedAndAdded) {
                std::invalid_argument);
 }
 
+TEST(NodeBlockMatrix, EdgesPastTheBlocksGivenAreZero) {
+  // The pattern's last edges (a volume cell's extra pairs) get no block from the springs: an
+  // assignment zeroes them, stale values included, and leaves the diagonal to the given ones.
+  Eigen::Matrix2Xi edges(2, 4);
+  edges << 0, 1, 2, 0, 1, 2, 3, 3;
+  Eigen::Matrix<double, 9, Eigen::Dynamic> blocks(9, 2);
+  for (Eigen::Index e = 0; e < 2; ++e) {
+    for (int v = 0; v < 9; ++v) blocks(v, e) = (e + 1.0) * (v + 2.0);
+  }
+  NodeBlockMatrix added(4, edges);
+  for (Eigen::Index e = 0; e < 2; ++e) added.addEdgeStiffness(e, blocks.col(e).data());
+  NodeBlockMatrix assigned(4, edges);
+  Eigen::Matrix<double, 9, Eigen::Dynamic> stale =
+      Eigen::Matrix<double, 9, Eigen::Dynamic>::Ones(9, 4);
+  assigned.assignEdgeStiffness(stale);
+  assigned.assignEdgeStiffness(blocks);
+  const Eigen::MatrixXd expected(added.matrix());
+  EXPECT_EQ((Eigen::MatrixXd(assigned.matrix()) - expected).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::MatrixXd dense(assigned.matrix());
+  EXPECT_EQ(dense.block(9, 6, 3, 3).cwiseAbs().maxCoeff(), 0.0) << "edge (2, 3) has no block";
+  EXPECT_GT(dense.block(3, 0, 3, 3).cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(NodeBlockMatrix, ResultsDoNotDependOnTheThreadCount) {
   // The assignment on a pool writes every node's columns once, whichever thread runs its range:
   // the matrix is bit-identical to the serial one, stale values included.

@@ -2,58 +2,89 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <map>
+#include <utility>
 
+#include "TestSystems.h"
 #include "mesh/BlockMesher.h"
 #include "parallel/NodeRanges.h"
 
 namespace tissuesim {
 namespace {
 
-double volumeEnergy(const SpringMesh& mesh, const Eigen::Matrix3Xd& x, double kappa) {
-  double energy = 0.0;
+// The energy of a block mesh of cubes of edge h, summed cube by cube: each tet's cube found from
+// its rest centroid, independently of how VolumeCells groups them.
+double cubeVolumeEnergy(const SpringMesh& mesh, const Eigen::Matrix3Xd& x, double kappa, double h) {
+  std::map<std::array<long, 3>, std::pair<double, double>> cubes;  // {V, V0}
   for (Eigen::Index t = 0; t < mesh.tets.cols(); ++t) {
-    const double j = signedTetVolume(x, mesh.tets, t) / mesh.tetRestVolume_m3[t];
-    energy += 0.5 * kappa * mesh.tetRestVolume_m3[t] * (j - 1) * (j - 1);
+    const std::array<long, 3> cube = test::cubeOfTet(mesh, t, h);
+    cubes[cube].first += signedTetVolume(x, mesh.tets, t);
+    cubes[cube].second += mesh.tetRestVolume_m3[t];
+  }
+  double energy = 0.0;
+  for (const auto& [cube, volumes] : cubes) {
+    const double j = volumes.first / volumes.second;
+    energy += 0.5 * kappa * volumes.second * (j - 1) * (j - 1);
   }
   return energy;
 }
 
+double cellVolume(const SpringMesh& mesh, const VolumeCells& cells, const Eigen::Matrix3Xd& x,
+                  Eigen::Index c) {
+  double volume = 0.0;
+  for (int k = cells.tetStart[static_cast<std::size_t>(c)];
+       k < cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k)
+    volume += signedTetVolume(x, mesh.tets, cells.tets[static_cast<std::size_t>(k)]);
+  return volume;
+}
+
 TEST(VolumeForceField, ForceIsMinusTheEnergyGradientAndBlocksHoldTheVolumeGradient) {
-  const SpringMesh mesh = buildSpringMesh(makeBlockMesh({0.01, 0.01, 0.01}, {1, 1, 1}), 1000.0);
+  const double h = 0.01;
+  const SpringMesh mesh = buildSpringMesh(makeBlockMesh({2 * h, h, h}, {2, 1, 1}), 1000.0);
   const double kappa = 5e4;
   const VolumeForceField field(mesh, kappa);
+  ASSERT_EQ(field.cells().cellCount(), 2);
   Eigen::Matrix3Xd x = mesh.restPositions_m;
   x.row(0) *= 1.2;
   x(2, 7) -= 0.003;
+  x(1, 3) += 0.002;
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-  VolumeBlocks blocks(13, mesh.tets.cols());
+  VolumeBlocks blocks(kVolumeBlockRows, field.cells().cellCount());
   const VolumeFieldReport report = field.addForces(x, f, &blocks);
-  EXPECT_NEAR(field.energy(x), volumeEnergy(mesh, x, kappa), 1e-12 * volumeEnergy(mesh, x, kappa));
+  const double energy = cubeVolumeEnergy(mesh, x, kappa, h);
+  ASSERT_GT(energy, 0.0);
+  EXPECT_NEAR(field.energy(x), energy, 1e-12 * energy);
   EXPECT_GT(report.maxVolumeRatio, 1.1);  // stretched 20 % along x
-  const double h = 1e-9;
+  const double step = 1e-9;
   for (Eigen::Index d = 0; d < x.size(); ++d) {
     Eigen::Matrix3Xd up = x, down = x;
-    up.data()[d] += h;
-    down.data()[d] -= h;
+    up.data()[d] += step;
+    down.data()[d] -= step;
     const double gradient =
-        (volumeEnergy(mesh, up, kappa) - volumeEnergy(mesh, down, kappa)) / (2 * h);
+        (cubeVolumeEnergy(mesh, up, kappa, h) - cubeVolumeEnergy(mesh, down, kappa, h)) /
+        (2 * step);
     EXPECT_NEAR(f.data()[d], -gradient, 1e-6 * f.cwiseAbs().maxCoeff());
   }
-  // Each block: g = dV/dx by central differences (V is linear in each coordinate: exact to
-  // rounding), and c = kappa / V0.
-  for (Eigen::Index t = 0; t < blocks.cols(); ++t) {
-    for (int i = 0; i < 4; ++i) {
+  // Each block: g = dV/dx on the cell's nodes by central differences (V is linear in each
+  // coordinate: exact to rounding), zero in unused slots, and k = kappa / V0.
+  const VolumeCells& cells = field.cells();
+  for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+    const double norm = blocks.col(c).head<kVolumeBlockRows - 1>().norm();
+    for (int i = 0; i < VolumeCells::kMaxNodes; ++i) {
       for (int axis = 0; axis < 3; ++axis) {
-        Eigen::Matrix3Xd up = x, down = x;
-        up(axis, mesh.tets(i, t)) += 1e-6;
-        down(axis, mesh.tets(i, t)) -= 1e-6;
-        const double gradient =
-            (signedTetVolume(up, mesh.tets, t) - signedTetVolume(down, mesh.tets, t)) / 2e-6;
-        EXPECT_NEAR(blocks(3 * i + axis, t), gradient, 1e-9 * blocks.col(t).head<12>().norm());
+        double gradient = 0.0;
+        if (i < cells.nodeCount[static_cast<std::size_t>(c)]) {
+          Eigen::Matrix3Xd up = x, down = x;
+          up(axis, cells.nodes(i, c)) += 1e-6;
+          down(axis, cells.nodes(i, c)) -= 1e-6;
+          gradient = (cellVolume(mesh, cells, up, c) - cellVolume(mesh, cells, down, c)) / 2e-6;
+        }
+        EXPECT_NEAR(blocks(3 * i + axis, c), gradient, 1e-9 * norm);
       }
     }
-    EXPECT_DOUBLE_EQ(blocks(12, t), kappa / mesh.tetRestVolume_m3[t]);
+    EXPECT_DOUBLE_EQ(blocks(kVolumeBlockRows - 1, c), kappa / (h * h * h));
   }
 }
 
@@ -65,7 +96,7 @@ TEST(VolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
   for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += 1e-4 * std::sin(1.7 * i);
   const VolumeForceField serial(mesh, 3e5);
   Eigen::Matrix3Xd expected = Eigen::Matrix3Xd::Zero(3, x.cols());
-  VolumeBlocks expectedBlocks(13, mesh.tets.cols());
+  VolumeBlocks expectedBlocks(kVolumeBlockRows, serial.cells().cellCount());
   const VolumeFieldReport expectedReport = serial.addForces(x, expected, &expectedBlocks);
   Eigen::VectorXd expectedBound = Eigen::VectorXd::Zero(x.cols());
   serial.addNodeStiffnessBound(expectedBound);
@@ -75,7 +106,7 @@ TEST(VolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
     VolumeForceField pooled(mesh, 3e5);
     pooled.setThreadPool(&pool);
     Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-    VolumeBlocks blocks(13, mesh.tets.cols());
+    VolumeBlocks blocks(kVolumeBlockRows, pooled.cells().cellCount());
     const VolumeFieldReport report = pooled.addForces(x, f, &blocks);
     EXPECT_EQ(f, expected) << threads << " threads";
     EXPECT_EQ(blocks, expectedBlocks) << threads << " threads";

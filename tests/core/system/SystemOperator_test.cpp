@@ -3,9 +3,12 @@
 
 #include "system/SystemOperator.h"
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -30,6 +33,7 @@ Eigen::Matrix3Xd jiggled(const SpringMesh& mesh, double amplitude_m, unsigned se
 // state, inertia weight and shift, a fixed node and a single fixed DOF, and three contacts pushed
 // in (two sharing nodes and the fixed DOF, one carried by a tet's four nodes).
 struct OperatorCase {
+  static constexpr double kCellEdge_m = 0.03 / 4;
   test::BlockSystem block{{0.03, 0.03, 0.03}, {4, 4, 4}, SpringLaw::Eesm, false, 5e4};
   Eigen::Matrix3Xd x = jiggled(block.mesh, 5e-4, 3);
   double massWeight = 1e6;  // (1 + alpha h) / h^2 at h = 1 ms
@@ -70,7 +74,7 @@ struct OperatorCase {
   }
 
   /// The same system written out by hand (dense): the springs' blocks from their own pass, the
-  /// volume term's c g g^T and the contacts' k u u^T from their formulas, when asked for.
+  /// volume term's k g g^T per cube and the contacts' k u u^T from their formulas, when asked for.
   Eigen::MatrixXd dense(bool withVolume, bool withContacts) const {
     NodeBlockMatrix m = block.system.makeMatrix();
     AxialBlocks blocks(5, block.mesh.springCount());
@@ -81,22 +85,24 @@ struct OperatorCase {
       m.addToDiagonal(static_cast<int>(i), massWeight * block.mesh.nodeMass_kg[i] + shift);
     }
     Eigen::MatrixXd dense(m.matrix());
+    // The volume term per lattice cube (VolumeCells.h): k g g^T with g = dV/dx summed over
+    // the cube's tets, g_i of a tet = a third of the area vector of the face opposite node i.
+    std::map<std::array<long, 3>, std::pair<Eigen::VectorXd, double>> cubes;  // {g, V0}
     for (Eigen::Index t = 0; withVolume && t < block.mesh.tets.cols(); ++t) {
-      // c g g^T, g_i = dV/dx_i: a third of the area vector of the face opposite node i.
       const auto p = [&](int i) -> Eigen::Vector3d { return x.col(block.mesh.tets(i, t)); };
       Eigen::Matrix<double, 12, 1> g;
       g.segment<3>(0) = (p(3) - p(1)).cross(p(2) - p(1)) / 6.0;
       g.segment<3>(3) = (p(2) - p(0)).cross(p(3) - p(0)) / 6.0;
       g.segment<3>(6) = (p(3) - p(0)).cross(p(1) - p(0)) / 6.0;
       g.segment<3>(9) = (p(1) - p(0)).cross(p(2) - p(0)) / 6.0;
-      const double c = block.volume->bulkModulus() / block.mesh.tetRestVolume_m3[t];
-      for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 4; ++j) {
-          dense.block<3, 3>(3 * block.mesh.tets(i, t), 3 * block.mesh.tets(j, t)) +=
-              c * g.segment<3>(3 * i) * g.segment<3>(3 * j).transpose();
-        }
-      }
+      auto& [cubeGradient, restVolume] = cubes[test::cubeOfTet(block.mesh, t, kCellEdge_m)];
+      if (cubeGradient.size() == 0) cubeGradient = Eigen::VectorXd::Zero(dense.rows());
+      for (int i = 0; i < 4; ++i)
+        cubeGradient.segment<3>(3 * block.mesh.tets(i, t)) += g.segment<3>(3 * i);
+      restVolume += block.mesh.tetRestVolume_m3[t];
     }
+    for (const auto& [cube, cell] : cubes)
+      dense += block.volume->bulkModulus() / cell.second * cell.first * cell.first.transpose();
     for (const PenaltyContact& c : block.system.contacts.contacts()) {
       if (!withContacts) break;
       Eigen::VectorXd u = Eigen::VectorXd::Zero(dense.rows());
