@@ -34,6 +34,7 @@ struct RunOptions {
 void runSession(const RunOptions& options) {
   if (!options.reportPath.empty()) checkOutputWritable(options.reportPath, "--report");
   SceneSession session(options.scenePath, options.scriptPath, InstrumentDriver::Script);
+  session.printAssumptions();
   Simulation* simulation = &session.simulation();
   const SceneDescription& scene = simulation->scene();
   const InstrumentScript* script = session.script();

@@ -1,5 +1,6 @@
 #include "SceneSession.h"
 
+#include <cstdio>
 #include <stdexcept>
 #include <utility>
 
@@ -45,6 +46,10 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
   }
   m_contact = makeInstrumentContact(*m_simulation);
   m_simulation->setContactProvider(m_contact.get());
+}
+
+void SceneSession::printAssumptions() const {
+  for (const std::string& line : assumptions()) std::printf("%s\n", line.c_str());
 }
 
 void SceneSession::useScript(InstrumentScript script) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "CapsuleContact.h"
 #include "sim/InstrumentScript.h"
@@ -26,6 +27,13 @@ class SceneSession {
   Simulation& simulation() { return *m_simulation; }
   const Simulation& simulation() const { return *m_simulation; }
   const SceneDescription& scene() const { return m_simulation->scene(); }
+  /// What loading assumed (a mesh file's guessed unit), one line each: for the user to see.
+  const std::vector<std::string>& assumptions() const {
+    return m_simulation->geometry().assumptions;
+  }
+  /// Prints assumptions() on stdout (a command's report stream: stderr carries a failure's one
+  /// line alone).
+  void printAssumptions() const;
   /// The script (null: no instrument, or driven live).
   const InstrumentScript* script() const { return m_script.get(); }
   /// The live pose the GUI writes (null: no instrument, or scripted).

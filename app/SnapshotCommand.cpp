@@ -34,6 +34,7 @@ void takeSnapshot(const SnapshotOptions& options) {
                                   options.isColourMap, options.isWireframe};
   // Everything that can be refused is checked before a display is started.
   SceneSession session(options.scenePath, options.scriptPath, InstrumentDriver::Script);
+  session.printAssumptions();
   const HeadlessDisplay display;
   const SceneSnapshot snapshot = takeSceneSnapshot(session, settings);
   try {

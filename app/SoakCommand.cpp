@@ -67,6 +67,7 @@ void runSoak(const SoakOptions& options) {
     throw CommandError("--window must be a positive number of seconds");
   if (!options.reportPath.empty()) checkOutputWritable(options.reportPath, "--report");
   SceneSession session(options.scenePath, "", InstrumentDriver::Script);
+  session.printAssumptions();
   Simulation* const simulation = &session.simulation();
   try {
     session.useScript(randomSession(*simulation, options.duration_s, options.seed));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include <QVTKOpenGLNativeWidget.h>
@@ -19,6 +20,7 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QStatusBar>
+#include <QStringList>
 
 #include "CommandError.h"
 #include "OffscreenImage.h"
@@ -213,6 +215,13 @@ bool MainWindow::loadScene(const QString& path) {
   if (!m_pauseAction->isChecked()) m_loop->start();
   m_frameTimer.start(kFrameInterval_ms);
   setWindowTitle("TissueSim - " + QString::fromStdString(m_session->scene().name));
+  // A guessed unit is said where the user looks (the status bar) and on stderr.
+  QStringList assumptions;
+  for (const std::string& line : m_session->assumptions()) {
+    std::fprintf(stderr, "tissuesim: %s\n", line.c_str());
+    assumptions << QString::fromStdString(line);
+  }
+  if (!assumptions.isEmpty()) statusBar()->showMessage(assumptions.join("; "), 30000);
   renderFrame();
   return true;
 }

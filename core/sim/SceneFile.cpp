@@ -117,7 +117,7 @@ SceneMeshSource meshSource(const Json& object, const std::string& path, const st
   const Fields fields(object, path, source, allowed);
   SceneMeshSource mesh;
   mesh.file = resolveFile(fields, "file", folder);
-  mesh.metresPerUnit = fields.number("metres_per_unit", 1.0, 0.0, true);
+  mesh.metresPerUnit = fields.number("metres_per_unit", 0.0, 0.0, true);
   if (isSurface) mesh.part = fields.string("part", "");
   return mesh;
 }

@@ -24,7 +24,8 @@ class SceneFileError : public std::runtime_error {
 
 struct SceneMeshSource {
   std::filesystem::path file;  ///< resolved against the scene's folder
-  double metresPerUnit = 1.0;
+  /// > 0: the file's scale; 0: not given, guessed from the file's size (mesh/LengthUnit.h)
+  double metresPerUnit = 0.0;
   std::string part;  ///< surfaces only: one named part, or all
 };
 

@@ -1,13 +1,52 @@
 #include "sim/SceneGeometry.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "mesh/LatticeMesher.h"
+#include "mesh/LengthUnit.h"
 #include "mesh/SurfaceInspection.h"
 #include "mesh/SurfaceReader.h"
 #include "mesh/TetMeshFile.h"
 
 namespace tissuesim {
+
+namespace {
+
+/// The scale to read a mesh file with: the scene's, or millimetres (the smallest candidate, so
+/// no file is refused as too large before its unit is guessed).
+double readingScale(const SceneMeshSource& source) {
+  return source.metresPerUnit > 0.0 ? source.metresPerUnit : 0.001;
+}
+
+/// Where the scene gave no unit: positions read in millimetres rescaled to the unit that makes the
+/// mesh an organ's size, and what was assumed added to `assumptions`.
+void applyGuessedUnit(const SceneMeshSource& source, const std::string& sceneName,
+                      Eigen::Matrix3Xd& positions_m, std::vector<std::string>& assumptions) {
+  if (source.metresPerUnit > 0.0 || positions_m.cols() == 0) return;
+  const double diagonal =
+      (positions_m.rowwise().maxCoeff() - positions_m.rowwise().minCoeff()).norm() / 0.001;
+  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) return;  // the readers refuse these
+  const LengthUnit unit = guessLengthUnit(diagonal);
+  positions_m *= unit.metresPerUnit / 0.001;
+  const double farthest = positions_m.cwiseAbs().maxCoeff();
+  const std::string file = source.file.lexically_normal().string();
+  if (farthest > 100.0) {
+    throw SceneFileError(sceneName + ": " + file + ": a node lies " + std::to_string(farthest) +
+                         " m from the origin in " + unit.name +
+                         ", the unit its size suggests; expected an organ within 100 m (set "
+                         "metres_per_unit)");
+  }
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%s: assumed %s (the file is %.4g units across: %.3g cm); set metres_per_unit in "
+                "the scene to say otherwise",
+                file.c_str(), unit.name, diagonal, diagonal * unit.metresPerUnit * 100.0);
+  assumptions.emplace_back(line);
+}
+
+}  // namespace
 
 SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
   const std::string name = scene.source.string();
@@ -15,12 +54,14 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
   try {
     if (scene.surface) {
       TriangleSurface surface =
-          readSurface(scene.surface->file, {scene.surface->metresPerUnit, scene.surface->part});
+          readSurface(scene.surface->file, {readingScale(*scene.surface), scene.surface->part});
+      applyGuessedUnit(*scene.surface, name, surface.vertices_m, geometry.assumptions);
       weldVertices(surface, 1e-6 * inspectSurface(surface).boundingDiagonal_m);
       geometry.surface = std::move(surface);
     }
     if (scene.tetMesh) {
-      geometry.mesh = readTetMesh(scene.tetMesh->file, scene.tetMesh->metresPerUnit);
+      geometry.mesh = readTetMesh(scene.tetMesh->file, readingScale(*scene.tetMesh));
+      applyGuessedUnit(*scene.tetMesh, name, geometry.mesh.nodes_m, geometry.assumptions);
     } else {
       const SurfaceReport report = inspectSurface(*geometry.surface);
       if (!report.isClosedManifold()) {

@@ -4,6 +4,7 @@
 // the fixed nodes. The physics (springs, integrator, instrument) is assembled by the caller.
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "mesh/SurfaceEmbedding.h"
@@ -17,6 +18,9 @@ struct SceneGeometry {
   std::optional<TriangleSurface> surface;     ///< welded; only when the scene names one
   std::optional<SurfaceEmbedding> embedding;  ///< idem
   std::vector<int> fixedNodes;                ///< sorted, unique
+  /// What was assumed while loading, one line each (a mesh file's unit, guessed from its size
+  /// where the scene gives no metres_per_unit): for the user to see.
+  std::vector<std::string> assumptions;
 };
 
 /// @throws SceneFileError naming the scene (and MeshFileError's text for its meshes): bad mesh,

@@ -1,6 +1,11 @@
 #include "sim/SceneFile.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
 
 namespace tissuesim {
 namespace {
@@ -95,6 +100,8 @@ INSTANTIATE_TEST_SUITE_P(
 }  // namespace
 }  // namespace tissuesim
 
+#include "mesh/SurfaceReader.h"
+#include "mesh/TetMeshFile.h"
 #include "sim/SceneGeometry.h"
 
 namespace tissuesim {
@@ -127,6 +134,64 @@ TEST(SceneGeometry, AMinimalSceneBuildsNoSurface) {
 TEST(SceneGeometry, GeneratesAMeshFromTheSurface) {
   const SceneGeometry geometry = loadSceneGeometry(loadSceneFile(scenePath("generated.json")));
   EXPECT_NEAR(static_cast<double>(countUniqueEdges(geometry.mesh)), 1000.0, 100.0);
+}
+
+TEST(SceneGeometry, AMeshWithoutAUnitIsScaledByItsSizeAndSaysSo) {
+  // minimal.json gives the 1,000-spring liver (metres) no metres_per_unit: read as metres, said.
+  const SceneGeometry minimal = loadSceneGeometry(loadSceneFile(scenePath("minimal.json")));
+  const TetMesh inMetres =
+      readTetMesh(std::string(TISSUESIM_ASSET_DIR) + "/meshes/liver-1000.msh", 1.0);
+  EXPECT_LT((minimal.mesh.nodes_m - inMetres.nodes_m).cwiseAbs().maxCoeff(), 1e-12);
+  ASSERT_EQ(minimal.assumptions.size(), 1u);
+  EXPECT_NE(minimal.assumptions[0].find("liver-1000.msh: assumed metres"), std::string::npos)
+      << minimal.assumptions[0];
+  EXPECT_NE(minimal.assumptions[0].find("metres_per_unit"), std::string::npos);
+
+  // The bundled smooth liver is about 6 units across (the scene says 3 cm a unit): without
+  // that, centimetres is the organ-sized guess.
+  SceneDescription scene = loadSceneFile(scenePath("generated.json"));
+  const std::filesystem::path surfaceFile = scene.surface->file;
+  scene.surface->metresPerUnit = 0.0;
+  const SceneGeometry guessed = loadSceneGeometry(scene);
+  ASSERT_EQ(guessed.assumptions.size(), 1u);
+  EXPECT_NE(guessed.assumptions[0].find("assumed centimetres"), std::string::npos)
+      << guessed.assumptions[0];
+  const auto diagonal = [](const Eigen::Matrix3Xd& p) {
+    return (p.rowwise().maxCoeff() - p.rowwise().minCoeff()).norm();
+  };
+  const double inUnits = diagonal(readSurface(surfaceFile, {1.0, ""}).vertices_m);
+  EXPECT_NEAR(diagonal(guessed.surface->vertices_m), 0.01 * inUnits, 1e-9);
+
+  // A scale the scene states is used as it is, and nothing is assumed.
+  EXPECT_TRUE(
+      loadSceneGeometry(loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"))
+          .assumptions.empty());
+}
+
+TEST(SceneGeometry, AMeshFarFromTheOriginInItsGuessedUnitIsRefused) {
+  // 0.2 units across (metres, by its size) but 10,000 units from the origin: 10 km.
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("tissuesim-units-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  const std::filesystem::path huge = folder / "huge.obj";
+  {
+    std::ofstream out(huge);
+    out << "v 1e4 0 0\nv 10000.2 0 0\nv 1e4 0.2 0\nv 1e4 0 0.2\n"
+           "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  }
+  SceneDescription scene = loadSceneFile(scenePath("minimal.json"));
+  scene.surface = SceneMeshSource{huge, 0.0, ""};
+  try {
+    loadSceneGeometry(scene);
+    ADD_FAILURE() << "a surface 10 km from the origin was accepted";
+  } catch (const SceneFileError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("huge.obj"), std::string::npos) << message;
+    EXPECT_NE(message.find("from the origin in metres, the unit its size suggests"),
+              std::string::npos)
+        << message;
+  }
+  std::filesystem::remove_all(folder);
 }
 
 TEST(SceneGeometry, AFixedBoxThatSelectsNothingIsRefused) {
