@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "AdmittedTissueCorners.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/TissueFile.h"
@@ -15,31 +16,10 @@
 namespace tissuesim {
 namespace {
 
-struct Corner {
-  const char* what;
-  double mu_kpa, N, A1_kpa, A2_kpa, f, b, C_kpa;
-};
-
-std::string tissueJson(const Corner& c) {
-  return "{\"mu_kpa\": " + std::to_string(c.mu_kpa) + ", \"N\": " + std::to_string(c.N) +
-         ", \"A1_kpa\": " + std::to_string(c.A1_kpa) + ", \"A2_kpa\": " + std::to_string(c.A2_kpa) +
-         ", \"f\": " + std::to_string(c.f) + ", \"b\": " + std::to_string(c.b) +
-         ", \"C_kpa\": " + std::to_string(c.C_kpa) + ", \"v_ij_m2\": 3.569e-5}";
-}
-
 TEST(AdmissibleTissues, TheCornersOfTheAdmittedRangesGiveFiniteTablesAndForces) {
-  const std::vector<Corner> corners = {
-      {"the paper's liver", 0.1, 1.1974, 9.6754, 7543.6, 0.2755, 3.3389, 9.5273},
-      {"every modulus at its bound", 1e6, 1.1974, 1e6, 1e6, 0.5, 3.0, 1e6},
-      {"nearly Gaussian (N at its bound)", 0.1, 1e8, 9.7, 7543.6, 0.2755, 3.3, 9.5},
-      {"N = 10^6 (was std::bad_alloc)", 0.1, 1e6, 9.7, 7543.6, 0.2755, 3.3, 9.5},
-      {"barely above locking at rest", 0.1, 1.000001, 9.7, 7543.6, 0.2755, 3.3, 9.5},
-      {"softest network, no fibres", 1e-6, 2.0, 0.0, 0.0, 0.0, 0.0, 1e-6},
-      {"all fibre, strongest softening", 0.1, 1.2, 1e6, 1e6, 1.0, 1e6, 1e-6},
-  };
-  for (const Corner& corner : corners) {
+  for (const test::TissueCorner& corner : test::admittedTissueCorners()) {
     SCOPED_TRACE(corner.what);
-    const TissueParameters parameters = parseTissueJson(tissueJson(corner), corner.what);
+    const TissueParameters parameters = parseTissueJson(test::tissueJson(corner), corner.what);
     const StrainEnergy energy(parameters);
     const StiffnessTable table(energy);
     const StretchRange range = table.range();
@@ -67,11 +47,11 @@ TEST(AdmissibleTissues, TheCornersOfTheAdmittedRangesGiveFiniteTablesAndForces) 
 TEST(AdmissibleTissues, WhatWouldOverflowIsRefusedWithTheField) {
   // 1e308 kPa is 1e311 Pa: infinity. Each bound names its field.
   for (const auto& [field, json] : std::vector<std::pair<std::string, std::string>>{
-           {"mu_kpa", tissueJson({"", 1e308, 1.2, 9.7, 7543.6, 0.28, 3.3, 9.5})},
-           {"A2_kpa", tissueJson({"", 0.1, 1.2, 9.7, 1e308, 0.28, 3.3, 9.5})},
-           {"C_kpa", tissueJson({"", 0.1, 1.2, 9.7, 7543.6, 0.28, 3.3, 1e308})},
-           {"N", tissueJson({"", 0.1, 1e300, 9.7, 7543.6, 0.28, 3.3, 9.5})},
-           {"b", tissueJson({"", 0.1, 1.2, 9.7, 7543.6, 0.28, 1e300, 9.5})}}) {
+           {"mu_kpa", test::tissueJson({"", 1e308, 1.2, 9.7, 7543.6, 0.28, 3.3, 9.5})},
+           {"A2_kpa", test::tissueJson({"", 0.1, 1.2, 9.7, 1e308, 0.28, 3.3, 9.5})},
+           {"C_kpa", test::tissueJson({"", 0.1, 1.2, 9.7, 7543.6, 0.28, 3.3, 1e308})},
+           {"N", test::tissueJson({"", 0.1, 1e300, 9.7, 7543.6, 0.28, 3.3, 9.5})},
+           {"b", test::tissueJson({"", 0.1, 1.2, 9.7, 7543.6, 0.28, 1e300, 9.5})}}) {
     try {
       parseTissueJson(json, "t.json");
       ADD_FAILURE() << field << " accepted";
