@@ -15,8 +15,10 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
+#include "mesh/IsolatedMeshRead.h"
 #include "mesh/SurfaceReader.h"
 
 namespace tissuesim {
@@ -104,14 +106,20 @@ Eigen::Matrix3Xd points(vtkDataSet* data, const std::string& name, double metres
   return nodes;
 }
 
-}  // namespace
-
-bool isVtkMeshFile(const std::filesystem::path& path) {
-  const std::string extension = path.extension().string();
-  return extension == ".vtk" || extension == ".vtp" || extension == ".vtu";
+/// VTK passes a cell's point ids through as the file has them: each must name a point.
+void checkPointIds(vtkIdList* ids, vtkIdType pointCount, const std::string& name, vtkIdType cell) {
+  for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+    const vtkIdType id = ids->GetId(k);
+    if (id < 0 || id >= pointCount) {
+      throw MeshFileError(name + ": cell " + std::to_string(cell) + " refers to point " +
+                          std::to_string(id) + ", but the file has " + std::to_string(pointCount) +
+                          " points");
+    }
+  }
 }
 
-TriangleSurface readVtkSurface(const std::filesystem::path& path, double metresPerUnit) {
+/// The reading itself, run in the isolated child (the VTK readers see the file there only).
+TriangleSurface importVtkSurface(const std::filesystem::path& path, double metresPerUnit) {
   const std::string name = path.string();
   const vtkSmartPointer<vtkDataSet> data = readDataSet(path);
   TriangleSurface surface;
@@ -122,6 +130,7 @@ TriangleSurface readVtkSurface(const std::filesystem::path& path, double metresP
     const int type = data->GetCellType(c);
     if (type != VTK_TRIANGLE && type != VTK_POLYGON && type != VTK_QUAD) continue;
     data->GetCellPoints(c, ids);
+    checkPointIds(ids, data->GetNumberOfPoints(), name, c);
     for (vtkIdType k = 1; k + 1 < ids->GetNumberOfIds(); ++k) {
       triangles.emplace_back(static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(k)),
                              static_cast<int>(ids->GetId(k + 1)));
@@ -134,11 +143,11 @@ TriangleSurface readVtkSurface(const std::filesystem::path& path, double metresP
   return surface;
 }
 
-TetMesh readVtkTetMesh(const std::filesystem::path& path, double metresPerUnit,
-                       TetMeshReadReport* report) {
+ReadTetMesh importVtkTetMesh(const std::filesystem::path& path, double metresPerUnit) {
   const std::string name = path.string();
   const vtkSmartPointer<vtkDataSet> data = readDataSet(path);
-  TetMesh mesh;
+  ReadTetMesh result;
+  TetMesh& mesh = result.mesh;
   mesh.nodes_m = points(data, name, metresPerUnit);
   std::vector<Eigen::Vector4i> tets;
   int skipped = 0;
@@ -149,6 +158,11 @@ TetMesh readVtkTetMesh(const std::filesystem::path& path, double metresPerUnit,
       continue;
     }
     data->GetCellPoints(c, ids);
+    checkPointIds(ids, data->GetNumberOfPoints(), name, c);
+    if (ids->GetNumberOfIds() != 4) {
+      throw MeshFileError(name + ": tetrahedron " + std::to_string(c) + " has " +
+                          std::to_string(ids->GetNumberOfIds()) + " points, not 4");
+    }
     tets.emplace_back(static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)),
                       static_cast<int>(ids->GetId(2)), static_cast<int>(ids->GetId(3)));
   }
@@ -159,12 +173,33 @@ TetMesh readVtkTetMesh(const std::filesystem::path& path, double metresPerUnit,
   mesh.tets.resize(4, static_cast<Eigen::Index>(tets.size()));
   for (std::size_t t = 0; t < tets.size(); ++t)
     mesh.tets.col(static_cast<Eigen::Index>(t)) = tets[t];
+  result.skippedElements = skipped;
+  return result;
+}
+
+}  // namespace
+
+bool isVtkMeshFile(const std::filesystem::path& path) {
+  const std::string extension = path.extension().string();
+  return extension == ".vtk" || extension == ".vtp" || extension == ".vtu";
+}
+
+TriangleSurface readVtkSurface(const std::filesystem::path& path, double metresPerUnit) {
+  checkFile(path);
+  return readSurfaceIsolated(path, [&] { return importVtkSurface(path, metresPerUnit); });
+}
+
+TetMesh readVtkTetMesh(const std::filesystem::path& path, double metresPerUnit,
+                       TetMeshReadReport* report) {
+  checkFile(path);
+  ReadTetMesh read =
+      readTetMeshIsolated(path, [&] { return importVtkTetMesh(path, metresPerUnit); });
   TetMeshReadReport local;
-  local.skippedElements = skipped;
+  local.skippedElements = read.skippedElements;
   local.format = path.extension() == ".vtu" ? "vtk xml" : "vtk legacy";
-  checkTetOrientation(mesh, name, &local);
+  checkTetOrientation(read.mesh, path.string(), &local);
   if (report != nullptr) *report = local;
-  return mesh;
+  return std::move(read.mesh);
 }
 
 }  // namespace tissuesim

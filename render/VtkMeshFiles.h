@@ -1,7 +1,8 @@
 #pragma once
 // VTK's own mesh files, common in this field: legacy .vtk (polydata or unstructured grid),
 // XML .vtp (surfaces) and .vtu (volumes). Read here because they need VTK, which core must not
-// see; the results are core's plain types.
+// see; the results are core's plain types. VTK's readers run in a child process
+// (mesh/IsolatedMeshRead.h), as assimp's do: a malformed file cannot crash or hang the program.
 
 #include <filesystem>
 

@@ -10,9 +10,14 @@
 #include <cstring>
 #include <exception>
 
-// The sanitizers reserve terabytes of address space for their shadow memory: no RLIMIT_AS there.
+// The sanitizers reserve terabytes of address space for their shadow memory: no RLIMIT_AS there
+// (GCC says so with __SANITIZE_*__, clang 14 only through __has_feature).
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define TISSUESIM_SANITIZED_ADDRESS_SPACE 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define TISSUESIM_SANITIZED_ADDRESS_SPACE 1
+#endif
 #endif
 
 namespace tissuesim {
@@ -33,6 +38,9 @@ bool writeAll(int fd, const char* data, std::size_t size) {
 /// The child: limits, work, then a status byte ('+' result, '-' error) and the payload.
 [[noreturn]] void runChild(int fd, const std::function<std::string()>& work,
                            const IsolationLimits& limits) {
+  // A crash ends the child with its signal, whatever handlers the parent installed: a fuzzer's
+  // or a sanitizer's handler would otherwise report the library's crash as the parent's own.
+  for (const int crash : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) ::signal(crash, SIG_DFL);
   rlimit cpu{static_cast<rlim_t>(limits.cpuSeconds), static_cast<rlim_t>(limits.cpuSeconds)};
   ::setrlimit(RLIMIT_CPU, &cpu);
 #ifndef TISSUESIM_SANITIZED_ADDRESS_SPACE

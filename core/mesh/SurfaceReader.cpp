@@ -7,11 +7,9 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cstdint>
-#include <cstring>
 #include <functional>
 
-#include "mesh/IsolatedCall.h"
+#include "mesh/IsolatedMeshRead.h"
 
 namespace tissuesim {
 namespace {
@@ -146,25 +144,11 @@ void checkSurfaceFile(const std::filesystem::path& path) {
   }
 }
 
-/// Runs an import in a child process (IsolatedCall.h); its failure becomes a MeshFileError.
-std::string importIsolated(const std::filesystem::path& path,
-                           const std::function<std::string()>& work) {
-  const IsolatedResult result = runIsolated(work);
-  if (result.isOk) return result.bytes;
-  if (result.isThrown) throw MeshFileError(result.error);  // names the file already
-  throw MeshFileError(path.string() + ": " + result.error);
-}
-
-template <typename T>
-void append(std::string& bytes, const T* data, std::size_t count) {
-  bytes.append(reinterpret_cast<const char*>(data), count * sizeof(T));
-}
-
 }  // namespace
 
 std::vector<std::string> listSurfaceParts(const std::filesystem::path& path) {
   checkSurfaceFile(path);
-  const std::string bytes = importIsolated(path, [&] {
+  const std::string bytes = runReaderIsolated(path, [&] {
     std::string joined;
     for (const std::string& part : importPartNames(path)) joined += part + '\n';
     return joined;
@@ -184,29 +168,7 @@ TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceRead
     throw MeshFileError(name + ": the scale must be a positive number of metres per unit");
   }
   checkSurfaceFile(path);
-  // Sent back as two counts, then the coordinates and the corners.
-  const std::string bytes = importIsolated(path, [&] {
-    const TriangleSurface surface = importSurface(path, options);
-    const std::array<std::int64_t, 2> counts{surface.vertexCount(), surface.triangleCount()};
-    std::string packed;
-    append(packed, counts.data(), 2);
-    append(packed, surface.vertices_m.data(), static_cast<std::size_t>(surface.vertices_m.size()));
-    append(packed, surface.triangles.data(), static_cast<std::size_t>(surface.triangles.size()));
-    return packed;
-  });
-  std::array<std::int64_t, 2> counts{};
-  std::memcpy(counts.data(), bytes.data(), sizeof counts);
-  TriangleSurface surface;
-  surface.vertices_m.resize(3, counts[0]);
-  surface.triangles.resize(3, counts[1]);
-  const std::size_t vertexBytes = static_cast<std::size_t>(3 * counts[0]) * sizeof(double);
-  const std::size_t triangleBytes = static_cast<std::size_t>(3 * counts[1]) * sizeof(int);
-  if (bytes.size() != sizeof counts + vertexBytes + triangleBytes) {
-    throw MeshFileError(name + ": the reader process sent back an incomplete surface");
-  }
-  std::memcpy(surface.vertices_m.data(), bytes.data() + sizeof counts, vertexBytes);
-  std::memcpy(surface.triangles.data(), bytes.data() + sizeof counts + vertexBytes, triangleBytes);
-  return surface;
+  return readSurfaceIsolated(path, [&] { return importSurface(path, options); });
 }
 
 }  // namespace tissuesim

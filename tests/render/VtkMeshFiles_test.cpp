@@ -1,5 +1,9 @@
 #include "VtkMeshFiles.h"
 
+#include <csignal>
+
+#include "mesh/IsolatedMeshRead.h"
+
 #include <gtest/gtest.h>
 
 namespace tissuesim {
@@ -45,6 +49,36 @@ TEST(VtkMeshFiles, RefusesWithOneLine) {
     } catch (const MeshFileError& error) {
       EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
     }
+  }
+}
+
+TEST(VtkMeshFiles, ACellNamingAPointThatIsNotThereIsRefused) {
+  // VTK passes such ids through; found by fuzzing (tests/fuzz/crashers/vtk_mesh).
+  try {
+    readVtkSurface(meshPath("point-out-of-range.vtk"));
+    ADD_FAILURE() << "accepted";
+  } catch (const MeshFileError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("point-out-of-range.vtk: cell 5 refers to point 99, but the file has 8 "
+                        "points"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
+TEST(VtkMeshFiles, AReaderThatCrashesIsAnErrorNotACrash) {
+  // The VTK readers run in a child process: a file that crashes them costs one line. A child
+  // that dies is simulated by a read that kills itself.
+  try {
+    readSurfaceIsolated("x.vtk", []() -> TriangleSurface {
+      std::raise(SIGSEGV);
+      return {};
+    });
+    ADD_FAILURE() << "a crashed reader returned";
+  } catch (const MeshFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("x.vtk: the importer crashed on it"),
+              std::string::npos)
+        << error.what();
   }
 }
 
