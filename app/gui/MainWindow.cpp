@@ -179,6 +179,13 @@ void MainWindow::showError(const QString& title, const QString& text) {
   statusBar()->showMessage(text, 10000);
 }
 
+void MainWindow::showNotice(const QString& title, const QString& text) {
+  auto* box = new QMessageBox(QMessageBox::Information, title, text, QMessageBox::Ok, this);
+  box->setObjectName("noticeDialog");
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();
+}
+
 bool MainWindow::loadScene(const QString& path) {
   std::unique_ptr<SceneSession> session;
   try {
@@ -215,13 +222,13 @@ bool MainWindow::loadScene(const QString& path) {
   if (!m_pauseAction->isChecked()) m_loop->start();
   m_frameTimer.start(kFrameInterval_ms);
   setWindowTitle("TissueSim - " + QString::fromStdString(m_session->scene().name));
-  // A guessed unit is said where the user looks (the status bar) and on stderr.
+  // A guessed unit is said in the window, where the user looks, and on stderr.
   QStringList assumptions;
   for (const std::string& line : m_session->assumptions()) {
     std::fprintf(stderr, "tissuesim: %s\n", line.c_str());
     assumptions << QString::fromStdString(line);
   }
-  if (!assumptions.isEmpty()) statusBar()->showMessage(assumptions.join("; "), 30000);
+  if (!assumptions.isEmpty()) showNotice("Scene loaded with an assumption", assumptions.join("\n"));
   renderFrame();
   return true;
 }
@@ -396,7 +403,8 @@ void MainWindow::updateMaterialChart() {
       return line.name.rfind("loading", 0) == 0;
     });
   }
-  m_materialChart->chart()->SetTitle(parameters.name + ": loading (red), unloading (blue)");
+  // Two lines: at the default window size the dock is narrower than name and legend together.
+  m_materialChart->chart()->SetTitle(parameters.name + "\nloading (red), unloading (blue)");
   m_materialChart->setLegend(false);
   m_materialChart->setSeries(series);
   m_chartWindow->Render();

@@ -72,6 +72,8 @@ class MainWindow : public QMainWindow {
   void buildMenus();
   void buildDocks();
   void showError(const QString& title, const QString& text);
+  /// The same for what the user should know but need not fix (a guessed unit): information.
+  void showNotice(const QString& title, const QString& text);
   void updateMaterialChart();
   void updateStatus(const SimulationSnapshot& snapshot);
   void publishPose();

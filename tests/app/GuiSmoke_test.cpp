@@ -232,6 +232,19 @@ class GuiSmokeTest : public QObject {
     }
   }
 
+  void aGuessedUnitIsShownInTheWindow() {
+    // minimal.json gives its mesh no metres_per_unit: the window says what it assumed.
+    QVERIFY(m_window->loadScene(QString(TISSUESIM_TEST_DATA_DIR) + "/scenes/minimal.json"));
+    QMessageBox* notice = m_window->findChild<QMessageBox*>("noticeDialog");
+    QVERIFY(notice != nullptr);
+    QVERIFY2(notice->text().contains("liver-1000.msh: assumed metres"), qPrintable(notice->text()));
+    notice->close();
+    QVERIFY(errorDialog() == nullptr);
+    // The bundled scene states its units: nothing to say.
+    QVERIFY(m_window->loadScene(QString(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+    QTRY_VERIFY(m_window->findChild<QMessageBox*>("noticeDialog") == nullptr);
+  }
+
   void cleanupTestCase() { m_window.reset(); }
 };
 
