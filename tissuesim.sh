@@ -111,7 +111,7 @@ case "${1:-}" in
     say "building build-fuzz (core and the fuzz targets)"
     cmake --build build-fuzz -j "$JOBS"
     seconds=${FUZZ_SECONDS:-12}
-    for target in tissue_file scene_file instrument_script tet_mesh_gmsh tet_mesh_tetgen; do
+    for target in ${FUZZ_TARGETS:-tissue_file scene_file instrument_script tet_mesh_gmsh tet_mesh_tetgen surface_file vtk_mesh}; do
       say "fuzzing $target for $seconds s"
       mkdir -p "build-fuzz/corpus/$target" build-fuzz/findings
       # New inputs go to build-fuzz/corpus; the seeds in tests/fuzz/corpus are only read.
