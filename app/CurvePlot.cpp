@@ -31,7 +31,7 @@ ChartSeries seriesOf(const std::string& name, const std::vector<CurveBranch>& br
 
 void writeCurvePlot(const std::string& path, const std::string& title,
                     const std::vector<std::pair<std::string, std::vector<CurveBranch>>>& models,
-                    const std::vector<CurveBranch>& reference) {
+                    const std::vector<CurveBranch>& reference, const std::string& referenceName) {
   const HeadlessDisplay display;
   CurveChart chart(title, "stretch lambda", "engineering stress (kPa)");
   static constexpr std::array<std::array<unsigned char, 3>, 3> kColours = {
@@ -41,7 +41,7 @@ void writeCurvePlot(const std::string& path, const std::string& title,
     series.push_back(
         seriesOf(models[m].first, models[m].second, kColours[m % kColours.size()], false));
   }
-  series.push_back(seriesOf("sedf (reference)", reference, {0, 0, 0}, true));
+  series.push_back(seriesOf(referenceName, reference, {0, 0, 0}, true));
   chart.setSeries(series);
   const vtkSmartPointer<vtkImageData> image = renderOffscreen(chart.renderer(), 900, 600);
   try {

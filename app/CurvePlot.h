@@ -15,6 +15,7 @@ namespace tissuesim::app {
 /// (checkPngOutput). @throws CommandError when it cannot be written.
 void writeCurvePlot(const std::string& path, const std::string& title,
                     const std::vector<std::pair<std::string, std::vector<CurveBranch>>>& models,
-                    const std::vector<CurveBranch>& reference);
+                    const std::vector<CurveBranch>& reference,
+                    const std::string& referenceName = "sedf (reference)");
 
 }  // namespace tissuesim::app

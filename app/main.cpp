@@ -9,6 +9,7 @@
 #include "AssetPaths.h"
 #include "BenchCommand.h"
 #include "CommandError.h"
+#include "FitCommand.h"
 #include "GuiCommand.h"
 #include "IndentCommand.h"
 #include "MeshCommand.h"
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
   });
   tissuesim::app::registerUniaxialCommand(app);
   tissuesim::app::registerTensileCommand(app);
+  tissuesim::app::registerFitCommand(app);
   tissuesim::app::registerIndentCommand(app);
   tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerRunCommand(app);

@@ -303,4 +303,24 @@ TissueParameters loadTissueFile(const std::filesystem::path& path) {
   return parseTissueJson(buffer.str(), source);
 }
 
+std::string tissueFileText(const TissueParameters& parameters, const std::string& notes) {
+  nlohmann::ordered_json root;
+  root["name"] = parameters.name;
+  root["source"] = parameters.source;
+  if (!notes.empty()) root["notes"] = notes;
+  root["mu_kpa"] = parameters.mu_Pa / kPaToPa;
+  root["N"] = parameters.chainSegmentsN;
+  root["A1_kpa"] = parameters.A1_Pa / kPaToPa;
+  root["A2_kpa"] = parameters.A2_Pa / kPaToPa;
+  root["f"] = parameters.fibreFraction;
+  root["b"] = parameters.softeningB;
+  root["C_kpa"] = parameters.softeningC_Pa / kPaToPa;
+  root["n"] = parameters.softeningExponentN;
+  root["v_ij_m2"] = parameters.springArea_m2;
+  root["density_kg_m3"] = parameters.density_kg_m3;
+  root["inverse_langevin"] =
+      parameters.inverseLangevin == InverseLangevin::Exact ? "exact" : "puso";
+  return root.dump(2) + "\n";
+}
+
 }  // namespace tissuesim

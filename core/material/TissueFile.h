@@ -25,4 +25,8 @@ TissueParameters loadTissueFile(const std::filesystem::path& path);
 /// The same from text already in memory; `sourceName` stands for the file in messages.
 TissueParameters parseTissueJson(std::string_view text, const std::string& sourceName);
 
+/// A tissue file's text for these parameters (every field, moduli in kPa, `notes` as given):
+/// what parseTissueJson reads back to the same values.
+std::string tissueFileText(const TissueParameters& parameters, const std::string& notes = "");
+
 }  // namespace tissuesim

@@ -1,0 +1,88 @@
+#pragma once
+// Fitting a tissue's seven constants to a uniaxial test (analysis/TensileTestData.h):
+//
+//   stage 1: mu, N, f, A1, A2 on the virgin loading points (the stretch above every earlier one),
+//            where the stress is the continuum's P(lambda) alone (docs/model.md, Eqs. 13, 18);
+//   stage 2: b and C on the other points (unloading, and reloading below an earlier peak),
+//            where the softening (Eqs. 16-20) acts on the stage-1 curve.
+//
+// f is not fitted: W_T depends on it only through (1 - f) mu, f A1 and f A2, and the softening on
+// mu / C, so every f fits a uniaxial test equally well with other moduli. It keeps the starting
+// tissue's value (or the one given).
+//
+// Each stage is bounded nonlinear least squares on the stresses, by Eigen's Levenberg-Marquardt
+// (unsupported/NonLinearOptimization, the MINPACK port, with a central-difference Jacobian): the
+// problem has at most five unknowns and a few hundred residuals, and Eigen is already here; Ceres
+// would bring a large dependency for what it does not need. Bounds by change of variables, so
+// that every iterate is an admissible tissue: mu, A1, A2, b, C = exp(u); f = 1 / (1 + exp(-u));
+// N = N_min + exp(u), with N_min the N whose chains lock just past the largest stretch measured
+// (so every point stays inside the usable range). The problem is not convex (the locking term
+// and the fibre exponential trade off), so each stage starts from several points, the paper's
+// liver first, the rest spread log-uniformly over the admitted ranges, and keeps the best.
+//
+// Uncertainties: the standard errors s sqrt(diag (J^T J)^-1), s^2 = SSR / (m - p), with J the
+// residuals' Jacobian in the parameters themselves at the optimum. A parameter whose error is
+// above half its value, or that lies along a near-null direction of J^T J, is reported as not
+// identified by these data.
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "analysis/UniaxialTest.h"
+#include "material/TissueParameters.h"
+
+namespace tissuesim {
+
+/// The fitted constants, as the tissue file names them.
+inline const std::vector<std::string>& fitParameterNames() {
+  static const std::vector<std::string> names = {"mu_kpa", "N", "f",    "A1_kpa",
+                                                 "A2_kpa", "b", "C_kpa"};
+  return names;
+}
+
+struct TissueFitOptions {
+  /// Everything the fit does not set (density, v_ij, n, the inverse Langevin, name), and the
+  /// values of the parameters held fixed.
+  TissueParameters base;
+  /// Parameters held at base's value, by file name (fitParameterNames()); f always is.
+  std::vector<std::string> fixed;
+  int starts = 12;  ///< starting points per stage (>= 1)
+  /// Called after each start of each stage: (done, total).
+  std::function<void(int, int)> progress;
+};
+
+struct FittedParameter {
+  std::string name;          ///< as the tissue file names it
+  double value = 0.0;        ///< in the file's unit (kPa for moduli)
+  double uncertainty = 0.0;  ///< standard error, same unit (0 when fixed)
+  bool isFixed = false;
+  bool isIdentified = true;
+};
+
+struct BranchFit {
+  int cycle = 0;
+  LoadPhase phase = LoadPhase::Loading;
+  std::vector<double> model_Pa;  ///< the fitted model at the branch's points
+  double rSquared = 0.0;
+};
+
+struct TissueFitResult {
+  TissueParameters parameters;
+  std::vector<FittedParameter> table;  ///< in fitParameterNames() order
+  std::vector<BranchFit> branches;     ///< one per data branch
+  std::vector<std::string> warnings;   ///< one line each: what the data could not decide
+  std::vector<std::string> notes;      ///< one line each: what the fit chose not to fit
+};
+
+/// The model's engineering stresses (Pa) at every point of `data`, in the order measured, the
+/// Mullins memory carried from point to point.
+std::vector<std::vector<double>> modelStresses(const TissueParameters& parameters,
+                                               const std::vector<CurveBranch>& data);
+
+/// @throws std::invalid_argument with one line: fewer points than free parameters in a stage, an
+/// unknown fixed name, no virgin loading points.
+TissueFitResult fitTissue(const std::vector<CurveBranch>& data, const TissueFitOptions& options);
+
+}  // namespace tissuesim
