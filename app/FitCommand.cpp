@@ -7,7 +7,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -132,17 +131,7 @@ void runFit(const FitOptions& options) {
   for (const CurveBranch& branch : data) points += branch.stretch.size();
   fitted.source =
       "fitted by tissuesim fit to " + options.dataPath + " (" + std::to_string(points) + " points)";
-  std::ostringstream notes;
-  notes << "R^2 per branch:";
-  for (const BranchFit& branch : result.branches) {
-    char entry[96];
-    std::snprintf(entry, sizeof entry, " cycle %d %s %.6f;", branch.cycle, phaseName(branch.phase),
-                  branch.rSquared);
-    notes << entry;
-  }
-  for (const std::string& line : result.notes) notes << " " << line << ".";
-  for (const std::string& warning : result.warnings) notes << " " << warning << ".";
-  const std::string text = tissueFileText(fitted, notes.str());
+  const std::string text = tissueFileText(fitted, fitSummary(result));
   try {
     parseTissueJson(text, options.outputPath);  // what the simulator will read back
   } catch (const TissueFileError& error) {

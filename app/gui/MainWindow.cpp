@@ -15,6 +15,7 @@
 #include <QAction>
 #include <QDockWidget>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QKeySequence>
 #include <QLabel>
 #include <QMenuBar>
@@ -24,10 +25,13 @@
 
 #include "CommandError.h"
 #include "OffscreenImage.h"
+#include "analysis/TensileTestData.h"
 #include "analysis/UniaxialTest.h"
 #include "gui/ForcePlotWidget.h"
 #include "gui/InstrumentInteractorStyle.h"
 #include "gui/SoftwareOpenGL.h"
+#include "gui/TissueFitDialog.h"
+#include "io/WholeFile.h"
 #include "material/TissueFile.h"
 
 namespace tissuesim::app {
@@ -153,6 +157,13 @@ void MainWindow::buildMenus() {
   m_softeningAction->setCheckable(true);
   m_gravityAction = simulation->addAction("Gra&vity", this, [this](bool on) { setGravity(on); });
   m_gravityAction->setCheckable(true);
+
+  QMenu* tools = menuBar()->addMenu("&Tools");
+  tools->addAction("&Fit tissue from test data...", this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, "Fit tissue from test data", QString(),
+                                                      "Uniaxial test (*.csv);;All files (*)");
+    if (!path.isEmpty()) fitTissueFromTestData(path);
+  });
 
   QMenu* view = menuBar()->addMenu("&View");
   m_colourMapAction = view->addAction(
@@ -405,6 +416,85 @@ void MainWindow::updateMaterialChart() {
   }
   // Two lines: at the default window size the dock is narrower than name and legend together.
   m_materialChart->chart()->SetTitle(parameters.name + "\nloading (red), unloading (blue)");
+  m_materialChart->setLegend(false);
+  m_materialChart->setSeries(series);
+  m_chartWindow->Render();
+}
+
+bool MainWindow::fitTissueFromTestData(const QString& csvPath) {
+  if (!m_session) return false;
+  std::vector<CurveBranch> measured;
+  TissueFitResult result;
+  try {
+    measured = readTensileTestCsv(csvPath.toStdString());
+    TissueFitOptions options;
+    // Density, v_ij and f come from the tissue the scene runs, and so does the first start.
+    options.base = m_session->simulation().parameters();
+    options.base.name = QFileInfo(csvPath).completeBaseName().toStdString() + " (fitted)";
+    result = fitTissue(measured, options);
+  } catch (const TestDataError& error) {
+    showError("Test data refused", error.what());
+    return false;
+  } catch (const std::invalid_argument& error) {
+    showError("Fit refused", csvPath + ": " + error.what());
+    return false;
+  }
+  result.parameters.source = "fitted in TissueSim to " + csvPath.toStdString();
+  m_fit = std::move(result);
+  m_fitData = std::move(measured);
+  drawFitOnChart();
+  auto* dialog = new TissueFitDialog(
+      *m_fit, csvPath, [this](const QString& path) { return saveFittedTissue(path); },
+      [this] { return applyFittedTissue(); }, this);
+  dialog->show();
+  return true;
+}
+
+bool MainWindow::applyFittedTissue() {
+  if (!m_session || !m_fit) return false;
+  whilePaused([&] { m_session->simulation().replaceTissue(m_fit->parameters); });
+  drawFitOnChart();
+  statusBar()->showMessage("tissue: " + QString::fromStdString(m_fit->parameters.name), 10000);
+  return true;
+}
+
+bool MainWindow::saveFittedTissue(const QString& path) {
+  if (!m_fit) return false;
+  try {
+    writeWholeFile(path.toStdString(), tissueFileText(m_fit->parameters, fitSummary(*m_fit)));
+  } catch (const std::exception& error) {
+    showError("Tissue file not saved", error.what());
+    return false;
+  }
+  statusBar()->showMessage("saved " + path, 5000);
+  return true;
+}
+
+void MainWindow::drawFitOnChart() {
+  if (!m_fit) return;
+  std::vector<ChartSeries> series;
+  for (std::size_t b = 0; b < m_fitData.size(); ++b) {
+    const CurveBranch& branch = m_fitData[b];
+    const bool isLoading = branch.phase == LoadPhase::Loading;
+    ChartSeries measured{"test " + std::to_string(b), {}, {}, {0, 0, 0}, true, 1.5f};
+    ChartSeries fitted{"fit " + std::to_string(b),
+                       {},
+                       {},
+                       isLoading ? std::array<unsigned char, 3>{200, 40, 30}
+                                 : std::array<unsigned char, 3>{30, 90, 200},
+                       false,
+                       2.0f};
+    for (std::size_t i = 0; i < branch.stretch.size(); ++i) {
+      measured.x.push_back(branch.stretch[i]);
+      measured.y.push_back(branch.stress_Pa[i] / 1000.0);
+      fitted.x.push_back(branch.stretch[i]);
+      fitted.y.push_back(m_fit->branches[b].model_Pa[i] / 1000.0);
+    }
+    series.push_back(std::move(measured));
+    series.push_back(std::move(fitted));
+  }
+  m_materialChart->chart()->SetTitle(m_fit->parameters.name +
+                                     "\nfit (solid) over the test (dashed)");
   m_materialChart->setLegend(false);
   m_materialChart->setSeries(series);
   m_chartWindow->Render();

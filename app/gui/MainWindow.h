@@ -11,6 +11,8 @@
 // "errorDialog") and leave the running simulation as it was.
 
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include <vtkSmartPointer.h>
 #include <QElapsedTimer>
@@ -20,6 +22,7 @@
 #include "CurveChart.h"
 #include "SceneSession.h"
 #include "TissueSceneView.h"
+#include "analysis/TissueFit.h"
 
 class QAction;
 class QLabel;
@@ -41,6 +44,14 @@ class MainWindow : public QMainWindow {
   bool loadScene(const QString& path);
   bool loadTissue(const QString& path);
   bool saveImage(const QString& path);
+  /// Tools > Fit tissue from test data: fits the CSV (analysis/TissueFit.h, starting from the
+  /// running tissue), draws the fit over the data in the Material panel and opens the result's
+  /// dialog (objectName "fitDialog"). False (after the error dialog) for bad data.
+  bool fitTissueFromTestData(const QString& csvPath);
+  /// The last fit's tissue into the running scene, or to a tissue file. False when there is none
+  /// or it cannot be written (after the error dialog).
+  bool applyFittedTissue();
+  bool saveFittedTissue(const QString& path);
 
   void setPaused(bool isPaused);
   bool isPaused() const;
@@ -75,6 +86,8 @@ class MainWindow : public QMainWindow {
   /// The same for what the user should know but need not fix (a guessed unit): information.
   void showNotice(const QString& title, const QString& text);
   void updateMaterialChart();
+  /// The Material panel with the last fit's curves (solid) over its test data (dashed).
+  void drawFitOnChart();
   void updateStatus(const SimulationSnapshot& snapshot);
   void publishPose();
   /// Stops the physics loop, applies `change`, and restarts the loop if it was running.
@@ -85,6 +98,8 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<RealTimeLoop> m_loop;
   std::unique_ptr<TissueSceneView> m_view;
   std::unique_ptr<CurveChart> m_materialChart;
+  std::optional<TissueFitResult> m_fit;  ///< the last fit, and the data it was fitted to
+  std::vector<CurveBranch> m_fitData;
   QString m_scenePath;
 
   QVTKOpenGLNativeWidget* m_vtkWidget = nullptr;

@@ -283,6 +283,19 @@ std::vector<std::vector<double>> modelStresses(const TissueParameters& parameter
   return out;
 }
 
+std::string fitSummary(const TissueFitResult& result) {
+  std::string text = "R^2 per branch:";
+  for (const BranchFit& branch : result.branches) {
+    char entry[96];
+    std::snprintf(entry, sizeof entry, " cycle %d %s %.6f;", branch.cycle, phaseName(branch.phase),
+                  branch.rSquared);
+    text += entry;
+  }
+  for (const std::string& line : result.notes) text += " " + line + ".";
+  for (const std::string& line : result.warnings) text += " " + line + ".";
+  return text;
+}
+
 TissueFitResult fitTissue(const std::vector<CurveBranch>& data, const TissueFitOptions& options) {
   const std::vector<std::string>& names = fitParameterNames();
   std::vector<bool> isFixed(kParameters, false);

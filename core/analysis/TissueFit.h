@@ -81,6 +81,9 @@ struct TissueFitResult {
 std::vector<std::vector<double>> modelStresses(const TissueParameters& parameters,
                                                const std::vector<CurveBranch>& data);
 
+/// One line for a fitted tissue file's notes: R^2 per branch, then the notes and warnings.
+std::string fitSummary(const TissueFitResult& result);
+
 /// @throws std::invalid_argument with one line: fewer points than free parameters in a stage, an
 /// unknown fixed name, no virgin loading points.
 TissueFitResult fitTissue(const std::vector<CurveBranch>& data, const TissueFitOptions& options);

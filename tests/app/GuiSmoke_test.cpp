@@ -19,6 +19,8 @@
 #include "HeadlessDisplay.h"
 #include "gui/MainWindow.h"
 #include "gui/SoftwareOpenGL.h"
+#include "gui/TissueFitDialog.h"
+#include "material/TissueFile.h"
 
 namespace tissuesim::app {
 
@@ -243,6 +245,41 @@ class GuiSmokeTest : public QObject {
     // The bundled scene states its units: nothing to say.
     QVERIFY(m_window->loadScene(QString(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
     QTRY_VERIFY(m_window->findChild<QMessageBox*>("noticeDialog") == nullptr);
+  }
+
+  void aTissueFittedToTestDataIsShownSavedAndApplied() {
+    // Tools > Fit tissue from test data, on the paper's own curve: the dialog with R^2 per
+    // branch, a saved file the parser reads, and the scene running on the fitted tissue.
+    const QString data = QString(TISSUESIM_TEST_DATA_DIR) + "/fit/liver-uniaxial.csv";
+    QVERIFY(m_window->fitTissueFromTestData(data));
+    auto* dialog = m_window->findChild<TissueFitDialog*>("fitDialog");
+    QVERIFY(dialog != nullptr);
+    QVERIFY2(dialog->reportText().contains("cycle 3 unloading R^2 = 1.000000"),
+             qPrintable(dialog->reportText()));
+    // Pictures of the window and the dialog on request (for looking at them by eye).
+    if (const QString shot = qEnvironmentVariable("TISSUESIM_GUI_FIT_SCREENSHOT");
+        !shot.isEmpty()) {
+      QTest::qWait(200);
+      QVERIFY(m_window->grab().save(shot));
+      QVERIFY(dialog->grab().save(shot + "-dialog.png"));
+    }
+    QTemporaryDir folder;
+    const QString saved = folder.filePath("fitted.json");
+    QVERIFY(m_window->saveFittedTissue(saved));
+    const TissueParameters read = loadTissueFile(saved.toStdString());
+    QVERIFY(std::abs(read.A2_Pa - 7543.6e3) < 0.01 * 7543.6e3);
+    const long stepsBefore = steps();
+    QVERIFY(m_window->applyFittedTissue());
+    QCOMPARE(m_window->simulation()->parameters().A2_Pa, read.A2_Pa);
+    QTRY_VERIFY_WITH_TIMEOUT(steps() > stepsBefore + 20, 10000);  // still running
+    dialog->close();
+    // Bad data: an error dialog naming the line, and nothing applied.
+    QVERIFY(!m_window->fitTissueFromTestData(QString(TISSUESIM_TEST_DATA_DIR) +
+                                             "/fit/not-numeric.csv"));
+    QMessageBox* error = errorDialog();
+    QVERIFY(error != nullptr);
+    QVERIFY2(error->text().contains("not-numeric.csv:3"), qPrintable(error->text()));
+    error->close();
   }
 
   void cleanupTestCase() { m_window.reset(); }
