@@ -57,8 +57,8 @@ std::vector<CurveBranch> branchesOf(const std::vector<double>& stretch,
   for (std::size_t i = 0; i < stretch.size(); ++i) {
     // A point's phase is how it was reached (the first point's, where the test goes next): a
     // peak ends its loading branch.
-    const bool isRising = i > 0 ? stretch[i] >= stretch[i - 1]
-                                : stretch.size() < 2 || stretch[1] >= stretch[0];
+    const bool isRising =
+        i > 0 ? stretch[i] >= stretch[i - 1] : stretch.size() < 2 || stretch[1] >= stretch[0];
     const LoadPhase phase = isRising ? LoadPhase::Loading : LoadPhase::Unloading;
     if (branches.empty() || branches.back().phase != phase) {
       if (phase == LoadPhase::Loading || branches.empty()) ++cycle;
