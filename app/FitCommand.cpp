@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "AssetPaths.h"
 #include "CommandError.h"
 #include "CurvePlot.h"
 #include "ImageSize.h"
@@ -33,22 +35,6 @@ struct FitOptions {
   int starts = 12;
 };
 
-/// The paper's liver: where the first start of each stage begins, and what the fit keeps
-/// (density, v_ij, n) when no --start tissue is given.
-TissueParameters paperLiver() {
-  TissueParameters p;
-  p.name = "fitted tissue";
-  p.mu_Pa = 100.0;
-  p.chainSegmentsN = 1.1974;
-  p.A1_Pa = 9675.4;
-  p.A2_Pa = 7543600.0;
-  p.fibreFraction = 0.2755;
-  p.softeningB = 3.3389;
-  p.softeningC_Pa = 9527.3;
-  p.springArea_m2 = 3.569e-5;
-  return p;
-}
-
 void runFit(const FitOptions& options) {
   checkOutputWritable(options.outputPath, "--output");
   if (!options.plotPath.empty()) checkPngOutput(options.plotPath, "--plot");
@@ -67,16 +53,16 @@ void runFit(const FitOptions& options) {
     throw CommandError(error.what());
   }
 
+  // The tissue the first start of each stage begins from, and that gives what the fit keeps
+  // (density, v_ij, n, f): the one given, or the bundled porcine liver.
   TissueFitOptions fit;
-  if (options.startPath.empty()) {
-    fit.base = paperLiver();
-  } else {
-    try {
-      fit.base = loadTissueFile(options.startPath);
-    } catch (const TissueFileError& error) {
-      throw CommandError(error.what());
-    }
+  try {
+    fit.base = loadTissueFile(options.startPath.empty() ? bundledAsset("tissues/porcine-liver.json")
+                                                        : std::filesystem::path(options.startPath));
+  } catch (const TissueFileError& error) {
+    throw CommandError(error.what());
   }
+  fit.base.name = "fitted tissue";
   if (specimen) fit.base.springArea_m2 = specimen->crossSection_mm2 * 1e-6;
   // --fix NAME=VALUE: the value, in the file's unit, goes into the base before the fit.
   for (const std::string& item : options.fixed) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "CommandError.h"
@@ -46,23 +47,19 @@ bool isGuessingUnits(const MeshOptions& options) {
 /// For --units auto: positions read in millimetres rescaled to the guessed unit, and what was
 /// assumed said in the report. Throws when the result is not an organ's size in any unit.
 void applyGuessedUnit(const std::string& input, Eigen::Matrix3Xd& positions_m) {
-  if (positions_m.cols() == 0) return;
-  const double diagonal =
-      (positions_m.rowwise().maxCoeff() - positions_m.rowwise().minCoeff()).norm() / 0.001;
-  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) return;  // the readers refuse these
-  const LengthUnit unit = guessLengthUnit(diagonal);
-  positions_m *= unit.metresPerUnit / 0.001;
-  const double farthest = positions_m.cwiseAbs().maxCoeff();
-  if (farthest > 100.0) {
-    throw CommandError(input + ": a node lies " + std::to_string(farthest) +
-                       " m from the origin even in " + unit.name +
-                       "; expected an organ within 100 m (give --scale)");
+  std::optional<GuessedUnit> guessed;
+  try {
+    guessed = rescaleFromMillimetres(positions_m);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(input + ": " + error.what() + " (give --scale)");
   }
+  if (!guessed) return;
   // With the report on stdout: stderr carries a failure's one line alone.
   std::printf(
       "assumed %s: the file is %.4g units across, %.3g cm in %s (give --units or --scale "
       "to say otherwise)\n",
-      unit.name, diagonal, diagonal * unit.metresPerUnit * 100.0, unit.symbol);
+      guessed->unit.name, guessed->diagonalInFileUnits,
+      guessed->diagonalInFileUnits * guessed->unit.metresPerUnit * 100.0, guessed->unit.symbol);
 }
 
 void printQuality(const TetMesh& mesh, const char* what) {

@@ -35,9 +35,30 @@
 #include "material/TissueFile.h"
 
 namespace tissuesim::app {
+
 namespace {
+
+/// A branch's stresses (Pa) as a chart line in kPa: loading red, unloading blue.
+ChartSeries branchLine(const CurveBranch& branch, const std::vector<double>& stress_Pa) {
+  const bool isLoading = branch.phase == LoadPhase::Loading;
+  ChartSeries line{
+      std::string(isLoading ? "loading " : "unloading ") + std::to_string(branch.cycle),
+      {},
+      {},
+      isLoading ? std::array<unsigned char, 3>{200, 40, 30}
+                : std::array<unsigned char, 3>{30, 90, 200},
+      false,
+      2.0f};
+  for (std::size_t i = 0; i < branch.stretch.size(); ++i) {
+    line.x.push_back(branch.stretch[i]);
+    line.y.push_back(stress_Pa[i] / 1000.0);
+  }
+  return line;
+}
+
 constexpr int kFrameInterval_ms = 16;   ///< about 60 frames per second
 constexpr double kWheelStep_m = 0.002;  ///< tool travel per wheel notch
+
 }  // namespace
 
 template <typename Change>
@@ -393,20 +414,7 @@ void MainWindow::updateMaterialChart() {
     const std::vector<CurveBranch> curve = test.run(UniaxialModel::Sedf, {peaks, 60});
     for (const CurveBranch& branch : curve) {
       // One line per branch (a joined line would draw chords between cycles).
-      const bool isLoading = branch.phase == LoadPhase::Loading;
-      ChartSeries line{
-          std::string(isLoading ? "loading " : "unloading ") + std::to_string(branch.cycle),
-          {},
-          {},
-          isLoading ? std::array<unsigned char, 3>{200, 40, 30}
-                    : std::array<unsigned char, 3>{30, 90, 200},
-          false,
-          2.0f};
-      for (std::size_t i = 0; i < branch.stretch.size(); ++i) {
-        line.x.push_back(branch.stretch[i]);
-        line.y.push_back(branch.stress_Pa[i] / 1000.0);
-      }
-      series.push_back(std::move(line));
+      series.push_back(branchLine(branch, branch.stress_Pa));
     }
     // Reloading follows the unloading path below the previous peak (the Mullins model): draw
     // the unloading lines last so they are not hidden.
@@ -475,23 +483,13 @@ void MainWindow::drawFitOnChart() {
   std::vector<ChartSeries> series;
   for (std::size_t b = 0; b < m_fitData.size(); ++b) {
     const CurveBranch& branch = m_fitData[b];
-    const bool isLoading = branch.phase == LoadPhase::Loading;
-    ChartSeries measured{"test " + std::to_string(b), {}, {}, {0, 0, 0}, true, 1.5f};
-    ChartSeries fitted{"fit " + std::to_string(b),
-                       {},
-                       {},
-                       isLoading ? std::array<unsigned char, 3>{200, 40, 30}
-                                 : std::array<unsigned char, 3>{30, 90, 200},
-                       false,
-                       2.0f};
-    for (std::size_t i = 0; i < branch.stretch.size(); ++i) {
-      measured.x.push_back(branch.stretch[i]);
-      measured.y.push_back(branch.stress_Pa[i] / 1000.0);
-      fitted.x.push_back(branch.stretch[i]);
-      fitted.y.push_back(m_fit->branches[b].model_Pa[i] / 1000.0);
-    }
+    ChartSeries measured = branchLine(branch, branch.stress_Pa);
+    measured.name = "test " + measured.name;
+    measured.rgb = {0, 0, 0};
+    measured.isDashed = true;
+    measured.width = 1.5f;
     series.push_back(std::move(measured));
-    series.push_back(std::move(fitted));
+    series.push_back(branchLine(branch, m_fit->branches[b].model_Pa));
   }
   m_materialChart->chart()->SetTitle(m_fit->parameters.name +
                                      "\nfit (solid) over the test (dashed)");

@@ -4,6 +4,10 @@
 // Medical exports are mostly in millimetres, CAD and graphics ones in anything; an organ is
 // 5 to 30 cm across, so the three candidates (a factor of 10 or 1000 apart) are rarely in doubt.
 
+#include <optional>
+
+#include <Eigen/Core>
+
 namespace tissuesim {
 
 struct LengthUnit {
@@ -18,5 +22,18 @@ inline constexpr double kOrganDiagonal_m = 0.15;
 /// Of m, cm and mm, the unit that puts `diagonalInFileUnits` (> 0) nearest kOrganDiagonal_m by
 /// ratio.
 LengthUnit guessLengthUnit(double diagonalInFileUnits);
+
+/// A unit guessed for a file, and the file's size in its own units.
+struct GuessedUnit {
+  LengthUnit unit;
+  double diagonalInFileUnits;
+};
+
+/// Positions read at 1 mm a unit (the smallest candidate, so that no file is refused as too
+/// large before its unit is known) rescaled to the guessed unit. nullopt, and the positions
+/// untouched, when they have no extent or no finite one (the readers refuse those).
+/// @throws std::invalid_argument ("a node lies X m from the origin in <unit>, the unit its size
+/// suggests; expected an organ within 100 m") when the rescaled mesh is no organ in any unit.
+std::optional<GuessedUnit> rescaleFromMillimetres(Eigen::Matrix3Xd& positions_m);
 
 }  // namespace tissuesim

@@ -24,25 +24,21 @@ double readingScale(const SceneMeshSource& source) {
 /// mesh an organ's size, and what was assumed added to `assumptions`.
 void applyGuessedUnit(const SceneMeshSource& source, const std::string& sceneName,
                       Eigen::Matrix3Xd& positions_m, std::vector<std::string>& assumptions) {
-  if (source.metresPerUnit > 0.0 || positions_m.cols() == 0) return;
-  const double diagonal =
-      (positions_m.rowwise().maxCoeff() - positions_m.rowwise().minCoeff()).norm() / 0.001;
-  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) return;  // the readers refuse these
-  const LengthUnit unit = guessLengthUnit(diagonal);
-  positions_m *= unit.metresPerUnit / 0.001;
-  const double farthest = positions_m.cwiseAbs().maxCoeff();
+  if (source.metresPerUnit > 0.0) return;
   const std::string file = source.file.lexically_normal().string();
-  if (farthest > 100.0) {
-    throw SceneFileError(sceneName + ": " + file + ": a node lies " + std::to_string(farthest) +
-                         " m from the origin in " + unit.name +
-                         ", the unit its size suggests; expected an organ within 100 m (set "
-                         "metres_per_unit)");
+  std::optional<GuessedUnit> guessed;
+  try {
+    guessed = rescaleFromMillimetres(positions_m);
+  } catch (const std::invalid_argument& error) {
+    throw SceneFileError(sceneName + ": " + file + ": " + error.what() + " (set metres_per_unit)");
   }
+  if (!guessed) return;
   char line[512];
   std::snprintf(line, sizeof line,
                 "%s: assumed %s (the file is %.4g units across: %.3g cm); set metres_per_unit in "
                 "the scene to say otherwise",
-                file.c_str(), unit.name, diagonal, diagonal * unit.metresPerUnit * 100.0);
+                file.c_str(), guessed->unit.name, guessed->diagonalInFileUnits,
+                guessed->diagonalInFileUnits * guessed->unit.metresPerUnit * 100.0);
   assumptions.emplace_back(line);
 }
 
