@@ -156,7 +156,8 @@ struct StageResiduals {
   }
 };
 
-/// A start spread log-uniformly over the admitted ranges (f uniformly).
+/// A start spread log-uniformly over the values soft tissues take (moduli 1 Pa to 100 MPa
+/// depending on the term, N up to 100 above its bound, f uniformly in 0.02-0.98).
 Values randomStart(std::mt19937& random, double minimumN) {
   const auto logUniform = [&](double low, double high) {
     return std::exp(std::uniform_real_distribution<double>(std::log(low), std::log(high))(random));

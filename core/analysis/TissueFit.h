@@ -18,7 +18,8 @@
 // N = N_min + exp(u), with N_min the N whose chains lock just past the largest stretch measured
 // (so every point stays inside the usable range). The problem is not convex (the locking term
 // and the fibre exponential trade off), so each stage starts from several points, the paper's
-// liver first, the rest spread log-uniformly over the admitted ranges, and keeps the best.
+// liver first, the rest spread log-uniformly over the values soft tissues take, and keeps the
+// best.
 //
 // Uncertainties: the standard errors s sqrt(diag (J^T J)^-1), s^2 = SSR / (m - p), with J the
 // residuals' Jacobian in the parameters themselves at the optimum. A parameter whose error is
