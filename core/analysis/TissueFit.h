@@ -12,19 +12,22 @@
 //
 // Each stage is bounded nonlinear least squares on the stresses, by Eigen's Levenberg-Marquardt
 // (unsupported/NonLinearOptimization, the MINPACK port, with a central-difference Jacobian): the
-// problem has at most five unknowns and a few hundred residuals, and Eigen is already here; Ceres
-// would bring a large dependency for what it does not need. Bounds by change of variables, so
-// that every iterate is an admissible tissue: mu, A1, A2, b, C = exp(u); f = 1 / (1 + exp(-u));
-// N = N_min + exp(u), with N_min the N whose chains lock just past the largest stretch measured
-// (so every point stays inside the usable range). The problem is not convex (the locking term
-// and the fibre exponential trade off), so each stage starts from several points, the paper's
-// liver first, the rest spread log-uniformly over the values soft tissues take, and keeps the
-// best.
+// problem has at most four unknowns and a few hundred residuals, and Eigen is already here;
+// Ceres would bring a large dependency for what it does not need. Each residual is divided by
+// |measured stress| + a fiftieth of the largest: a test's error grows with the load. Bounds by
+// change of variables, so that every iterate is an admissible tissue: each positive parameter's
+// logarithm is a logistic function of its unknown between the tissue file's admitted bounds
+// (for N, the excess over N_min, the N whose chains lock just past the largest stretch
+// measured, so every point stays inside the usable range). The problem is not convex (the
+// network's locking and the fibre terms trade off), so each stage starts from several points,
+// the starting tissue first, the rest spread log-uniformly over the values soft tissues take,
+// and keeps the best.
 //
 // Uncertainties: the standard errors s sqrt(diag (J^T J)^-1), s^2 = SSR / (m - p), with J the
-// residuals' Jacobian in the parameters themselves at the optimum. A parameter whose error is
-// above half its value, or that lies along a near-null direction of J^T J, is reported as not
-// identified by these data.
+// residuals' Jacobian at the optimum, widened to half the spread of the starts that end as well
+// as the best within the noise (an F test's margin). A parameter whose error is above half its
+// value, or that lies along a direction J does not see, is reported as not identified by these
+// data.
 
 #include <functional>
 #include <map>
