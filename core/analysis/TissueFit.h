@@ -1,7 +1,7 @@
 #pragma once
 // Fitting a tissue's seven constants to a uniaxial test (analysis/TensileTestData.h):
 //
-//   stage 1: mu, N, f, A1, A2 on the virgin loading points (the stretch above every earlier one),
+//   stage 1: mu, N, A1, A2 on the virgin loading points (the stretch above every earlier one),
 //            where the stress is the continuum's P(lambda) alone (docs/model.md, Eqs. 13, 18);
 //   stage 2: b and C on the other points (unloading, and reloading below an earlier peak),
 //            where the softening (Eqs. 16-20) acts on the stage-1 curve.
