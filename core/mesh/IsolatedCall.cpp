@@ -20,6 +20,10 @@
 #endif
 #endif
 
+#if defined(TISSUESIM_SANITIZED_ADDRESS_SPACE)
+#include <sanitizer/common_interface_defs.h>
+#endif
+
 namespace tissuesim {
 namespace {
 
@@ -41,6 +45,11 @@ bool writeAll(int fd, const char* data, std::size_t size) {
   // A crash ends the child with its signal, whatever handlers the parent installed: a fuzzer's
   // or a sanitizer's handler would otherwise report the library's crash as the parent's own.
   for (const int crash : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) ::signal(crash, SIG_DFL);
+#if defined(TISSUESIM_SANITIZED_ADDRESS_SPACE)
+  // The same for a sanitizer's report on the library's memory error: the child ends with it,
+  // and a fuzzer's death callback does not record it as the parent's finding.
+  __sanitizer_set_death_callback(nullptr);
+#endif
   rlimit cpu{static_cast<rlim_t>(limits.cpuSeconds), static_cast<rlim_t>(limits.cpuSeconds)};
   ::setrlimit(RLIMIT_CPU, &cpu);
 #ifndef TISSUESIM_SANITIZED_ADDRESS_SPACE

@@ -1,7 +1,9 @@
 #include "mesh/IsolatedMeshRead.h"
 
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 
 #include "mesh/IsolatedCall.h"
@@ -55,7 +57,15 @@ std::int64_t unpack(const std::string& bytes, const std::filesystem::path& path,
 
 std::string runReaderIsolated(const std::filesystem::path& path,
                               const std::function<std::string()>& work) {
-  const IsolatedResult result = runIsolated(work);
+  IsolationLimits limits;
+  if (const char* seconds = std::getenv("TISSUESIM_READER_SECONDS")) {
+    const int value = std::atoi(seconds);
+    if (value > 0) {
+      limits.wallTime = std::chrono::seconds(value);
+      limits.cpuSeconds = value;
+    }
+  }
+  const IsolatedResult result = runIsolated(work, limits);
   if (result.isOk) return result.bytes;
   if (result.isThrown) throw MeshFileError(result.error);  // names the file already
   throw MeshFileError(path.string() + ": " + result.error);

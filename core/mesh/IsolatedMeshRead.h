@@ -2,7 +2,9 @@
 // A mesh reader run in a child process (IsolatedCall.h): the library that parses a file from
 // anywhere (assimp, VTK) cannot crash or hang the program. The child sends the mesh back as
 // bytes (two counts, then the arrays); a crash, a limit reached or a hang in the child, or a
-// reply that does not add up, becomes a MeshFileError naming the file.
+// reply that does not add up, becomes a MeshFileError naming the file. The child's limits are
+// IsolationLimits' (60 s), or TISSUESIM_READER_SECONDS seconds of wall and CPU time when that
+// is set (the fuzz runs set 2, so that a file that hangs the library costs two seconds there).
 
 #include <filesystem>
 #include <functional>

@@ -2,6 +2,7 @@
 // runaway allocation each come back as one line, and this process goes on.
 
 #include "mesh/IsolatedCall.h"
+#include "mesh/IsolatedMeshRead.h"
 
 #include <csignal>
 #include <stdexcept>
@@ -9,6 +10,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <chrono>
+#include <cstdlib>
 
 namespace tissuesim {
 namespace {
@@ -68,6 +71,25 @@ TEST(IsolatedCall, ARunawayAllocationEndsInTheChild) {
       limits);
   EXPECT_FALSE(result.isOk);
   EXPECT_FALSE(result.error.empty());
+}
+
+TEST(IsolatedCall, AReaderLimitFromTheEnvironmentStopsAHangSooner) {
+  // The fuzz runs' setting (IsolatedMeshRead.h): one second instead of sixty.
+  ::setenv("TISSUESIM_READER_SECONDS", "1", 1);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    readSurfaceIsolated("slow.stl", []() -> TriangleSurface {
+      std::this_thread::sleep_for(std::chrono::seconds(20));
+      return {};
+    });
+    ADD_FAILURE() << "a hung reader returned";
+  } catch (const MeshFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("slow.stl: reading it did not finish within 1 s"),
+              std::string::npos)
+        << error.what();
+  }
+  ::unsetenv("TISSUESIM_READER_SECONDS");
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
 }
 
 }  // namespace
