@@ -53,6 +53,18 @@ std::int64_t unpack(const std::string& bytes, const std::filesystem::path& path,
   return header[2];
 }
 
+/// Every index names a point: the reply comes from a library the parent does not trust.
+template <int K>
+void checkIndices(const Eigen::Matrix<int, K, Eigen::Dynamic>& cells, Eigen::Index pointCount,
+                  const std::filesystem::path& path) {
+  if (cells.size() == 0) return;
+  if (cells.minCoeff() < 0 || cells.maxCoeff() >= pointCount) {
+    throw MeshFileError(path.string() +
+                        ": the reader sent back an element naming a point the "
+                        "mesh does not have");
+  }
+}
+
 }  // namespace
 
 std::string runReaderIsolated(const std::filesystem::path& path,
@@ -79,6 +91,7 @@ TriangleSurface readSurfaceIsolated(const std::filesystem::path& path,
   });
   TriangleSurface surface;
   unpack(bytes, path, surface.vertices_m, surface.triangles);
+  checkIndices(surface.triangles, surface.vertexCount(), path);
   return surface;
 }
 
@@ -91,6 +104,7 @@ ReadTetMesh readTetMeshIsolated(const std::filesystem::path& path,
   ReadTetMesh result;
   result.skippedElements =
       static_cast<int>(unpack(bytes, path, result.mesh.nodes_m, result.mesh.tets));
+  checkIndices(result.mesh.tets, result.mesh.nodeCount(), path);
   return result;
 }
 

@@ -73,6 +73,10 @@ TriangleSurface importSurface(const std::filesystem::path& path,
     const aiMatrix4x4 transform = parent * node->mTransformation;
     for (unsigned k = 0; k < node->mNumMeshes; ++k) {
       const unsigned m = node->mMeshes[k];
+      if (m >= scene->mNumMeshes) {
+        throw MeshFileError(name + ": a node names mesh " + std::to_string(m) + " of " +
+                            std::to_string(scene->mNumMeshes));
+      }
       if (!options.part.empty() && partName(scene, m) != options.part) continue;
       const aiMesh* mesh = scene->mMeshes[m];
       const int offset = static_cast<int>(vertices.size());
@@ -84,6 +88,15 @@ TriangleSurface importSurface(const std::filesystem::path& path,
       for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
         const aiFace& face = mesh->mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines are not surface
+        // The importers pass some files' indices through unchecked (a PLY face naming vertex 7
+        // of 4, found by fuzzing).
+        for (unsigned c = 0; c < 3; ++c) {
+          if (face.mIndices[c] >= mesh->mNumVertices) {
+            throw MeshFileError(name + ": face " + std::to_string(f) + " refers to vertex " +
+                                std::to_string(face.mIndices[c]) + ", but its mesh has " +
+                                std::to_string(mesh->mNumVertices) + " vertices");
+          }
+        }
         triangles.emplace_back(offset + static_cast<int>(face.mIndices[0]),
                                offset + static_cast<int>(face.mIndices[1]),
                                offset + static_cast<int>(face.mIndices[2]));

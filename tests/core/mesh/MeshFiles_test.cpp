@@ -74,6 +74,11 @@ TEST(SurfaceReader, RefusesBadFiles) {
             std::string::npos);
   EXPECT_NE(errorOf([] { readSurface(meshPath("nan.obj"), {}); }).find("not finite"),
             std::string::npos);
+  // Found by fuzzing: assimp passes a PLY face's out-of-range index through.
+  EXPECT_NE(errorOf([] { readSurface(meshPath("face-vertex-out-of-range.ply"), {}); })
+                .find("face-vertex-out-of-range.ply: face 0 refers to vertex 7, but its mesh has 4 "
+                      "vertices"),
+            std::string::npos);
   EXPECT_NE(errorOf([] { readSurface(meshPath("huge.obj"), {}); }).find("check the units"),
             std::string::npos);
   EXPECT_NE(errorOf([] {
