@@ -141,8 +141,11 @@ std::vector<CurveBranch> readTensileTestCsv(const std::filesystem::path& path,
       continue;
     }
     const double cycleValue = reader.number(cells[0], "cycle");
+    // Checked before the conversion: a double beyond int's range has no int value.
+    if (!(cycleValue >= 1.0 && cycleValue <= 1e6) || cycleValue != std::floor(cycleValue)) {
+      reader.fail("cycle '" + cells[0] + "' is not 1, 2, ... (at most 10^6)");
+    }
     const int cycle = static_cast<int>(cycleValue);
-    if (cycle < 1 || cycle != cycleValue) reader.fail("cycle '" + cells[0] + "' is not 1, 2, ...");
     if (cells[1] != "loading" && cells[1] != "unloading") {
       reader.fail("phase '" + cells[1] + "' is neither loading nor unloading");
     }

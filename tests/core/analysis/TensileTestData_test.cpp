@@ -56,6 +56,8 @@ TEST(TensileTestData, BadDataGetsOneLineNamingTheFileAndLine) {
            {"falling-loading.csv",
             "falling-loading.csv:4: the loading branch of cycle 1 falls from 1.1"},
            {"nan.csv", "nan.csv:3: column stress_kpa is not a finite number"},
+           // Found by fuzzing: converted to int before it was checked (undefined behaviour).
+           {"huge-cycle.csv", "huge-cycle.csv:2: cycle '1e44' is not 1, 2, ... (at most 10^6)"},
            {"empty.csv", "empty.csv: the file is empty"},
            {"no-such-file.csv", "no-such-file.csv: cannot open the test data"}}) {
     const std::string message = errorOf(file);
