@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -77,19 +77,11 @@ void runFit(const FitOptions& options) {
     if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value)) {
       throw CommandError("--fix " + name + ": '" + text + "' is not a number");
     }
-    std::map<std::string, double*> fields = {
-        {"mu_kpa", &fit.base.mu_Pa},       {"N", &fit.base.chainSegmentsN},
-        {"f", &fit.base.fibreFraction},    {"A1_kpa", &fit.base.A1_Pa},
-        {"A2_kpa", &fit.base.A2_Pa},       {"b", &fit.base.softeningB},
-        {"C_kpa", &fit.base.softeningC_Pa}};
-    const auto found = fields.find(name);
-    if (found == fields.end()) {
-      throw CommandError("--fix " + name +
-                         ": not a fitted parameter; expected mu_kpa, N, f, A1_kpa, A2_kpa, b or "
-                         "C_kpa");
+    try {
+      setFitParameter(fit.base, name, value);
+    } catch (const std::invalid_argument& error) {
+      throw CommandError("--fix " + name + ": " + error.what());
     }
-    const bool isModulus = name.find("_kpa") != std::string::npos;
-    *found->second = isModulus ? 1000.0 * value : value;
     fit.fixed.push_back(name);
   }
   fit.starts = options.starts;

@@ -134,7 +134,7 @@ std::vector<CurveBranch> readTensileTestCsv(const std::filesystem::path& path,
       lambda = reader.number(cells[at], "lambda");
       stress = 1000.0 * reader.number(cells[at + 1], "stress_kpa");
     }
-    if (!(lambda > 0.0)) reader.fail("a stretch of " + cells[0] + " is not positive");
+    if (!(lambda > 0.0)) reader.fail("a stretch of " + std::to_string(lambda) + " is not positive");
     if (layout != Layout::Branches) {
       stretch.push_back(lambda);
       stress_Pa.push_back(stress);

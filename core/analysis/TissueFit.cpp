@@ -42,6 +42,19 @@ TissueParameters withValues(TissueParameters p, const Values& v) {
   return p;
 }
 
+/// The index of a fitted parameter's file name. @throws std::invalid_argument for another name.
+int indexOf(const std::string& name) {
+  const std::vector<std::string>& names = fitParameterNames();
+  const auto found = std::find(names.begin(), names.end(), name);
+  if (found == names.end()) {
+    std::string list;
+    for (const std::string& each : names) list += (list.empty() ? "" : ", ") + each;
+    throw std::invalid_argument("'" + name + "' is not a fitted parameter; expected one of " +
+                                list);
+  }
+  return static_cast<int>(found - names.begin());
+}
+
 /// A measured point with its place in the test's history.
 struct Point {
   double lambda;
@@ -284,6 +297,13 @@ std::vector<std::vector<double>> modelStresses(const TissueParameters& parameter
   return out;
 }
 
+void setFitParameter(TissueParameters& parameters, const std::string& name, double value) {
+  const int i = indexOf(name);
+  Values values = valuesOf(parameters);
+  values[i] = isModulus(i) ? 1000.0 * value : value;
+  parameters = withValues(parameters, values);
+}
+
 std::string fitSummary(const TissueFitResult& result) {
   std::string text = "R^2 per branch:";
   for (const BranchFit& branch : result.branches) {
@@ -300,16 +320,8 @@ std::string fitSummary(const TissueFitResult& result) {
 TissueFitResult fitTissue(const std::vector<CurveBranch>& data, const TissueFitOptions& options) {
   const std::vector<std::string>& names = fitParameterNames();
   std::vector<bool> isFixed(kParameters, false);
-  for (const std::string& name : options.fixed) {
-    const auto found = std::find(names.begin(), names.end(), name);
-    if (found == names.end()) {
-      std::string list;
-      for (const std::string& each : names) list += (list.empty() ? "" : ", ") + each;
-      throw std::invalid_argument("cannot hold '" + name + "' fixed; the fitted parameters are " +
-                                  list);
-    }
-    isFixed[static_cast<std::size_t>(found - names.begin())] = true;
-  }
+  for (const std::string& name : options.fixed)
+    isFixed[static_cast<std::size_t>(indexOf(name))] = true;
   // W_T depends on f only through (1 - f) mu, f A1 and f A2, and the softening on mu / C: any f
   // is matched by other moduli, so a uniaxial test cannot tell it. It stays where it starts.
   const bool isFibreFractionChosen = isFixed[kF];

@@ -85,6 +85,11 @@ struct TissueFitResult {
 std::vector<std::vector<double>> modelStresses(const TissueParameters& parameters,
                                                const std::vector<CurveBranch>& data);
 
+/// Sets the fitted parameter `name` (fitParameterNames()) of `parameters` to `value` in the
+/// tissue file's unit (kPa for the moduli). @throws std::invalid_argument naming the fitted
+/// parameters for any other name.
+void setFitParameter(TissueParameters& parameters, const std::string& name, double value);
+
 /// One line for a fitted tissue file's notes: R^2 per branch, then the notes and warnings.
 std::string fitSummary(const TissueFitResult& result);
 

@@ -63,17 +63,14 @@ StepReport SymplecticEulerSolver::step(MechanicalSystem& system, MechanicalState
   // Each substep's force pass refreshes the bound for the next. The last one came from the state
   // before the previous step's last move: when it alone would refuse this step (a spike of one
   // pass), it is taken again at this step's own start before the step is refused.
-  const auto substepsNeeded = [&] {
-    return std::ceil(dt / (m_settings.stabilitySafety * m_lastStableStep));
-  };
-  if (m_lastStableStep < 0.0 || substepsNeeded() > m_settings.maxSubsteps) {
+  const auto stableStep = [&] { return m_settings.stabilitySafety * m_lastStableStep; };
+  if (m_lastStableStep < 0.0 || std::ceil(dt / stableStep()) > m_settings.maxSubsteps) {
     system.forcesAndNodeStiffness(state.x, m_force, m_nodeStiffness);
     m_lastStableStep =
         stableStepBound(largestStiffnessPerMass(m_nodeStiffness, mass, 0, nodes), alpha);
   }
-  const auto stableStep = [&] { return m_settings.stabilitySafety * m_lastStableStep; };
   report.stableTimeStep_s = stableStep();
-  const double needed = substepsNeeded();
+  const double needed = std::ceil(dt / report.stableTimeStep_s);
   if (needed > m_settings.maxSubsteps) {
     report.refused = true;
     report.substeps = 0;

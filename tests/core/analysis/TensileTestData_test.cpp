@@ -59,6 +59,8 @@ TEST(TensileTestData, BadDataGetsOneLineNamingTheFileAndLine) {
            // Found by fuzzing: converted to int before it was checked (undefined behaviour).
            {"huge-cycle.csv", "huge-cycle.csv:2: cycle '1e44' is not 1, 2, ... (at most 10^6)"},
            {"empty.csv", "empty.csv: the file is empty"},
+           {"negative-stretch.csv",
+            "negative-stretch.csv:3: a stretch of -0.500000 is not positive"},
            {"no-such-file.csv", "no-such-file.csv: cannot open the test data"}}) {
     const std::string message = errorOf(file);
     EXPECT_NE(message.find(expected), std::string::npos) << file << ": " << message;

@@ -123,5 +123,22 @@ TEST(TissueFit, TooFewPointsOrAnUnknownFixedNameIsRefused) {
   EXPECT_THROW(fitTissue(three, {test::porcineLiver(), {"shear"}, 2, {}}), std::invalid_argument);
 }
 
+TEST(TissueFit, AParameterIsSetInTheTissueFilesUnit) {
+  TissueParameters p = test::porcineLiver();
+  setFitParameter(p, "A2_kpa", 3000.0);
+  setFitParameter(p, "N", 1.4);
+  EXPECT_EQ(p.A2_Pa, 3e6);
+  EXPECT_EQ(p.chainSegmentsN, 1.4);
+  EXPECT_EQ(p.mu_Pa, test::porcineLiver().mu_Pa) << "the others untouched";
+  try {
+    setFitParameter(p, "shear", 1.0);
+    ADD_FAILURE() << "an unknown name accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("expected one of mu_kpa, N, f, A1_kpa"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 }  // namespace
 }  // namespace tissuesim
