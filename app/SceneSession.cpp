@@ -10,10 +10,26 @@
 
 namespace tissuesim::app {
 
+namespace {
+
+SceneDescription readScene(const std::string& scenePath) {
+  try {
+    return loadSceneFile(scenePath);
+  } catch (const SceneFileError& error) {
+    throw CommandError(error.what());
+  }
+}
+
+}  // namespace
+
 SceneSession::SceneSession(const std::string& scenePath, const std::string& scriptPath,
+                           InstrumentDriver driver)
+    : SceneSession(readScene(scenePath), scriptPath, driver) {}
+
+SceneSession::SceneSession(const SceneDescription& scene, const std::string& scriptPath,
                            InstrumentDriver driver) {
   try {
-    m_simulation.emplace(loadSceneFile(scenePath));
+    m_simulation.emplace(scene);
   } catch (const SceneFileError& error) {
     throw CommandError(error.what());
   } catch (const TissueFileError& error) {
@@ -21,8 +37,10 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
   }
   const SceneDescription& description = m_simulation->scene();
   if (!description.instrument) {
-    if (!scriptPath.empty())
-      throw CommandError("--script given, but the scene " + scenePath + " has no instrument");
+    if (!scriptPath.empty()) {
+      throw CommandError("--script given, but the scene " + description.source.string() +
+                         " has no instrument");
+    }
     return;
   }
   const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction,
@@ -37,7 +55,7 @@ SceneSession::SceneSession(const std::string& scenePath, const std::string& scri
       m_script = scriptPath.empty()
                      ? std::make_unique<InstrumentScript>(InstrumentScript::poke(
                            {description.instrument->tipStart_m, description.instrument->direction},
-                           0.04, 1.0))
+                           kDefaultPokeDepth_m, kDefaultPokePressTime_s))
                      : std::make_unique<InstrumentScript>(InstrumentScript::load(scriptPath));
     } catch (const std::invalid_argument& error) {
       throw CommandError(error.what());

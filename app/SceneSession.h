@@ -23,6 +23,9 @@ class SceneSession {
   /// (4 cm along the tool over 1 s). @throws CommandError with the file's one-line reason.
   SceneSession(const std::string& scenePath, const std::string& scriptPath,
                InstrumentDriver driver);
+  /// The same from a scene already read (and perhaps changed: `trade` varies its knobs).
+  SceneSession(const SceneDescription& scene, const std::string& scriptPath,
+               InstrumentDriver driver);
 
   Simulation& simulation() { return *m_simulation; }
   const Simulation& simulation() const { return *m_simulation; }

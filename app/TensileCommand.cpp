@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -53,9 +54,7 @@ Eigen::Vector3d parseSize(const std::string& text) {
 }
 
 SpringLaw parseLaw(const std::string& name) {
-  if (name == "eesm") return SpringLaw::Eesm;
-  if (name == "eesm-paper") return SpringLaw::EesmPaper;
-  if (name == "smm") return SpringLaw::Smm;
+  if (const std::optional<SpringLaw> law = springLawNamed(name)) return *law;
   throw CommandError("unknown --model '" + name +
                      "'; expected one of eesm, eesm-paper, smm (spring laws) or fem");
 }
@@ -184,9 +183,7 @@ void runTensile(const TensileCommandOptions& options) {
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const char* name = each == SpringLaw::Eesm        ? "eesm"
-                       : each == SpringLaw::EesmPaper ? "eesm-paper"
-                                                      : "smm";
+    const char* name = springLawName(each);
     for (std::size_t b = 0; b + 1 < curve.size(); b += 2) {
       char branch[64];
       std::snprintf(branch, sizeof branch, "cycle %d (lambda_max %.3f)", curve[b].cycle,

@@ -72,8 +72,9 @@ void registerContactBenchmarks(const std::string& scenePath) {
     changed.threads = setting.threads;
     Simulation simulation(changed);
     const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
-    const InstrumentScript script = InstrumentScript::poke(
-        {scene.instrument->tipStart_m, scene.instrument->direction}, 0.04, 1.0);
+    const InstrumentScript script =
+        InstrumentScript::poke({scene.instrument->tipStart_m, scene.instrument->direction},
+                               kDefaultPokeDepth_m, kDefaultPokePressTime_s);
     simulation.setContactProvider(contact.get());
     simulation.setInstrumentSource(&script);
     const auto steps = static_cast<long>(std::lround(seconds / simulation.timeStep_s()));

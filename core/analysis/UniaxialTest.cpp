@@ -96,6 +96,13 @@ std::vector<CurveBranch> UniaxialTest::run(UniaxialModel model,
   return branches;
 }
 
+double UniaxialTest::springLawLinearModulus(SpringLaw law, const StrainEnergy& energy,
+                                            const StiffnessTable& table) {
+  if (law != SpringLaw::Smm) return 0.0;
+  return fitLinearModulus(
+      UniaxialTest(energy, table).run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
+}
+
 double UniaxialTest::fitLinearModulus(std::span<const CurveBranch> reference) {
   std::vector<double> strain;
   std::vector<double> stress;

@@ -15,6 +15,7 @@
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/StressSoftening.h"
+#include "springs/SpringForceLaw.h"
 
 namespace tissuesim {
 
@@ -53,6 +54,10 @@ class UniaxialTest {
   /// The modulus E (Pa) of the linear law P = E (lambda - 1) fitted by least squares to the
   /// given reference branches (all points of all branches).
   static double fitLinearModulus(std::span<const CurveBranch> reference);
+  /// The linear modulus a spring law needs (Pa): smm's, fitted to sedf over the paper's cycles
+  /// (lambda_max 1.15, 1.23, 1.30); 0 for the laws that read the tables.
+  static double springLawLinearModulus(SpringLaw law, const StrainEnergy& energy,
+                                       const StiffnessTable& table);
 
  private:
   double virginStress(UniaxialModel model, double lambda, double linearModulus_Pa) const;

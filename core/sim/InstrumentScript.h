@@ -17,6 +17,11 @@ class InstrumentSource {
 };
 
 /// Timed poses; between them positions are interpolated linearly, directions normalised.
+/// The default poke of `run` and `snapshot` when no script is given: 4 cm along the tool over
+/// 1 s, then back.
+inline constexpr double kDefaultPokeDepth_m = 0.04;
+inline constexpr double kDefaultPokePressTime_s = 1.0;
+
 class InstrumentScript final : public InstrumentSource {
  public:
   struct Keyframe {

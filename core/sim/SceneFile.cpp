@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "springs/SpringForceLaw.h"
+
 namespace tissuesim {
 namespace {
 
@@ -225,7 +227,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     scene.bulkModulus_Pa = effects.number("volume_term_kpa", 0.0, 0.0, false) * 1000.0;
     scene.springLaw = effects.string("spring_law", "eesm");
     scene.stiffnessScale = effects.number("stiffness_scale", 0.0, 0.0, false);
-    if (scene.springLaw != "eesm" && scene.springLaw != "eesm-paper" && scene.springLaw != "smm") {
+    if (!springLawNamed(scene.springLaw)) {
       effects.fail("effects.spring_law",
                    "= \"" + scene.springLaw + "\"; expected eesm, eesm-paper or smm");
     }

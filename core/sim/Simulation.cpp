@@ -9,8 +9,7 @@
 #include "analysis/TensileTest.h"
 #include "analysis/UniaxialTest.h"
 #include "integrators/ImplicitEulerSolver.h"
-#include "integrators/QuasiNewtonSolver.h"
-#include "integrators/SymplecticEulerSolver.h"
+#include "integrators/IntegratorChoice.h"
 #include "material/TissueFile.h"
 
 namespace tissuesim {
@@ -65,6 +64,22 @@ void Simulation::setGravity(const Eigen::Vector3d& gravity_m_s2) {
 }
 Eigen::Vector3d Simulation::gravity() const { return m_system->gravity.acceleration_m_s2; }
 
+IntegratorSettings realTimeIntegratorSettings(const SceneDescription& scene) {
+  IntegratorSettings settings;
+  settings.massDamping_1_s = scene.massDamping_1_s;
+  settings.maxIterations = scene.newtonIterations;
+  settings.linearTolerance = scene.linearTolerance;
+  settings.forceTolerance_N = 1e-6;
+  // A step whose budget leaves a residual that counts as an event takes up to four more
+  // iterations first: few steps need them (a poke's hardest moments: the tissue springing back
+  // against the retreating tool, contacts coming and going within the step), and they stay in
+  // budget. With two, contact on the drawn surface left 16 such steps on the bundled poke
+  // (residuals of 1.5-300 mN as the liver rebounded from 7 N); with four, none.
+  settings.extraIterations = kExtraNewtonIterations;
+  settings.extraIterationResidual_N = kUnconvergedResidual_N;
+  return settings;
+}
+
 void Simulation::buildPhysics(const TissueParameters& parameters) {
   const SceneDescription& scene = m_scene;
   // What can refuse the tissue is built first, aside: if it throws, the running physics is
@@ -105,17 +120,10 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   } else {
     m_springMesh = std::make_unique<SpringMesh>(std::move(springMesh));
   }
-  const SpringLaw law = scene.springLaw == "eesm-paper" ? SpringLaw::EesmPaper
-                        : scene.springLaw == "smm"      ? SpringLaw::Smm
-                                                        : SpringLaw::Eesm;
-  // smm's one stiffness: the least-squares fit to the continuum over the paper's cycles, fitted
-  // only when the scene asks for that law (start-up does no work a scene does not need).
-  double linearModulus = 0.0;
-  if (law == SpringLaw::Smm) {
-    const UniaxialTest continuum(*m_energy, *m_table);
-    linearModulus = UniaxialTest::fitLinearModulus(
-        continuum.run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
-  }
+  const SpringLaw law = springLawNamed(scene.springLaw).value_or(SpringLaw::Eesm);
+  // smm's one stiffness is fitted only when the scene asks for that law (start-up does no work a
+  // scene does not need).
+  const double linearModulus = UniaxialTest::springLawLinearModulus(law, *m_energy, *m_table);
   m_law = std::make_unique<SpringForceLaw>(law, *m_table, *m_parameters, linearModulus,
                                            scene.isSoftening);
   m_springs = std::make_unique<SpringForceField>(*m_springMesh, *m_law);
@@ -133,26 +141,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   if (m_tray) m_system->contacts.reserve(256 + static_cast<std::size_t>(m_tray->pointCount()));
   for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);
 
-  IntegratorSettings settings;
-  settings.massDamping_1_s = scene.massDamping_1_s;
-  settings.maxIterations = scene.newtonIterations;
-  settings.linearTolerance = scene.linearTolerance;
-  settings.forceTolerance_N = 1e-6;
-  // A step whose budget leaves a residual that counts as an event takes up to four more
-  // iterations first: few steps need them (a poke's hardest moments: the tissue springing back
-  // against the retreating tool, contacts coming and going within the step), and they stay in
-  // budget. With two, contact on the drawn surface left 16 such steps on the bundled poke
-  // (residuals of 1.5-300 mN as the liver rebounded from 7 N); with four, none.
-  settings.extraIterations = kExtraNewtonIterations;
-  settings.extraIterationResidual_N = kUnconvergedResidual_N;
-  if (scene.integrator == "explicit") {
-    m_integrator = std::make_unique<SymplecticEulerSolver>(settings);
-  } else if (scene.integrator == "quasi-newton") {
-    m_integrator = std::make_unique<QuasiNewtonSolver>(settings);
-  } else {
-    m_integrator =
-        std::make_unique<ImplicitEulerSolver>(settings, LinearSolverKind::ConjugateGradient);
-  }
+  m_integrator = makeIntegrator(scene.integrator, realTimeIntegratorSettings(scene));
   if (scene.instrument) {
     // The grasper reaches surface nodes within two shaft radii of the tip.
     const Eigen::Matrix3Xi faces = boundaryFaces(m_geometry.mesh);

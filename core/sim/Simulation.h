@@ -39,6 +39,10 @@ struct InstabilityEvent {
   std::string detail;
 };
 
+/// The integrator settings a scene's physics block gives, with the real-time step's extra
+/// iterations (a step that would leave a residual counted as an event takes a few more first).
+IntegratorSettings realTimeIntegratorSettings(const SceneDescription& scene);
+
 /// An event kind in a few words for a status line ("inverted tets"); the kind itself when unknown.
 const char* eventKindWords(const char* kind);
 

@@ -4,6 +4,25 @@
 
 namespace tissuesim {
 
+const char* springLawName(SpringLaw law) {
+  switch (law) {
+    case SpringLaw::Eesm:
+      return "eesm";
+    case SpringLaw::EesmPaper:
+      return "eesm-paper";
+    case SpringLaw::Smm:
+      return "smm";
+  }
+  return "eesm";
+}
+
+std::optional<SpringLaw> springLawNamed(std::string_view name) {
+  for (const SpringLaw law : {SpringLaw::Eesm, SpringLaw::EesmPaper, SpringLaw::Smm}) {
+    if (name == springLawName(law)) return law;
+  }
+  return std::nullopt;
+}
+
 SpringForceLaw::SpringForceLaw(SpringLaw law, const StiffnessTable& table,
                                const TissueParameters& parameters, double linearModulus_Pa,
                                bool isSoftening)

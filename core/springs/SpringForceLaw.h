@@ -22,6 +22,8 @@
 // further stretch, and the evaluation says so (isBeyondRange) so the caller can report it.
 
 #include <algorithm>
+#include <optional>
+#include <string_view>
 
 #include "material/StiffnessTable.h"
 #include "material/StressSoftening.h"
@@ -29,6 +31,11 @@
 namespace tissuesim {
 
 enum class SpringLaw { Eesm, EesmPaper, Smm };
+
+/// The laws' names in scene files and on the command line: eesm, eesm-paper, smm.
+const char* springLawName(SpringLaw law);
+/// The law of that name; nullopt for any other.
+std::optional<SpringLaw> springLawNamed(std::string_view name);
 
 struct SpringStress {
   double stress;       ///< P (Pa)
