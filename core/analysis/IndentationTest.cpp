@@ -9,11 +9,15 @@
 #include <stdexcept>
 
 #include "analysis/TensileTest.h"
+#include "analysis/UniaxialTest.h"
 #include "fem/FemModel.h"
 #include "fem/FemStaticSolver.h"
 #include "fem/QuadraticTetMesh.h"
+#include "fem/QuadraticTetShape.h"
 #include "forces/CapsulePenalty.h"
+#include "integrators/IntegratorChoice.h"
 #include "mesh/BlockMesher.h"
+#include "mesh/TetLocator.h"
 #include "springs/SpringMesh.h"
 #include "system/NewtonSolver.h"
 
@@ -100,7 +104,8 @@ IndentationCurve indentFem(const StrainEnergy& energy, const IndentationSetup& s
   std::vector<double> zs = gradedLine(size.z(), finest);  // from the top down
   for (double& z : zs) z = size.z() - z;
   std::reverse(zs.begin(), zs.end());
-  const QuadraticTetMesh mesh = makeQuadraticTetMesh(makeRectilinearMesh(xs, ys, zs));
+  const TetMesh corners = makeRectilinearMesh(xs, ys, zs);
+  const QuadraticTetMesh mesh = makeQuadraticTetMesh(corners);
   FemModel model(mesh, energy, bulkModulus_Pa);
 
   std::vector<char> isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0);
@@ -141,38 +146,50 @@ IndentationCurve indentFem(const StrainEnergy& energy, const IndentationSetup& s
         return report.converged;
       },
       force);
+  // The top face's displacement: each sample located among the corner tets (the quadratic
+  // tets' straight-edged geometry), interpolated by the quadratic shape functions.
+  const TetLocator locator(corners);
+  for (const Eigen::Vector2d& offset : setup.surfaceSamples_m) {
+    const TetLocation location = locator.locate(Eigen::Vector3d(offset.x(), offset.y(), size.z()));
+    const Eigen::Matrix<double, 10, 1> shape = quadraticTetShapeValues(location.weights);
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 10; ++a) {
+      const int node = mesh.tets(a, location.tet);
+      u += shape(a) * (x.col(node) - mesh.nodes_m.col(node));
+    }
+    curve.surfaceDisplacement_m.push_back(u);
+  }
   curve.seconds = secondsSince(start);
   return curve;
 }
 
-IndentationCurve indentSprings(const StrainEnergy& energy, const StiffnessTable& table,
-                               const IndentationSetup& setup, int targetSprings,
-                               double bulkModulus_Pa) {
+double indentationCellEdge(const IndentationSetup& setup, int targetSprings) {
   if (targetSprings < 100) throw std::invalid_argument("at least 100 springs");
-  const auto start = std::chrono::steady_clock::now();
-  const Eigen::Vector3d& size = setup.size_m;
-  // A Kuhn cell has about 7 springs (3 edges, 3 face diagonals, 1 body diagonal); cubic cells.
-  const double cell = std::cbrt(size.prod() * 7.0 / targetSprings);
-  const Eigen::Vector3i cells(std::max(1, static_cast<int>(std::lround(size.x() / cell))),
-                              std::max(1, static_cast<int>(std::lround(size.y() / cell))),
-                              std::max(1, static_cast<int>(std::lround(size.z() / cell))));
-  const TissueParameters& parameters = energy.parameters();
-  const TetMesh tetMesh = makeBlockMesh(size, cells);
-  SpringMesh mesh = buildSpringMesh(tetMesh, parameters.density_kg_m3);
-  // The simulator's calibration (Simulation::buildPhysics).
-  mesh.volume_m3 *= TensileTest(energy, table, TensileSpecimen{})
-                        .smallStrainCalibration(energy.initialShearModulus());
-  const SpringForceLaw law(SpringLaw::Eesm, table, parameters, 0.0, /*isSoftening=*/false);
-  SpringForceField springs(mesh, law);
+  // A Kuhn cell has about 7 springs (3 edges, 3 face diagonals, 1 body diagonal).
+  return std::cbrt(setup.size_m.prod() * 7.0 / targetSprings);
+}
+
+namespace {
+
+/// The block's network and its probe, held together: the system refers to the rest.
+struct BlockNetwork {
+  TetMesh tetMesh;
+  SpringMesh mesh;
+  std::unique_ptr<SpringForceLaw> law;
+  std::unique_ptr<SpringForceField> springs;
   std::unique_ptr<VolumeForceField> volume;
-  if (bulkModulus_Pa > 0.0) volume = std::make_unique<VolumeForceField>(mesh, bulkModulus_Pa);
-  MechanicalSystem system(springs, volume.get());
-  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
-    if (mesh.restPositions_m(2, i) < kOnPlane_m) system.fixNode(static_cast<int>(i));
-  }
-  // The top face's triangles near the probe, sampled as the simulator's contacts sample its
-  // drawn surface: points of the triangles, their forces shared by barycentric weights. (The
-  // nodes alone let the probe pass between them on a coarse lattice.)
+  std::unique_ptr<MechanicalSystem> system;
+  std::unique_ptr<CapsulePenalty> probe;
+  Eigen::Vector2d axis_m = Eigen::Vector2d::Zero();
+};
+
+/// The top face's triangles near the probe's axis, sampled as the simulator's contacts sample
+/// its drawn surface: points of the triangles, their forces shared by barycentric weights, each
+/// with the stiffness of its share of the face. (The nodes alone let the probe pass between
+/// them on a coarse lattice.)
+std::vector<CapsulePenalty::Point> sampledTopFace(const TetMesh& tetMesh,
+                                                  const IndentationSetup& setup) {
+  const Eigen::Vector3d& size = setup.size_m;
   const Eigen::Vector2d axis(0.5 * size.x(), 0.5 * size.y());
   std::vector<CapsulePenalty::Point> points;
   const Eigen::Matrix3Xi faces = boundaryFaces(tetMesh);
@@ -201,28 +218,203 @@ IndentationCurve indentSprings(const StrainEnergy& energy, const StiffnessTable&
       }
     }
   }
-  CapsulePenalty probe(std::move(points));
-  probe.radius_m = setup.probeRadius_m;
-  system.addField(probe);
+  return points;
+}
 
+/// The sampled top face's points as contacts frozen for a step (sampledTopFaceContact).
+class SampledTopFaceContact final : public ContactProvider {
+ public:
+  SampledTopFaceContact(std::vector<CapsulePenalty::Point> points, double radius_m)
+      : m_points(std::move(points)), m_radius_m(radius_m) {}
+
+  void findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
+                    PenaltyContactSet& contacts) override {
+    // The axis: from the tip's hemisphere centre back along the shaft.
+    const Eigen::Vector3d a = pose.tip_m - m_radius_m * pose.direction;
+    const Eigen::Vector3d b = a - kShaft_m * pose.direction;
+    for (const CapsulePenalty::Point& point : m_points) {
+      PenaltyContact contact;
+      for (std::size_t k = 0; k < 3; ++k) {
+        contact.nodes[k] = point.nodes[k];
+        contact.weights[static_cast<Eigen::Index>(k)] = point.weights[static_cast<Eigen::Index>(k)];
+      }
+      contact.nodes[3] = point.nodes[0];
+      const Eigen::Vector3d p = contact.point(x);
+      const double along = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector3d c = a + along * (b - a);
+      const double distance = (p - c).norm();
+      if (!(distance < 1.5 * m_radius_m) || distance == 0.0) continue;
+      const Eigen::Vector3d u = (p - c) / distance;
+      // |p - c| >= r along u: -u . p <= -u . c - r.
+      contact.normal = -u;
+      contact.offset_m = -u.dot(c) - m_radius_m;
+      contact.stiffness_N_m = point.stiffness_N_m;
+      contacts.add(contact);
+    }
+  }
+
+ private:
+  static constexpr double kShaft_m = 0.3;
+  std::vector<CapsulePenalty::Point> m_points;
+  double m_radius_m;
+};
+
+/// With `withProbe`, the probe's penalty on the sampled top face as a field of the system.
+std::unique_ptr<BlockNetwork> makeBlockNetwork(const StrainEnergy& energy,
+                                               const StiffnessTable& table,
+                                               const IndentationSetup& setup,
+                                               const IndentationNetwork& settings, bool withProbe) {
+  if (!(settings.cellEdge_m > 0.0)) throw std::invalid_argument("the cell edge must be > 0");
+  const Eigen::Vector3d& size = setup.size_m;
+  Eigen::Vector3i cells;
+  for (int axis = 0; axis < 3; ++axis) {
+    const long count = std::lround(size(axis) / settings.cellEdge_m);
+    if (count > kIndentationMaxCells)
+      throw std::invalid_argument("the cell edge is too small for the block");
+    cells(axis) = static_cast<int>(std::max(1L, count));
+  }
+  const TissueParameters& parameters = energy.parameters();
+  auto network = std::make_unique<BlockNetwork>();
+  network->tetMesh = makeBlockMesh(size, cells);
+  network->mesh = buildSpringMesh(network->tetMesh, parameters.density_kg_m3);
+  // The simulator's calibration (Simulation::buildPhysics).
+  network->mesh.volume_m3 *= TensileTest(energy, table, TensileSpecimen{})
+                                 .smallStrainCalibration(energy.initialShearModulus());
+  network->law = std::make_unique<SpringForceLaw>(
+      settings.law, table, parameters,
+      UniaxialTest::springLawLinearModulus(settings.law, energy, table), /*isSoftening=*/false);
+  network->springs = std::make_unique<SpringForceField>(network->mesh, *network->law);
+  if (settings.bulkModulus_Pa > 0.0)
+    network->volume = std::make_unique<VolumeForceField>(network->mesh, settings.bulkModulus_Pa);
+  network->system = std::make_unique<MechanicalSystem>(*network->springs, network->volume.get());
+  for (Eigen::Index i = 0; i < network->mesh.nodeCount(); ++i) {
+    if (network->mesh.restPositions_m(2, i) < kOnPlane_m)
+      network->system->fixNode(static_cast<int>(i));
+  }
+  network->axis_m = Eigen::Vector2d(0.5 * size.x(), 0.5 * size.y());
+  if (!withProbe) return network;
+  network->probe = std::make_unique<CapsulePenalty>(sampledTopFace(network->tetMesh, setup));
+  network->probe->radius_m = setup.probeRadius_m;
+  network->system->addField(*network->probe);
+  return network;
+}
+
+/// The network's top-face displacement at the setup's samples (m), positions x.
+std::vector<Eigen::Vector3d> networkSurfaceDisplacement(const BlockNetwork& network,
+                                                        const IndentationSetup& setup,
+                                                        const Eigen::Matrix3Xd& x) {
+  const TetLocator locator(network.tetMesh);
+  std::vector<Eigen::Vector3d> displacement;
+  for (const Eigen::Vector2d& offset : setup.surfaceSamples_m) {
+    const Eigen::Vector2d at = network.axis_m + offset;
+    const TetLocation location = locator.locate(Eigen::Vector3d(at.x(), at.y(), setup.size_m.z()));
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) {
+      const int node = network.tetMesh.tets(k, location.tet);
+      u += location.weights(k) * (x.col(node) - network.mesh.restPositions_m.col(node));
+    }
+    displacement.push_back(u);
+  }
+  return displacement;
+}
+
+}  // namespace
+
+IndentationCurve indentSprings(const StrainEnergy& energy, const StiffnessTable& table,
+                               const IndentationSetup& setup, const IndentationNetwork& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::unique_ptr<BlockNetwork> network =
+      makeBlockNetwork(energy, table, setup, settings, true);
+  CapsulePenalty& probe = *network->probe;
   IndentationCurve curve;
-  curve.nodes = static_cast<int>(mesh.nodeCount());
-  curve.elements = static_cast<int>(mesh.springCount());
+  curve.nodes = static_cast<int>(network->mesh.nodeCount());
+  curve.elements = static_cast<int>(network->mesh.springCount());
   NewtonSolver newton(LinearSolverKind::Cholesky);
-  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  Eigen::Matrix3Xd x = network->mesh.restPositions_m;
   const auto force = [&] { return probe.reaction(x).z(); };
   load(
-      setup, size.z(), axis, probe, curve,
+      setup, setup.size_m.z(), network->axis_m, probe, curve,
       [&] {
         const Eigen::Matrix3Xd previous = x;
-        const NewtonReport report =
-            newton.solve(system, x, previous, 0.0, 0.0, 200, 1e-9 * std::max(1.0, force()));
+        const NewtonReport report = newton.solve(*network->system, x, previous, 0.0, 0.0, 200,
+                                                 1e-9 * std::max(1.0, force()));
         curve.worstResidual_N = std::max(curve.worstResidual_N, report.residual_N);
         return report.converged;
       },
       force);
+  curve.surfaceDisplacement_m = networkSurfaceDisplacement(*network, setup, x);
   curve.seconds = secondsSince(start);
   return curve;
+}
+
+IndentationContactFactory sampledTopFaceContact(const IndentationSetup& setup) {
+  return [setup](const TetMesh& block) -> std::unique_ptr<ContactProvider> {
+    return std::make_unique<SampledTopFaceContact>(sampledTopFace(block, setup),
+                                                   setup.probeRadius_m);
+  };
+}
+
+IndentationCurve indentSpringsAtPace(const StrainEnergy& energy, const StiffnessTable& table,
+                                     const IndentationSetup& setup,
+                                     const IndentationNetwork& settings,
+                                     const IndentationPace& pace,
+                                     const IndentationContactFactory& makeContact) {
+  if (!(pace.speed_m_s > 0.0) || !(pace.timeStep_s > 0.0))
+    throw std::invalid_argument("the pace's speed and time step must be > 0");
+  if (setup.depths_m.empty()) throw std::invalid_argument("no indentation depths");
+  const auto start = std::chrono::steady_clock::now();
+  const std::unique_ptr<BlockNetwork> network =
+      makeBlockNetwork(energy, table, setup, settings, false);
+  const std::unique_ptr<TimeIntegrator> integrator = makeIntegrator(pace.integrator, pace.settings);
+  const std::unique_ptr<ContactProvider> contact = makeContact(network->tetMesh);
+  MechanicalSystem& system = *network->system;
+  IndentationCurve curve;
+  curve.nodes = static_cast<int>(network->mesh.nodeCount());
+  curve.elements = static_cast<int>(network->mesh.springCount());
+  MechanicalState state = system.restState();
+  const double stepDepth_m = pace.speed_m_s * pace.timeStep_s;
+  const auto steps = static_cast<long>(std::ceil(setup.depths_m.back() / stepDepth_m - 1e-9));
+  InstrumentPose pose;   // axis vertical, tip down
+  std::size_t next = 0;  // the next depth to record
+  double previousDepth = 0.0;
+  double previousForce = 0.0;
+  for (long n = 1; n <= steps; ++n) {
+    const double depth = std::min(static_cast<double>(n) * stepDepth_m, setup.depths_m.back());
+    // The pose's tip is the instrument's lowest point (its hemisphere's centre is a radius up).
+    pose.tip_m =
+        Eigen::Vector3d(network->axis_m.x(), network->axis_m.y(), setup.size_m.z() - depth);
+    system.contacts.clear();
+    contact->findContacts(state.x, pose, system.contacts);
+    const StepReport report = integrator->step(system, state, pace.timeStep_s);
+    if (report.refused || !report.isFinite) ++curve.failedSteps;
+    if (!report.converged) ++curve.unconvergedPoints;
+    curve.worstResidual_N = std::max(curve.worstResidual_N, report.residual_N);
+    // What the simulator reports as the tool's force (Simulation::step).
+    Eigen::Vector3d toolForce_N = system.contacts.reaction(state.x, pose.tip_m).toolForce_N;
+    if (report.toolImpulse_Ns && report.isFinite)
+      toolForce_N = *report.toolImpulse_Ns / pace.timeStep_s;
+    const double force = toolForce_N.z();
+    while (next < setup.depths_m.size() && setup.depths_m[next] <= depth + 1e-12) {
+      const double share = (setup.depths_m[next] - previousDepth) / (depth - previousDepth);
+      curve.force_N.push_back(previousForce + share * (force - previousForce));
+      ++next;
+    }
+    previousDepth = depth;
+    previousForce = force;
+  }
+  curve.surfaceDisplacement_m = networkSurfaceDisplacement(*network, setup, state.x);
+  curve.seconds = secondsSince(start);
+  return curve;
+}
+
+std::vector<Eigen::Vector2d> IndentationSetup::defaultSurfaceSamples() {
+  std::vector<Eigen::Vector2d> samples;
+  const Eigen::Vector2d diagonal = Eigen::Vector2d(1.0, 1.0).normalized();
+  for (int r = 0; r <= 15; ++r) {
+    samples.emplace_back(1e-3 * r, 0.0);
+    if (r > 0) samples.push_back(1e-3 * r * diagonal);
+  }
+  return samples;
 }
 
 }  // namespace tissuesim

@@ -15,12 +15,19 @@
 // is a converged static equilibrium (Newton; the FEM with its exact Hessian). Monotonic loading:
 // softening plays no part.
 
+#include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "integrators/TimeIntegrator.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
+#include "mesh/TetMesh.h"
+#include "sim/ContactProvider.h"
+#include "springs/SpringForceLaw.h"
 
 namespace tissuesim {
 
@@ -30,6 +37,12 @@ struct IndentationSetup {
   std::vector<double> depths_m{0.002, 0.004};  ///< increasing, each > 0
   double depthStep_m = 0.0005;                 ///< the largest increment between solves
   double pressureStiffness_Pa_m = 1e11;        ///< the probe's penalty per unit area
+  /// Where the top face's displacement is compared at the last depth: offsets (m) in the top
+  /// face from the probe's axis, in the quarter x, y >= 0 (the FEM's).
+  std::vector<Eigen::Vector2d> surfaceSamples_m = defaultSurfaceSamples();
+
+  /// Every 1 mm out to 15 mm from the axis, along x and along the diagonal.
+  static std::vector<Eigen::Vector2d> defaultSurfaceSamples();
 };
 
 struct IndentationCurve {
@@ -39,6 +52,25 @@ struct IndentationCurve {
   int unconvergedPoints = 0;
   double worstResidual_N = 0.0;  ///< the largest net force left on a free DOF at a solve's end
   double seconds = 0.0;
+  /// The top face's displacement at the setup's surface samples, at the last depth (m).
+  std::vector<Eigen::Vector3d> surfaceDisplacement_m;
+  int failedSteps = 0;  ///< at a pace: steps refused or not finite (their state not advanced)
+};
+
+/// The spring network's knobs: its lattice's cube edge, its law and its volume term.
+struct IndentationNetwork {
+  double cellEdge_m = 0.005;
+  SpringLaw law = SpringLaw::Eesm;
+  double bulkModulus_Pa = 0.0;  ///< 0: no volume term
+};
+
+/// The pace of a poke at a scene's speed: the probe descends at speed_m_s from the top face,
+/// the network stepped by the named integrator (integrators/IntegratorChoice.h) at timeStep_s.
+struct IndentationPace {
+  std::string integrator = "implicit";
+  IntegratorSettings settings;
+  double speed_m_s = 0.04;
+  double timeStep_s = 1e-3;
 };
 
 inline constexpr double kIndentationGrowth = 1.3;
@@ -48,10 +80,33 @@ inline constexpr double kIndentationCoarsest_m = 0.008;
 IndentationCurve indentFem(const StrainEnergy& energy, const IndentationSetup& setup,
                            int refinement, double bulkModulus_Pa);
 
-/// The spring network of about `targetSprings` springs (>= 100), with the volume term of
-/// `bulkModulus_Pa` (0: none).
+/// The cube edge (m) of the block's lattice of about `targetSprings` springs (>= 100).
+double indentationCellEdge(const IndentationSetup& setup, int targetSprings);
+
+/// The spring network (cubes of network.cellEdge_m, at most kIndentationMaxCells a side),
+/// each depth a static equilibrium.
 IndentationCurve indentSprings(const StrainEnergy& energy, const StiffnessTable& table,
-                               const IndentationSetup& setup, int targetSprings,
-                               double bulkModulus_Pa);
+                               const IndentationSetup& setup, const IndentationNetwork& network);
+inline constexpr int kIndentationMaxCells = 120;
+
+/// The instrument's contact with the block's network, made for its tet mesh at rest (which
+/// outlives it): the simulator's own (collision/CapsuleContact) where the caller has it.
+using IndentationContactFactory =
+    std::function<std::unique_ptr<ContactProvider>(const TetMesh& block)>;
+
+/// The probe's penalty on the sampled top face (what the static solves use), as contacts frozen
+/// for a step: each sampled point near the capsule held out of it along the line from the
+/// axis, with the point's own stiffness. For tests of the paced poke without the collision layer.
+IndentationContactFactory sampledTopFaceContact(const IndentationSetup& setup);
+
+/// The same network poked at `pace`, as the simulator steps a scene: each step the contacts
+/// found by `makeContact`'s provider at the step's start, then one integrator step. The force
+/// on the probe as it passes each depth (interpolated between steps; where the integrator
+/// applies contacts as impulses, their mean over the step), and the top face's displacement at
+/// the step that reaches the last depth.
+IndentationCurve indentSpringsAtPace(const StrainEnergy& energy, const StiffnessTable& table,
+                                     const IndentationSetup& setup,
+                                     const IndentationNetwork& network, const IndentationPace& pace,
+                                     const IndentationContactFactory& makeContact);
 
 }  // namespace tissuesim

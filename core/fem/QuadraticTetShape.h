@@ -47,6 +47,15 @@ inline std::array<TetQuadraturePoint, 5> tetQuadratureDegree3() {
            {{s, s, h}, 3.0 / 40.0}}};
 }
 
+/// The ten shape functions' values at the barycentric coordinates l (L0 .. L3, summing to 1).
+inline Eigen::Matrix<double, 10, 1> quadraticTetShapeValues(const Eigen::Vector4d& l) {
+  Eigen::Matrix<double, 10, 1> values;
+  for (int i = 0; i < 4; ++i) values(i) = l(i) * (2.0 * l(i) - 1.0);
+  for (int e = 0; e < 6; ++e)
+    values(4 + e) = 4.0 * l(kQuadraticTetEdges[e][0]) * l(kQuadraticTetEdges[e][1]);
+  return values;
+}
+
 /// dN/dxi of the ten shape functions at xi (10 by 3, row a: node a's gradient).
 inline Eigen::Matrix<double, 10, 3> quadraticTetShapeGradients(const Eigen::Vector3d& xi) {
   const std::array<double, 4> l = {1.0 - xi.sum(), xi.x(), xi.y(), xi.z()};
