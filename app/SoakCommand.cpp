@@ -1,12 +1,9 @@
 #include "SoakCommand.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
@@ -17,6 +14,7 @@
 #include "AssetPaths.h"
 #include "CommandError.h"
 #include "OutputFile.h"
+#include "ProcessMemory.h"
 #include "SceneSession.h"
 #include "sim/RandomSession.h"
 #include "sim/Simulation.h"
@@ -40,14 +38,6 @@ struct SoakOptions {
   double window_s = 10.0;
   std::string reportPath;
 };
-
-/// The process's resident memory (bytes), from /proc/self/statm; 0 where there is none.
-double residentBytes() {
-  std::ifstream statm("/proc/self/statm");
-  long pages = 0, resident = 0;
-  if (!(statm >> pages >> resident)) return 0.0;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE));
-}
 
 /// What one window of simulated time showed.
 struct Window {

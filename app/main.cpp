@@ -17,6 +17,7 @@
 #include "SnapshotCommand.h"
 #include "SoakCommand.h"
 #include "TensileCommand.h"
+#include "TradeCommand.h"
 #include "UniaxialCommand.h"
 
 int main(int argc, char** argv) {
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   tissuesim::app::registerTensileCommand(app);
   tissuesim::app::registerFitCommand(app);
   tissuesim::app::registerIndentCommand(app);
+  tissuesim::app::registerTradeCommand(app);
   tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerRunCommand(app);
   tissuesim::app::registerSnapshotCommand(app);

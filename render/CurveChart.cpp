@@ -8,6 +8,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
+#include <vtkPlotPoints.h>
 #include <vtkRenderer.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
@@ -37,7 +38,7 @@ CurveChart::~CurveChart() = default;
 void CurveChart::setSeries(const std::vector<ChartSeries>& series) {
   m_chart->ClearPlots();
   for (const ChartSeries& line : series) {
-    if (line.x.size() < 2 || line.x.size() != line.y.size()) continue;
+    if (line.x.size() < (line.isPoints ? 1u : 2u) || line.x.size() != line.y.size()) continue;
     auto table = vtkSmartPointer<vtkTable>::New();
     auto x = vtkSmartPointer<vtkDoubleArray>::New();
     x->SetName("x");
@@ -50,15 +51,31 @@ void CurveChart::setSeries(const std::vector<ChartSeries>& series) {
       table->SetValue(static_cast<vtkIdType>(i), 0, line.x[i]);
       table->SetValue(static_cast<vtkIdType>(i), 1, line.y[i]);
     }
-    vtkPlot* plot = m_chart->AddPlot(vtkChart::LINE);
+    vtkPlot* plot = m_chart->AddPlot(line.isPoints ? vtkChart::POINTS : vtkChart::LINE);
     plot->SetInputData(table, 0, 1);
     plot->SetColor(line.rgb[0], line.rgb[1], line.rgb[2], 255);
     plot->SetWidth(line.width);
+    if (line.isPoints) vtkPlotPoints::SafeDownCast(plot)->SetMarkerSize(4.0f * line.width);
     if (line.isDashed) plot->GetPen()->SetLineType(vtkPen::DASH_LINE);
   }
   m_chart->RecalculateBounds();
 }
 
 void CurveChart::setLegend(bool isShown) { m_chart->SetShowLegend(isShown); }
+
+void CurveChart::setRanges(double xMin, double xMax, double yMin, double yMax) {
+  vtkAxis* x = m_chart->GetAxis(vtkAxis::BOTTOM);
+  vtkAxis* y = m_chart->GetAxis(vtkAxis::LEFT);
+  x->SetBehavior(vtkAxis::FIXED);
+  y->SetBehavior(vtkAxis::FIXED);
+  x->SetUnscaledRange(xMin, xMax);
+  y->SetUnscaledRange(yMin, yMax);
+}
+
+void CurveChart::setLogScale(bool isLogX, bool isLogY) {
+  m_chart->GetAxis(vtkAxis::BOTTOM)->SetLogScale(isLogX);
+  m_chart->GetAxis(vtkAxis::LEFT)->SetLogScale(isLogY);
+  m_chart->RecalculateBounds();
+}
 
 }  // namespace tissuesim

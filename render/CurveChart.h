@@ -24,6 +24,7 @@ struct ChartSeries {
   std::array<unsigned char, 3> rgb{0, 0, 0};
   bool isDashed = false;
   float width = 2.0f;
+  bool isPoints = false;  ///< markers at the points (one point is enough), no line
 };
 
 class CurveChart {
@@ -33,9 +34,13 @@ class CurveChart {
   CurveChart(const CurveChart&) = delete;
   CurveChart& operator=(const CurveChart&) = delete;
 
-  /// Replaces every line. Series with fewer than two points are skipped.
+  /// Replaces every line. Lines with fewer than two points, and empty series, are skipped.
   void setSeries(const std::vector<ChartSeries>& series);
   void setLegend(bool isShown);
+  /// Logarithmic axes (every value drawn on such an axis must be > 0).
+  void setLogScale(bool isLogX, bool isLogY);
+  /// Fixed axis ranges, in data units (on a log axis too), instead of the data's own bounds.
+  void setRanges(double xMin, double xMax, double yMin, double yMax);
 
   vtkRenderer* renderer() const { return m_renderer; }
   vtkChartXY* chart() const { return m_chart; }

@@ -1,0 +1,218 @@
+#include "TradeCommand.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "AssetPaths.h"
+#include "CommandError.h"
+#include "LoadedTissue.h"
+#include "OutputFile.h"
+#include "sim/SceneFile.h"
+#include "trade/TradeGrid.h"
+#include "trade/TradeOutput.h"
+
+namespace tissuesim::app {
+namespace {
+
+struct TradeOptions {
+  bool isQuick = false;
+  std::string outputFolder = ".";
+  std::string scenePath;
+  std::vector<int> springs;
+  std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0};
+};
+
+/// One line a task on stderr: a bar of the share done, the count, what runs now.
+class ProgressBar {
+ public:
+  explicit ProgressBar(int total) : m_total(total) {}
+  void start(const std::string& what) {
+    constexpr int kWidth = 24;
+    const int filled = m_total > 0 ? kWidth * m_done / m_total : kWidth;
+    std::fprintf(stderr, "trade [%s%s] %2d/%d  %s\n", std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, '.').c_str(), m_done + 1, m_total, what.c_str());
+    ++m_done;
+  }
+
+ private:
+  int m_total;
+  int m_done = 0;
+};
+
+TradeSettings settingsFor(const TradeOptions& options) {
+  TradeSettings settings;
+  settings.isQuick = options.isQuick;
+  settings.resolutions = options.isQuick ? std::vector<int>{1000, 5300, 20000}
+                                         : std::vector<int>{1000, 5300, 20000, 100000};
+  if (!options.springs.empty()) settings.resolutions = options.springs;
+  for (const int count : settings.resolutions) {
+    if (count < 200 || count > 200000)
+      throw CommandError("--springs " + std::to_string(count) +
+                         " is out of range; expected 200 to 200000");
+  }
+  double last = 0.0;
+  for (const double depth : options.depths_mm) {
+    // Past about 4.5 mm the continuum under the 2.5 mm probe reaches the chains' locking
+    // stretch: the FEM has no equilibrium to compare with (docs/performance.md).
+    if (!(depth > last) || depth > 4.5)
+      throw CommandError("--depths-mm must increase, each in (0, 4.5] mm");
+    settings.depths_m.push_back(depth / 1000.0);
+    last = depth;
+  }
+  settings.referenceRefinement = options.isQuick ? 1 : 3;
+  if (!options.isQuick) settings.femRows = {1, 2};
+  settings.tensileResolution = options.isQuick ? 1 : 2;
+  settings.tensilePoints = options.isQuick ? 10 : 25;
+  settings.costRounds = options.isQuick ? 2 : 3;
+  return settings;
+}
+
+/// An FEM row: a coarser reference, its error against the finest and its time per load step.
+void measureFemRow(const LoadedTissue& tissue, const TradeMap& map, const TradeRow& row,
+                   TradeMeasurement& m) {
+  const TradeReference fem = measureReference(tissue, map.settings, row.femRefinement);
+  m.nodes = fem.nodes;
+  m.staticForce_N = fem.force_N;
+  const double loadSteps =
+      std::ceil(map.settings.depths_m.back() / IndentationSetup{}.depthStep_m - 1e-9);
+  m.stepMedian_ms = 1e3 * fem.seconds / std::max(1.0, loadSteps);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < fem.surfaceDisplacement_m.size(); ++i) {
+    const double gap =
+        (fem.surfaceDisplacement_m[i] - map.reference.surfaceDisplacement_m[i]).norm();
+    sum += gap * gap;
+    m.surfaceMax_mm = std::max(m.surfaceMax_mm, 1e3 * gap);
+  }
+  m.surfaceRms_mm =
+      1e3 *
+      std::sqrt(sum / std::max<double>(1.0, static_cast<double>(fem.surfaceDisplacement_m.size())));
+}
+
+void runTrade(const TradeOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  TradeMap map;
+  map.settings = settingsFor(options);
+  const std::filesystem::path folder(options.outputFolder);
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error) {
+    throw CommandError("--output " + options.outputFolder + ": cannot create the folder (" +
+                       error.message() + ")");
+  }
+  const std::string csvPath = (folder / "tradeoff.csv").string();
+  const std::string mdPath = (folder / "tradeoff.md").string();
+  const std::string pngPath = (folder / "tradeoff.png").string();
+  for (const std::string& path : {csvPath, mdPath, pngPath}) checkOutputWritable(path, "--output");
+
+  SceneDescription bundled;
+  try {
+    bundled = loadSceneFile(options.scenePath);
+  } catch (const SceneFileError& failure) {
+    throw CommandError(failure.what());
+  }
+  const LoadedTissue tissue(bundled.tissue.string());
+  map.tissueName = tissue.parameters.name;
+  map.sceneName = bundled.name;
+  map.rows = tradeRows(bundled, map.settings);
+  TradeErrors errors(tissue, bundled, map.settings);
+
+  int springRows = 0;
+  for (const TradeRow& row : map.rows) springRows += row.femRefinement > 0 ? 0 : 1;
+  const int rounds = map.settings.costRounds;
+  ProgressBar progress(1 + static_cast<int>(map.rows.size()) + rounds * springRows);
+  progress.start("the FEM reference (refinement " +
+                 std::to_string(map.settings.referenceRefinement) + ")");
+  map.reference = measureReference(tissue, map.settings, map.settings.referenceRefinement);
+  if (map.reference.unconverged > 0) {
+    throw CommandError("the FEM reference did not converge at " +
+                       std::to_string(map.reference.unconverged) +
+                       " load steps; choose shallower --depths-mm");
+  }
+  // Accuracy first, a row at a time; then the cost, the rows interleaved round by round.
+  map.measurements.resize(map.rows.size());
+  for (std::size_t r = 0; r < map.rows.size(); ++r) {
+    const TradeRow& row = map.rows[r];
+    TradeMeasurement& m = map.measurements[r];
+    progress.start("accuracy: " + row.name);
+    if (row.femRefinement > 0) {
+      measureFemRow(tissue, map, row, m);
+      map.cellEdges_m.push_back(0.0);
+      continue;
+    }
+    try {
+      errors.measure(row, map.reference, m);
+    } catch (const std::invalid_argument& failure) {
+      m.failure = std::string("block: ") + failure.what();
+    }
+    map.cellEdges_m.push_back(errors.cellEdge(row.targetSprings));
+  }
+  std::vector<std::vector<TradeMeasurement>> costs(map.rows.size());
+  for (int round = 1; round <= rounds; ++round) {
+    for (std::size_t r = 0; r < map.rows.size(); ++r) {
+      if (map.rows[r].femRefinement > 0) continue;
+      progress.start("cost, round " + std::to_string(round) + " of " + std::to_string(rounds) +
+                     ": " + map.rows[r].name);
+      measureLiverCost(bundled, map.rows[r], costs[r].emplace_back());
+    }
+  }
+  for (std::size_t r = 0; r < map.rows.size(); ++r) {
+    if (costs[r].empty()) continue;
+    TradeMeasurement& m = map.measurements[r];
+    const TradeMeasurement cost = medianOfRounds(costs[r]);
+    m.springs = cost.springs;
+    m.nodes = cost.nodes;
+    m.startup_s = cost.startup_s;
+    m.stepMedian_ms = cost.stepMedian_ms;
+    m.stepP99_ms = cost.stepP99_ms;
+    m.stepsPerSecond = cost.stepsPerSecond;
+    m.peakMemory_MB = cost.peakMemory_MB;
+    m.events = cost.events;
+    if (m.failure.empty()) m.failure = cost.failure;
+  }
+  map.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  writeTextFile(csvPath, "--output", tradeCsv(map));
+  writeTextFile(mdPath, "--output", tradeMarkdown(map));
+  writeTradePlot(map, pngPath);
+  std::printf("%s", tradeMarkdown(map).c_str());
+  std::printf("\nwrote %s, %s and %s\n", csvPath.c_str(), mdPath.c_str(), pngPath.c_str());
+}
+
+}  // namespace
+
+void registerTradeCommand(CLI::App& app) {
+  auto options = std::make_shared<TradeOptions>();
+  CLI::App* command = app.add_subcommand(
+      "trade",
+      "The speed/accuracy map: the bundled scene at several resolutions, spring laws, volume "
+      "terms and integrators, each timed on the liver and measured against the FEM reference "
+      "on the indentation test. Writes tradeoff.csv, tradeoff.md and tradeoff.png (error "
+      "against time per step, the Pareto front, the 1 ms budget); a progress bar on stderr.");
+  options->scenePath = bundledAsset("scenes/liver-poke.json").string();
+  command->add_flag("--quick", options->isQuick,
+                    "1,000 to 20,000 springs, a coarser FEM reference, a smaller tensile "
+                    "specimen, two rounds of timings (about two minutes); else up to 100,000 "
+                    "springs and three rounds (about a quarter of an hour)");
+  command->add_option("--output", options->outputFolder, "Folder for the three files")
+      ->capture_default_str();
+  command->add_option("--scene", options->scenePath, "The scene whose knobs are varied")
+      ->capture_default_str();
+  command
+      ->add_option("--springs", options->springs,
+                   "Resolutions on the liver, in springs (default: 1000,5300,20000[,100000])")
+      ->delimiter(',');
+  command
+      ->add_option("--depths-mm", options->depths_mm,
+                   "Indentation depths, increasing, at most 4.5 mm (the continuum locks deeper "
+                   "under the 2.5 mm probe)")
+      ->delimiter(',')
+      ->capture_default_str();
+  command->callback([options] { runTrade(*options); });
+}
+
+}  // namespace tissuesim::app

@@ -1,0 +1,403 @@
+#include "trade/TradeGrid.h"
+
+#include <malloc.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "CapsuleContact.h"
+#include "CommandError.h"
+#include "LoadedTissue.h"
+#include "ProcessMemory.h"
+#include "SceneSession.h"
+#include "analysis/GoodnessOfFit.h"
+#include "analysis/TensileTest.h"
+#include "fem/FemModel.h"
+#include "mesh/IsolatedCall.h"
+#include "mesh/LatticeMesher.h"
+#include "mesh/SurfaceEmbedding.h"
+#include "sim/SceneGeometry.h"
+#include "sim/Simulation.h"
+
+namespace tissuesim::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsBetween(Clock::time_point from, Clock::time_point to) {
+  return std::chrono::duration<double>(to - from).count();
+}
+
+/// The bundled scene with the row's knobs.
+SceneDescription sceneOf(const SceneDescription& bundled, const TradeRow& row) {
+  SceneDescription scene = bundled;
+  scene.tetMesh.reset();
+  scene.targetSprings = row.targetSprings;
+  scene.springLaw = row.law;
+  scene.bulkModulus_Pa = row.bulkModulus_Pa;
+  scene.integrator = row.integrator;
+  scene.newtonIterations = row.newtonIterations;
+  scene.linearTolerance = row.cgTolerance;
+  scene.threads = row.threads;
+  if (row.isWithoutGravity) {
+    scene.gravity_m_s2.setZero();
+    scene.tray.reset();
+  }
+  return scene;
+}
+
+/// The value below which `share` of the sorted values lie (nearest rank).
+double percentile(std::vector<double> values, double share) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(share * static_cast<double>(values.size())));
+  return values[std::min(values.size() - 1, rank > 0 ? rank - 1 : 0)];
+}
+
+/// The default poke through the scene, timed; its figures as JSON text (the child's reply).
+std::string timeLiverPoke(const SceneDescription& scene) {
+  // The child shares its parent's pages, its freed heap among them (which it would reuse
+  // without a page more), and inherits its high-water mark: the free heap is handed back and the
+  // mark reset to what the child holds now, so the peak above it is this scene's alone.
+  malloc_trim(0);
+  resetPeakResident();
+  const double baseline_MB = residentBytes() / 1e6;
+  const auto start = Clock::now();
+  SceneSession session(scene, "", InstrumentDriver::Script);
+  Simulation& simulation = session.simulation();
+  const double startup_s = secondsBetween(start, Clock::now());
+  const long steps = std::lround(session.script()->duration_s() / simulation.timeStep_s());
+  std::vector<double> stepTimes_ms;
+  stepTimes_ms.reserve(static_cast<std::size_t>(steps));
+  const auto loop = Clock::now();
+  for (long n = 0; n < steps; ++n) {
+    const auto before = Clock::now();
+    simulation.step();
+    stepTimes_ms.push_back(1e3 * secondsBetween(before, Clock::now()));
+  }
+  const double wall_s = secondsBetween(loop, Clock::now());
+  nlohmann::json reply;
+  reply["springs"] = simulation.springMesh().springCount();
+  reply["nodes"] = simulation.springMesh().nodeCount();
+  reply["startup_s"] = startup_s;
+  reply["median_ms"] = percentile(stepTimes_ms, 0.5);
+  reply["p99_ms"] = percentile(stepTimes_ms, 0.99);
+  reply["steps_per_s"] = wall_s > 0.0 ? static_cast<double>(steps) / wall_s : 0.0;
+  reply["memory_mb"] = std::max(0.0, peakResidentBytes() / 1e6 - baseline_MB);
+  reply["events"] = simulation.eventCount();
+  return reply.dump();
+}
+
+/// The simulator's contact on a block: the instrument against a drawn top face (a grid of the
+/// liver's drawn-surface spacing) embedded in the block's tet mesh, as on the liver
+/// (collision/CapsuleContact.h). Owns the drawn face and its embedding.
+class DrawnTopContact final : public ContactProvider {
+ public:
+  DrawnTopContact(const TetMesh& block, const Eigen::Vector3d& size_m, double spacing_m,
+                  const CapsuleContactSettings& settings) {
+    const int cellsX = std::max(1, static_cast<int>(std::lround(size_m.x() / spacing_m)));
+    const int cellsY = std::max(1, static_cast<int>(std::lround(size_m.y() / spacing_m)));
+    m_surface.vertices_m.resize(3, (cellsX + 1) * (cellsY + 1));
+    m_surface.triangles.resize(3, 2 * cellsX * cellsY);
+    const auto vertex = [&](int i, int j) { return j * (cellsX + 1) + i; };
+    for (int j = 0; j <= cellsY; ++j) {
+      for (int i = 0; i <= cellsX; ++i) {
+        m_surface.vertices_m.col(vertex(i, j)) =
+            Eigen::Vector3d(size_m.x() * i / cellsX, size_m.y() * j / cellsY, size_m.z());
+      }
+    }
+    Eigen::Index t = 0;
+    for (int j = 0; j < cellsY; ++j) {
+      for (int i = 0; i < cellsX; ++i) {
+        m_surface.triangles.col(t++) << vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1);
+        m_surface.triangles.col(t++) << vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1);
+      }
+    }
+    m_embedding.emplace(block, m_surface.vertices_m);
+    m_contact.emplace(block, m_surface, *m_embedding, settings);
+  }
+
+  void findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
+                    PenaltyContactSet& contacts) override {
+    m_contact->findContacts(x, pose, contacts);
+  }
+
+ private:
+  TriangleSurface m_surface;
+  std::optional<SurfaceEmbedding> m_embedding;
+  std::optional<CapsuleContact> m_contact;
+};
+
+/// The mean edge length of a surface's triangles (m).
+double meanEdge(const TriangleSurface& surface) {
+  double sum = 0.0;
+  for (Eigen::Index t = 0; t < surface.triangleCount(); ++t) {
+    for (int e = 0; e < 3; ++e) {
+      sum += (surface.vertices_m.col(surface.triangles(e, t)) -
+              surface.vertices_m.col(surface.triangles((e + 1) % 3, t)))
+                 .norm();
+    }
+  }
+  return sum / std::max<double>(1.0, 3.0 * static_cast<double>(surface.triangleCount()));
+}
+
+}  // namespace
+
+std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSettings& settings) {
+  TradeRow base;
+  base.law = bundled.springLaw;
+  base.bulkModulus_Pa = bundled.bulkModulus_Pa;
+  base.integrator = bundled.integrator;
+  base.newtonIterations = bundled.newtonIterations;
+  base.cgTolerance = bundled.linearTolerance;
+  base.threads = std::max(1, bundled.threads);
+  const auto springsName = [](int springs) { return "springs ~" + std::to_string(springs); };
+  std::vector<TradeRow> rows;
+  for (const int springs : settings.resolutions) {
+    TradeRow row = base;
+    row.knob = "resolution";
+    row.targetSprings = springs;
+    row.name = springsName(springs) + " (bundled settings)";
+    rows.push_back(row);
+  }
+  if (base.threads > 1) {
+    for (const int springs : settings.resolutions) {
+      TradeRow row = base;
+      row.knob = "threads";
+      row.targetSprings = springs;
+      row.threads = 1;
+      row.name = springsName(springs) + ", 1 thread";
+      rows.push_back(row);
+    }
+  }
+  // The other knobs at the resolution nearest the bundled mesh's.
+  const int home = *std::min_element(
+      settings.resolutions.begin(), settings.resolutions.end(),
+      [](int a, int b) { return std::abs(std::log(a / 5300.0)) < std::abs(std::log(b / 5300.0)); });
+  base.targetSprings = home;
+  const std::string at = ", " + springsName(home);
+  for (const char* law : {"eesm", "eesm-paper", "smm"}) {
+    if (law == base.law) continue;
+    TradeRow row = base;
+    row.knob = "model";
+    row.law = law;
+    row.name = std::string("law ") + law + at;
+    rows.push_back(row);
+  }
+  {
+    TradeRow row = base;
+    row.knob = "volume";
+    row.bulkModulus_Pa = base.bulkModulus_Pa > 0.0 ? 0.0 : 100e3;
+    row.name = (base.bulkModulus_Pa > 0.0 ? std::string("no volume term")
+                                          : std::string("volume term 100 kPa")) +
+               at;
+    rows.push_back(row);
+  }
+  struct Newton {
+    int iterations;
+    double tolerance;
+  };
+  for (const Newton newton : {Newton{2, 1e-6}, Newton{8, 1e-8}}) {
+    TradeRow row = base;
+    row.knob = "integrator";
+    row.integrator = "implicit";
+    row.newtonIterations = newton.iterations;
+    row.cgTolerance = newton.tolerance;
+    char name[96];
+    std::snprintf(name, sizeof name, "implicit, Newton %d, CG %.0e%s", newton.iterations,
+                  newton.tolerance, at.c_str());
+    row.name = name;
+    rows.push_back(row);
+  }
+  {
+    TradeRow row = base;
+    row.knob = "integrator";
+    row.integrator = "explicit";
+    row.name = "explicit" + at;
+    rows.push_back(row);
+  }
+  {
+    TradeRow row = base;
+    row.knob = "integrator";
+    row.integrator = "quasi-newton";
+    row.newtonIterations = std::max(base.newtonIterations, 2);
+    row.isWithoutGravity = true;
+    row.name = "quasi-newton (no gravity, no tray)" + at;
+    rows.push_back(row);
+  }
+  for (const int refinement : settings.femRows) {
+    TradeRow row;
+    row.knob = "reference";
+    row.femRefinement = refinement;
+    row.name = "fem, refinement " + std::to_string(refinement);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void measureLiverCost(const SceneDescription& bundled, const TradeRow& row, TradeMeasurement& out) {
+  const SceneDescription scene = sceneOf(bundled, row);
+  IsolationLimits limits;
+  limits.wallTime = std::chrono::seconds(1200);
+  limits.cpuSeconds = 2400;
+  limits.addressSpaceBytes = 16ull << 30;
+  const IsolatedResult result = runIsolated([&] { return timeLiverPoke(scene); }, limits);
+  if (!result.isOk) {
+    out.failure = "liver run: " + result.error;
+    return;
+  }
+  const nlohmann::json reply = nlohmann::json::parse(result.bytes);
+  out.springs = reply["springs"].get<int>();
+  out.nodes = reply["nodes"].get<int>();
+  out.startup_s = reply["startup_s"].get<double>();
+  out.stepMedian_ms = reply["median_ms"].get<double>();
+  out.stepP99_ms = reply["p99_ms"].get<double>();
+  out.stepsPerSecond = reply["steps_per_s"].get<double>();
+  out.peakMemory_MB = reply["memory_mb"].get<double>();
+  out.events = reply["events"].get<long>();
+}
+
+TradeMeasurement medianOfRounds(const std::vector<TradeMeasurement>& rounds) {
+  TradeMeasurement combined = rounds.front();
+  const auto median = [&](double TradeMeasurement::*field) {
+    std::vector<double> values;
+    for (const TradeMeasurement& round : rounds) values.push_back(round.*field);
+    return percentile(values, 0.5);
+  };
+  combined.startup_s = median(&TradeMeasurement::startup_s);
+  combined.stepMedian_ms = median(&TradeMeasurement::stepMedian_ms);
+  combined.stepP99_ms = median(&TradeMeasurement::stepP99_ms);
+  combined.stepsPerSecond = median(&TradeMeasurement::stepsPerSecond);
+  for (const TradeMeasurement& round : rounds) {
+    combined.peakMemory_MB = std::max(combined.peakMemory_MB, round.peakMemory_MB);
+    combined.events = std::max(combined.events, round.events);
+    if (combined.failure.empty()) combined.failure = round.failure;
+  }
+  return combined;
+}
+
+TradeReference measureReference(const LoadedTissue& tissue, const TradeSettings& settings,
+                                int refinement) {
+  IndentationSetup setup;
+  setup.depths_m = settings.depths_m;
+  const IndentationCurve curve =
+      indentFem(tissue.energy, setup, refinement, defaultFemBulkModulus(tissue.energy));
+  TradeReference reference;
+  reference.force_N = curve.force_N;
+  reference.surfaceDisplacement_m = curve.surfaceDisplacement_m;
+  reference.seconds = curve.seconds;
+  reference.nodes = curve.nodes;
+  reference.unconverged = curve.unconvergedPoints;
+  return reference;
+}
+
+TradeErrors::TradeErrors(const LoadedTissue& tissue, const SceneDescription& bundled,
+                         const TradeSettings& settings)
+    : m_tissue(tissue), m_bundled(bundled), m_settings(settings) {
+  SceneGeometry geometry;
+  try {
+    geometry = loadSceneGeometry(bundled);
+  } catch (const SceneFileError& error) {
+    throw CommandError(error.what());
+  }
+  if (!geometry.surface || !bundled.instrument) {
+    throw CommandError(bundled.source.string() +
+                       ": trade needs a scene with a drawn surface (meshed at each resolution) "
+                       "and an instrument (the poke)");
+  }
+  m_surface = std::move(*geometry.surface);
+}
+
+double TradeErrors::cellEdge(int springs) const {
+  return edgeLengthForSpringCount(m_surface, springs);
+}
+
+void TradeErrors::measure(const TradeRow& row, const TradeReference& reference,
+                          TradeMeasurement& out) {
+  const SpringLaw law = springLawNamed(row.law).value_or(SpringLaw::Eesm);
+  const IndentationNetwork network{cellEdge(row.targetSprings), law, row.bulkModulus_Pa};
+  IndentationSetup setup;
+  setup.depths_m = m_settings.depths_m;
+  char key[128];
+  std::snprintf(key, sizeof key, "%d|%s|%.6g", row.targetSprings, row.law.c_str(),
+                row.bulkModulus_Pa);
+  auto statics = m_static.find(key);
+  if (statics == m_static.end()) {
+    statics =
+        m_static.emplace(key, indentSprings(m_tissue.energy, m_tissue.table, setup, network)).first;
+  }
+  const SceneDescription scene = sceneOf(m_bundled, row);
+  IndentationPace pace;
+  pace.integrator = row.integrator;
+  pace.settings = realTimeIntegratorSettings(scene);
+  pace.speed_m_s = kDefaultPokeDepth_m / kDefaultPokePressTime_s;
+  pace.timeStep_s = scene.timeStep_s;
+  char paceKey[192];
+  std::snprintf(paceKey, sizeof paceKey, "%s|%s|%d|%.3g", key, row.integrator.c_str(),
+                row.newtonIterations, row.cgTolerance);
+  auto paced = m_pace.find(paceKey);
+  if (paced == m_pace.end()) {
+    const CapsuleContactSettings contact{m_bundled.instrument->shaftRadius_m,
+                                         m_bundled.instrument->shaftLength_m};
+    const double spacing = meanEdge(m_surface);
+    const Eigen::Vector3d size = setup.size_m;
+    const IndentationContactFactory makeContact =
+        [&](const TetMesh& block) -> std::unique_ptr<ContactProvider> {
+      return std::make_unique<DrawnTopContact>(block, size, spacing, contact);
+    };
+    paced = m_pace
+                .emplace(paceKey, indentSpringsAtPace(m_tissue.energy, m_tissue.table, setup,
+                                                      network, pace, makeContact))
+                .first;
+  }
+  out.staticForce_N = statics->second.force_N;
+  out.paceForce_N = paced->second.force_N;
+  out.failedSteps = paced->second.failedSteps;
+  double sum = 0.0;
+  double worst = 0.0;
+  const std::vector<Eigen::Vector3d>& mine = statics->second.surfaceDisplacement_m;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    const double gap = (mine[i] - reference.surfaceDisplacement_m[i]).norm();
+    sum += gap * gap;
+    worst = std::max(worst, gap);
+  }
+  out.surfaceRms_mm = mine.empty() ? 0.0 : 1e3 * std::sqrt(sum / static_cast<double>(mine.size()));
+  out.surfaceMax_mm = 1e3 * worst;
+
+  char tensileKey[96];
+  std::snprintf(tensileKey, sizeof tensileKey, "%s|%.6g", row.law.c_str(), row.bulkModulus_Pa);
+  auto tensile = m_tensile.find(tensileKey);
+  if (tensile == m_tensile.end()) {
+    const UniaxialProtocol protocol{{1.15, 1.23, 1.30}, m_settings.tensilePoints};
+    const std::vector<CurveBranch> sedf = m_tissue.continuum.run(UniaxialModel::Sedf, protocol);
+    TensileSpecimen specimen;
+    specimen.cellsAcrossThickness = m_settings.tensileResolution;
+    const TensileTest test(m_tissue.energy, m_tissue.table, specimen);
+    TensileOptions options;
+    options.law = law;
+    options.linearModulus_Pa =
+        UniaxialTest::springLawLinearModulus(law, m_tissue.energy, m_tissue.table);
+    // The simulator's calibration on the specimen's own lattice (Simulation::buildPhysics).
+    options.volumeScale = test.smallStrainCalibration(m_tissue.energy.initialShearModulus());
+    options.bulkModulus_Pa = row.bulkModulus_Pa;
+    const std::vector<CurveBranch> curve = test.run(options, protocol);
+    double loading = 1.0;
+    double unloading = 1.0;
+    for (std::size_t b = 0; b < curve.size(); ++b) {
+      const double r2 = coefficientOfDetermination(sedf[b].stress_Pa, curve[b].stress_Pa);
+      (curve[b].phase == LoadPhase::Loading ? loading : unloading) =
+          std::min(curve[b].phase == LoadPhase::Loading ? loading : unloading, r2);
+    }
+    tensile = m_tensile.emplace(tensileKey, std::make_pair(loading, unloading)).first;
+  }
+  out.tensileLoadingR2 = tensile->second.first;
+  out.tensileUnloadingR2 = tensile->second.second;
+}
+
+}  // namespace tissuesim::app

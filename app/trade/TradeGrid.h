@@ -1,0 +1,128 @@
+#pragma once
+// The speed/accuracy map's rows (`tissuesim trade`): each a setting of the simulator's knobs,
+// measured for its cost on the bundled liver and for its error against the FEM reference.
+//
+// Cost: the bundled scene with the row's knobs (its liver lattice-meshed from the drawn surface
+// to the row's spring count, its law, volume term, integrator and threads) run through the
+// default poke (4 cm along the tool and back, 2 s) in a child process: start-up (mesh, tables,
+// calibration, the settled start), each step's wall time (median, 99th percentile), steps per
+// second, and the child's peak resident memory above what it started with.
+//
+// Error: the indentation test (analysis/IndentationTest.h) on a network with the same cube edge
+// as the row's liver lattice, its law and volume term: the probe's force at each depth, static
+// and at the scene's pace (the bundled poke's 4 cm/s, stepped by the row's integrator), against
+// the FEM reference's static force; the top face's displacement against the FEM's; and the
+// tensile test's R^2 against sedf.
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "analysis/IndentationTest.h"
+#include "mesh/TriangleSurface.h"
+#include "sim/SceneFile.h"
+
+namespace tissuesim::app {
+
+struct LoadedTissue;
+
+/// One setting of the knobs. `knob` says which one the row varies from the bundled scene's.
+struct TradeRow {
+  std::string knob;  ///< resolution, threads, model, volume, integrator, reference
+  std::string name;
+  int targetSprings = 5300;
+  std::string law = "eesm";
+  double bulkModulus_Pa = 0.0;
+  std::string integrator = "implicit";
+  int newtonIterations = 1;
+  double cgTolerance = 1e-3;
+  int threads = 2;
+  bool isWithoutGravity = false;  ///< quasi-Newton takes no gravity and no tray
+  int femRefinement = 0;          ///< > 0: an FEM row (cost on the block, not the liver)
+};
+
+struct TradeMeasurement {
+  // On the liver (FEM rows: on the block, a static solve per load step).
+  int springs = 0;
+  int nodes = 0;
+  double startup_s = 0.0;
+  double stepMedian_ms = 0.0;
+  double stepP99_ms = 0.0;
+  double stepsPerSecond = 0.0;
+  double peakMemory_MB = 0.0;
+  long events = 0;
+  // On the block.
+  std::vector<double> staticForce_N;
+  std::vector<double> paceForce_N;  ///< empty for FEM rows
+  double surfaceRms_mm = 0.0;
+  double surfaceMax_mm = 0.0;
+  int failedSteps = 0;  ///< at the pace: refused or non-finite steps
+  // The tensile test (spring rows): the lowest loading and unloading R^2 over the cycles.
+  double tensileLoadingR2 = 0.0;
+  double tensileUnloadingR2 = 0.0;
+  std::string failure;  ///< what stopped the row, when something did
+};
+
+struct TradeSettings {
+  bool isQuick = false;
+  std::vector<int> resolutions;  ///< springs on the liver
+  std::vector<double> depths_m;  ///< indentation depths, increasing
+  int referenceRefinement = 1;   ///< the FEM reference's
+  std::vector<int> femRows;      ///< coarser FEM refinements measured as rows
+  int tensileResolution = 1;     ///< cells across the tensile specimen's thickness
+  int tensilePoints = 10;        ///< per branch
+  /// Each row's liver run is repeated this many times, the rows interleaved (this machine's
+  /// speed drifts within minutes), and each timing is the median over the rounds.
+  int costRounds = 3;
+};
+
+/// The rows of the map: the bundled scene at each resolution (two threads, then one), and at
+/// the resolution nearest the bundled mesh's: the other spring laws, no volume term, the other
+/// integrators and Newton settings; then the FEM rows.
+std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSettings& settings);
+
+/// The cost of `row` on the liver, in a child process. Sets the liver fields of `out`, or its
+/// failure.
+void measureLiverCost(const SceneDescription& bundled, const TradeRow& row, TradeMeasurement& out);
+/// One measurement per round of the same row: their timings' medians, the largest memory and
+/// event count; the first failure, if any.
+TradeMeasurement medianOfRounds(const std::vector<TradeMeasurement>& rounds);
+
+/// The FEM reference on the block: its forces and surface displacement, cost per load step.
+struct TradeReference {
+  std::vector<double> force_N;
+  std::vector<Eigen::Vector3d> surfaceDisplacement_m;
+  double seconds = 0.0;
+  int nodes = 0;
+  int unconverged = 0;
+};
+TradeReference measureReference(const LoadedTissue& tissue, const TradeSettings& settings,
+                                int refinement);
+
+/// The error side of the spring rows, each measurement made once and shared by the rows that
+/// need it (the threads and integrator rows share their network's static solve and tensile test).
+class TradeErrors {
+ public:
+  /// `tissue` must outlive this object.
+  TradeErrors(const LoadedTissue& tissue, const SceneDescription& bundled,
+              const TradeSettings& settings);
+
+  /// The cube edge (m) of the liver's lattice of about `springs` springs.
+  double cellEdge(int springs) const;
+  /// The block and tensile fields of `out` for spring row `row`, against `reference`.
+  void measure(const TradeRow& row, const TradeReference& reference, TradeMeasurement& out);
+
+ private:
+  const LoadedTissue& m_tissue;
+  SceneDescription m_bundled;
+  TradeSettings m_settings;
+  TriangleSurface m_surface;  ///< the drawn liver
+  std::map<std::string, IndentationCurve> m_static;
+  std::map<std::string, IndentationCurve> m_pace;
+  std::map<std::string, std::pair<double, double>> m_tensile;
+};
+
+}  // namespace tissuesim::app

@@ -1,0 +1,348 @@
+#include "trade/TradeOutput.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <vtkImageData.h>
+
+#include "CommandError.h"
+#include "CurveChart.h"
+#include "HeadlessDisplay.h"
+#include "OffscreenImage.h"
+#include "analysis/TradeFront.h"
+
+namespace tissuesim::app {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+constexpr double kBudget_ms = 1.0;
+
+std::string format(const char* pattern, double value) {
+  if (!std::isfinite(value)) return "";
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+/// A CSV field in quotes, its own quotes doubled (RFC 4180).
+std::string quoted(const std::string& text) {
+  std::string field = "\"";
+  for (const char c : text) {
+    if (c == '"') field += '"';
+    field += c;
+  }
+  return field + '"';
+}
+
+std::string depthLabel(double depth_m) { return format("%g", depth_m * 1e3); }
+
+bool isFem(const TradeMap& map, std::size_t row) { return map.rows[row].femRefinement > 0; }
+
+/// The machine, in a line: its processor and thread count.
+std::string machineLine() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  std::string model = "unknown processor";
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
+}
+
+/// The rows on the Pareto front of (stepCost, worstError), in increasing cost.
+std::vector<int> front(const TradeMap& map) {
+  std::vector<double> cost;
+  std::vector<double> error;
+  for (std::size_t r = 0; r < map.rows.size(); ++r) {
+    cost.push_back(stepCost(map, r));
+    error.push_back(worstError(map, r));
+  }
+  return paretoFront(cost, error);
+}
+
+/// The growth exponent of the median step with springs over the rows of one knob.
+double scalingExponent(const TradeMap& map, const std::string& knob) {
+  std::vector<double> springs;
+  std::vector<double> time;
+  for (std::size_t r = 0; r < map.rows.size(); ++r) {
+    if (map.rows[r].knob != knob || !map.measurements[r].failure.empty()) continue;
+    springs.push_back(map.measurements[r].springs);
+    time.push_back(map.measurements[r].stepMedian_ms);
+  }
+  return powerLawExponent(springs, time);
+}
+
+}  // namespace
+
+std::vector<double> forceErrors(const std::vector<double>& forces,
+                                const std::vector<double>& reference) {
+  std::vector<double> errors;
+  for (std::size_t d = 0; d < std::min(forces.size(), reference.size()); ++d)
+    errors.push_back(100.0 * (forces[d] / reference[d] - 1.0));
+  return errors;
+}
+
+double worstError(const TradeMap& map, std::size_t row) {
+  const TradeMeasurement& m = map.measurements[row];
+  if (!m.failure.empty()) return kNan;
+  const std::vector<double>& forces = isFem(map, row) ? m.staticForce_N : m.paceForce_N;
+  const std::vector<double> errors = forceErrors(forces, map.reference.force_N);
+  if (errors.empty()) return kNan;
+  double worst = 0.0;
+  for (const double e : errors) worst = std::max(worst, std::abs(e));
+  return worst;
+}
+
+double stepCost(const TradeMap& map, std::size_t row) {
+  if (isFem(map, row) || !map.measurements[row].failure.empty()) return kNan;
+  return map.measurements[row].stepMedian_ms;
+}
+
+std::string tradeCsv(const TradeMap& map) {
+  std::string csv =
+      "knob,name,springs,nodes,cell_mm,law,volume_term_kpa,integrator,newton_iterations,"
+      "cg_tolerance,threads,startup_s,step_median_ms,step_p99_ms,steps_per_s,peak_memory_mb,"
+      "events";
+  const std::vector<double>& depths = map.settings.depths_m;
+  for (const char* kind : {"static", "pace"}) {
+    for (const double d : depths)
+      csv += ",force_" + std::string(kind) + "_" + depthLabel(d) + "mm_n";
+    for (const double d : depths)
+      csv += ",error_" + std::string(kind) + "_" + depthLabel(d) + "mm_percent";
+  }
+  csv +=
+      ",worst_error_percent,surface_rms_mm,surface_max_mm,tensile_r2_loading,"
+      "tensile_r2_unloading,failed_steps,pareto,failure\n";
+  const std::vector<int> onFront = front(map);
+  for (std::size_t r = 0; r < map.rows.size(); ++r) {
+    const TradeRow& row = map.rows[r];
+    const TradeMeasurement& m = map.measurements[r];
+    const bool fem = isFem(map, r);
+    std::vector<std::string> fields = {row.knob,
+                                       quoted(row.name),
+                                       std::to_string(m.springs),
+                                       std::to_string(m.nodes),
+                                       format("%.3f", map.cellEdges_m[r] * 1e3),
+                                       fem ? "fem" : row.law,
+                                       format("%g", row.bulkModulus_Pa / 1e3),
+                                       fem ? "static" : row.integrator,
+                                       fem ? "" : std::to_string(row.newtonIterations),
+                                       fem ? "" : format("%g", row.cgTolerance),
+                                       fem ? "1" : std::to_string(row.threads),
+                                       format("%.3f", m.startup_s),
+                                       format("%.4f", m.stepMedian_ms),
+                                       format("%.4f", m.stepP99_ms),
+                                       format("%.1f", m.stepsPerSecond),
+                                       format("%.1f", m.peakMemory_MB),
+                                       std::to_string(m.events)};
+    for (const std::vector<double>* forces : {&m.staticForce_N, &m.paceForce_N}) {
+      const std::vector<double> errors = forceErrors(*forces, map.reference.force_N);
+      for (std::size_t d = 0; d < depths.size(); ++d)
+        fields.push_back(d < forces->size() ? format("%.5g", (*forces)[d]) : "");
+      for (std::size_t d = 0; d < depths.size(); ++d)
+        fields.push_back(d < errors.size() ? format("%.2f", errors[d]) : "");
+    }
+    const bool isOnFront =
+        std::find(onFront.begin(), onFront.end(), static_cast<int>(r)) != onFront.end();
+    for (std::string field :
+         {format("%.2f", worstError(map, r)), format("%.4f", m.surfaceRms_mm),
+          format("%.4f", m.surfaceMax_mm), fem ? "" : format("%.6f", m.tensileLoadingR2),
+          fem ? "" : format("%.6f", m.tensileUnloadingR2), std::to_string(m.failedSteps),
+          std::string(isOnFront ? "1" : "0"), quoted(m.failure)}) {
+      fields.push_back(std::move(field));
+    }
+    for (std::size_t f = 0; f < fields.size(); ++f) {
+      if (f > 0) csv += ',';
+      csv += fields[f];
+    }
+    csv += '\n';
+  }
+  return csv;
+}
+
+std::string tradeMarkdown(const TradeMap& map) {
+  const std::vector<double>& depths = map.settings.depths_m;
+  const auto joined = [](const std::vector<double>& values, const char* pattern) {
+    std::string text;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (i > 0) text += " / ";
+      text += format(pattern, values[i]);
+    }
+    return text;
+  };
+  std::vector<double> depths_mm;
+  for (const double d : depths) depths_mm.push_back(d * 1e3);
+
+  std::ostringstream md;
+  md << "# The speed/accuracy map\n\n`tissuesim trade" << (map.settings.isQuick ? " --quick" : "")
+     << "`: tissue " << map.tissueName << ", scene " << map.sceneName << "; " << machineLine()
+     << "; " << format("%.0f", map.wall_s) << " s.\n\n";
+  md << "**Cost** is the bundled scene's default poke (4 cm along the tool and back, 2 s) on the "
+        "liver lattice-meshed to each row's spring count, with the row's knobs, each run in a "
+        "process of its own (memory: its peak resident set above its start), "
+     << map.settings.costRounds
+     << " times with the rows interleaved (the medians). **Error** is the "
+        "indentation test: a 60 x 60 x 30 mm block, bottom held, pressed at its centre by the "
+        "bundled 2.5 mm probe, meshed with the same cube edge as the row's liver lattice; the "
+        "probe's force at each depth, static and at the bundled poke's 4 cm/s stepped by the "
+        "row's integrator, against the FEM reference (quadratic tets, mean dilatation, "
+        "refinement "
+     << map.settings.referenceRefinement << ": " << map.reference.nodes
+     << " nodes in the quarter block, " << format("%.0f", map.reference.seconds) << " s).\n\n";
+  md << "FEM reference force at " << joined(depths_mm, "%g")
+     << " mm: " << joined(map.reference.force_N, "%.4g") << " N.\n\n";
+
+  md << "| setting | springs | cell (mm) | step median / p99 (ms) | steps/s | start-up (s) | "
+        "memory (MB) | force error, static (%) | force error, at pace (%) | surface RMS / max "
+        "(mm) | tensile R^2 loading / unloading (%) |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t r = 0; r < map.rows.size(); ++r) {
+    const TradeRow& row = map.rows[r];
+    const TradeMeasurement& m = map.measurements[r];
+    md << "| " << row.name << " | ";
+    if (!m.failure.empty()) {
+      md << "failed: " << m.failure << " |||||||||\n";
+      continue;
+    }
+    const std::string staticErrors =
+        joined(forceErrors(m.staticForce_N, map.reference.force_N), "%+.0f");
+    const std::string surface =
+        format("%.3f", m.surfaceRms_mm) + " / " + format("%.3f", m.surfaceMax_mm);
+    if (isFem(map, r)) {
+      md << "- | - | " << format("%.1f", m.stepMedian_ms / 1e3)
+         << " s a load step (block) | - | - | - | " << staticErrors << " | - | " << surface
+         << " | - |\n";
+      continue;
+    }
+    md << m.springs << " | " << format("%.1f", map.cellEdges_m[r] * 1e3) << " | "
+       << format("%.3f", m.stepMedian_ms) << " / " << format("%.3f", m.stepP99_ms) << " | "
+       << format("%.0f", m.stepsPerSecond) << " | " << format("%.2f", m.startup_s) << " | "
+       << format("%.0f", m.peakMemory_MB) << " | " << staticErrors << " | "
+       << joined(forceErrors(m.paceForce_N, map.reference.force_N), "%+.0f")
+       << (m.failedSteps > 0 ? " (" + std::to_string(m.failedSteps) + " steps failed)" : "")
+       << " | " << surface << " | " << format("%.2f", 100.0 * m.tensileLoadingR2) << " / "
+       << format("%.2f", 100.0 * m.tensileUnloadingR2) << " |\n";
+  }
+  md << "\nForce errors at " << joined(depths_mm, "%g")
+     << " mm, signed (negative: softer than the FEM). The surface columns compare the top "
+        "face's displacement with the FEM's at the last depth, every 1 mm to 15 mm from the "
+        "axis along x and the diagonal.\n\n";
+
+  md << "## The Pareto front\n\nThe largest |force error| at pace over the depths, against the "
+        "median step: no other setting is both faster and closer.\n\n";
+  for (const int r : front(map)) {
+    const auto i = static_cast<std::size_t>(r);
+    md << "- " << map.rows[i].name << ": " << format("%.3f", stepCost(map, i)) << " ms, "
+       << format("%.0f", worstError(map, i)) << " %"
+       << (stepCost(map, i) <= kBudget_ms ? "" : " (over the 1 ms budget)") << "\n";
+  }
+
+  md << "\n## Scaling\n\nMedian step against springs, fitted as t ~ springs^p: p = "
+     << format("%.2f", scalingExponent(map, "resolution"))
+     << " with the bundled threads, p = " << format("%.2f", scalingExponent(map, "threads"))
+     << " on one thread. Speed-up from one thread to the bundled count:";
+  for (std::size_t r = 0; r < map.rows.size(); ++r) {
+    if (map.rows[r].knob != "threads" || !map.measurements[r].failure.empty()) continue;
+    for (std::size_t s = 0; s < map.rows.size(); ++s) {
+      if (map.rows[s].knob == "resolution" &&
+          map.rows[s].targetSprings == map.rows[r].targetSprings &&
+          map.measurements[s].failure.empty()) {
+        md << " " << map.measurements[s].springs << " springs "
+           << format("%.2f", map.measurements[r].stepMedian_ms / map.measurements[s].stepMedian_ms)
+           << "x;";
+      }
+    }
+  }
+  md << "\n";
+  return md.str();
+}
+
+void writeTradePlot(const TradeMap& map, const std::string& path) {
+  const HeadlessDisplay display;
+  CurveChart chart("Speed against accuracy (" + map.tissueName + ")",
+                   "median step on the liver (ms)",
+                   "largest |force error| vs the FEM, at pace (%)");
+  struct Group {
+    const char* knob;
+    const char* name;
+    std::array<unsigned char, 3> rgb;
+    bool isLine;
+  };
+  static constexpr Group kGroups[] = {
+      {"resolution", "resolution, bundled settings", {200, 40, 30}, true},
+      {"threads", "resolution, 1 thread", {230, 140, 40}, false},
+      {"model", "spring law", {30, 90, 200}, false},
+      {"volume", "volume term", {120, 60, 170}, false},
+      {"integrator", "integrator", {30, 150, 60}, false}};
+  std::vector<ChartSeries> series;
+  double lowest = std::numeric_limits<double>::infinity();
+  double highest = 0.0;
+  double fastest = kBudget_ms;
+  double slowest = kBudget_ms;
+  for (const Group& group : kGroups) {
+    ChartSeries points;
+    points.name = group.name;
+    points.rgb = group.rgb;
+    points.isPoints = true;
+    for (std::size_t r = 0; r < map.rows.size(); ++r) {
+      if (map.rows[r].knob != group.knob) continue;
+      const double x = stepCost(map, r);
+      const double y = std::max(worstError(map, r), 0.01);  // a log axis has no 0
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      points.x.push_back(x);
+      points.y.push_back(y);
+      lowest = std::min(lowest, y);
+      highest = std::max(highest, y);
+      fastest = std::min(fastest, x);
+      slowest = std::max(slowest, x);
+    }
+    if (group.isLine && points.x.size() > 1) {
+      ChartSeries line = points;
+      line.name = std::string(group.name) + " (joined)";
+      line.isPoints = false;
+      line.width = 1.0f;
+      series.push_back(line);
+    }
+    series.push_back(points);
+  }
+  ChartSeries paretoLine;
+  paretoLine.name = "Pareto front";
+  paretoLine.rgb = {0, 0, 0};
+  paretoLine.isDashed = true;
+  for (const int r : front(map)) {
+    paretoLine.x.push_back(stepCost(map, static_cast<std::size_t>(r)));
+    paretoLine.y.push_back(std::max(worstError(map, static_cast<std::size_t>(r)), 0.01));
+  }
+  series.push_back(paretoLine);
+  if (std::isfinite(lowest)) {
+    ChartSeries budget;
+    budget.name = "1 ms budget (1 kHz)";
+    budget.rgb = {120, 120, 120};
+    budget.isDashed = true;
+    budget.x = {kBudget_ms, kBudget_ms};
+    budget.y = {lowest, highest};
+    series.push_back(budget);
+  }
+  chart.setSeries(series);
+  chart.setLogScale(true, true);
+  // A margin round every point and the budget line: a point on an axis's end is half hidden.
+  if (std::isfinite(lowest))
+    chart.setRanges(fastest / 1.3, slowest * 1.3, lowest / 1.5, highest * 1.5);
+  const vtkSmartPointer<vtkImageData> image = renderOffscreen(chart.renderer(), 1000, 700);
+  try {
+    writePng(image, path);
+  } catch (const std::runtime_error& error) {
+    throw CommandError(error.what());
+  }
+}
+
+}  // namespace tissuesim::app

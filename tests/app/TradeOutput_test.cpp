@@ -1,0 +1,129 @@
+// What `trade` writes, from a map whose figures are given: every CSV row has the header's
+// fields, the Pareto column marks exactly the rows nothing beats on both axes, a failed row and
+// the FEM rows stay off the cost axis, and the Markdown lists the front in increasing cost.
+
+#include "trade/TradeOutput.h"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace tissuesim::app {
+namespace {
+
+/// The fields of one CSV line, quotes honoured.
+std::vector<std::string> fieldsOf(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool isQuoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"') {
+      if (isQuoted && i + 1 < line.size() && line[i + 1] == '"') {
+        fields.back() += '"';
+        ++i;
+      } else {
+        isQuoted = !isQuoted;
+      }
+    } else if (c == ',' && !isQuoted) {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+TradeMap sampleMap() {
+  TradeMap map;
+  map.settings.depths_m = {0.001, 0.002};
+  map.reference.force_N = {0.1, 0.4};
+  map.reference.surfaceDisplacement_m = {Eigen::Vector3d::Zero()};
+  const auto spring = [&](const std::string& name, double median_ms, std::vector<double> pace,
+                          const std::string& failure = "") {
+    TradeRow row;
+    row.knob = "resolution";
+    row.name = name;
+    TradeMeasurement m;
+    m.springs = 1000;
+    m.stepMedian_ms = median_ms;
+    m.staticForce_N = {0.1, 0.4};
+    m.paceForce_N = std::move(pace);
+    m.failure = failure;
+    map.rows.push_back(row);
+    map.measurements.push_back(m);
+    map.cellEdges_m.push_back(0.01);
+  };
+  spring("fast, poor", 0.1, {0.2, 0.8});                    // 100 %: on the front
+  spring("slow, good", 2.0, {0.11, 0.42});                  // 10 %: on the front
+  spring("slower and worse", 3.0, {0.15, 0.5});             // 50 %: beaten by "slow, good"
+  spring("a name, with \"quotes\"", 0.5, {0.13, 0.44});     // 30 %: on the front
+  spring("failed", 0.01, {0.1, 0.4}, "liver run: killed");  // no cost: off the map
+  TradeRow fem;
+  fem.knob = "reference";
+  fem.name = "fem, refinement 1";
+  fem.femRefinement = 1;
+  TradeMeasurement femMeasurement;
+  femMeasurement.stepMedian_ms = 5000.0;
+  femMeasurement.staticForce_N = {0.099, 0.41};
+  map.rows.push_back(fem);
+  map.measurements.push_back(femMeasurement);
+  map.cellEdges_m.push_back(0.0);
+  return map;
+}
+
+TEST(TradeOutput, EveryCsvRowHasTheHeadersFieldsAndTheFrontIsMarked) {
+  const TradeMap map = sampleMap();
+  std::istringstream csv(tradeCsv(map));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = fieldsOf(line);
+  std::size_t pareto = 0;
+  std::size_t name = 1;
+  for (std::size_t f = 0; f < header.size(); ++f) {
+    if (header[f] == "pareto") pareto = f;
+  }
+  ASSERT_GT(pareto, 0u);
+  std::vector<std::string> onFront;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> fields = fieldsOf(line);
+    ASSERT_EQ(fields.size(), header.size()) << line;
+    if (fields[pareto] == "1") onFront.push_back(fields[name]);
+    ++rows;
+  }
+  EXPECT_EQ(rows, 6);
+  // In the rows' order.
+  EXPECT_EQ(onFront,
+            (std::vector<std::string>{"fast, poor", "slow, good", "a name, with \"quotes\""}));
+}
+
+TEST(TradeOutput, TheAxesLeaveOutFailedAndFemRows) {
+  const TradeMap map = sampleMap();
+  EXPECT_DOUBLE_EQ(worstError(map, 0), 100.0);
+  EXPECT_NEAR(worstError(map, 1), 10.0, 1e-9);
+  EXPECT_TRUE(std::isnan(stepCost(map, 4)));  // failed
+  EXPECT_TRUE(std::isnan(worstError(map, 4)));
+  EXPECT_TRUE(std::isnan(stepCost(map, 5)));   // FEM: not a real-time step
+  EXPECT_NEAR(worstError(map, 5), 2.5, 1e-9);  // its static error
+}
+
+TEST(TradeOutput, TheMarkdownListsTheFrontInIncreasingCost) {
+  const std::string md = tradeMarkdown(sampleMap());
+  const std::size_t front = md.find("## The Pareto front");
+  ASSERT_NE(front, std::string::npos);
+  const std::size_t fast = md.find("- fast, poor: 0.100 ms, 100 %", front);
+  const std::size_t middle = md.find("- a name, with \"quotes\": 0.500 ms, 30 %", front);
+  const std::size_t slow = md.find("- slow, good: 2.000 ms, 10 % (over the 1 ms budget)", front);
+  ASSERT_NE(fast, std::string::npos) << md;
+  ASSERT_NE(middle, std::string::npos) << md;
+  ASSERT_NE(slow, std::string::npos) << md;
+  EXPECT_LT(fast, middle);
+  EXPECT_LT(middle, slow);
+  EXPECT_NE(md.find("| failed | failed: liver run: killed"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tissuesim::app
