@@ -22,6 +22,7 @@ PACKAGES=(
   clang-format
 )
 JOBS=${JOBS:-2}
+BUILD_ONLY=  # set for one build() call: that target alone
 
 say() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }
 
@@ -44,6 +45,8 @@ install_packages() {
 }
 
 # build DIR [extra cmake args...]
+# build DIR [CMAKE_ARGS...]: configure DIR once, then build everything in it; with
+# BUILD_ONLY=name set, only that target and what it needs (`run` needs the program, not the tests).
 build() {
   local dir=$1
   shift
@@ -51,8 +54,8 @@ build() {
     say "configuring $dir"
     cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
   fi
-  say "building $dir"
-  cmake --build "$dir" -j "$JOBS"
+  say "building ${BUILD_ONLY:-everything} in $dir"
+  cmake --build "$dir" -j "$JOBS" ${BUILD_ONLY:+--target "$BUILD_ONLY"}
 }
 
 run_tests() {
@@ -64,7 +67,7 @@ run_tests() {
 case "${1:-}" in
   run)
     install_packages
-    build build
+    BUILD_ONLY=tissuesim build build
     if [ -n "${DISPLAY:-}" ]; then
       say "opening the window on the bundled liver scene (move the mouse to steer the tool, wheel to push)"
       exec build/app/tissuesim
