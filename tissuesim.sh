@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # TissueSim: set up, build and run on Debian 12.
 #
 #   ./tissuesim.sh run        install missing packages, build (Release), open the window on the

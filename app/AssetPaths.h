@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Where the bundled assets are: ./assets when run from a checkout, else the source tree the
 // program was built from.

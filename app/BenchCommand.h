@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `tissuesim bench`: the Google Benchmark suite (speed targets live here, not in unit tests).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A user-facing failure of a subcommand: main prints its one-line message and exits non-zero.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The CSV of a cyclic curve, shared by `uniaxial` and `tensile`:
 // header `cycle,phase,lambda,stress_kpa`, one row per point, engineering stress in kPa.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `--plot FILE.png` of `uniaxial` and `tensile`: the stress-stretch curves of the models run,
 // one line each through all their cycles, with the `sedf` reference dashed, rendered with VTK's

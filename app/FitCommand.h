@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `tissuesim fit`: a tissue file fitted to a uniaxial loading and unloading test
 // (analysis/TissueFit.h), with R^2 per branch and each constant's uncertainty.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The window: `tissuesim` with no arguments, or `tissuesim gui [--scene FILE]`.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Makes sure X is there for VTK (Debian's VTK 9.1 renders through X only): with DISPLAY set,
 // nothing to do; without, a private Xvfb is started on a free display number (Xvfb's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // WIDTHxHEIGHT on the command line (--size of snapshot and of the frame benchmark).
 

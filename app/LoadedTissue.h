@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A tissue file loaded with what every curve command builds from it: its strain energy, its
 // stiffness tables, and the continuum test that validates a cyclic protocol against it.

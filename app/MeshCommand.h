@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `tissuesim mesh`: a tet mesh from a surface (lattice cover), or a check and conversion of a
 // tet mesh, with the quality figures either way.

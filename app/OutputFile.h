@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Output files named on the command line, checked before any work starts: a typo in a folder
 // fails at once with one line, not after a run of seconds or minutes.

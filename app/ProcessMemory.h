@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // This process's memory, as Linux reports it: what `soak` watches for growth and `trade`
 // reports per scene.

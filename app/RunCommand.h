@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `tissuesim run`: a headless session of a scene, with a scripted instrument, and a JSON report.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A scene ready to step: the Simulation, FCL contact for its instrument, and where the
 // instrument's pose comes from (a script, or live from the GUI). Shared by `run`, `snapshot`

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A scene stepped for N frames and rendered offscreen: what `tissuesim snapshot` writes and what
 // the image regression tests compare, through this one function.

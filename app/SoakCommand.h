@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `tissuesim soak`: a long headless session of random pokes, grasps and releases (RandomSession),
 // watched for what a long training session must never show: a non-finite or rolled-back step,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `tissuesim uniaxial`: the cyclic uniaxial curve of one material point for one force law.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // tissuesim: the one executable. Subcommands do the work; each has --help.
 
 #include <exception>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Contact between the rigid probe (a capsule: shaft of radius r ending in a hemispherical blunt
 // tip) and the deforming tissue, for the engine's ContactProvider.

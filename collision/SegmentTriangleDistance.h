@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The closest points between a segment (the instrument's axis) and a triangle (a surface face):
 // exact, from the candidates of Ericson, Real-Time Collision Detection (2005), 5.1: each segment

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A bounding-volume hierarchy (FCL, AABB) over a triangle surface that deforms: built once,
 // then refitted to new vertex positions each physics step rather than rebuilt. Finds the

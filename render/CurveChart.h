@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A 2D line chart (VTK's charts: vtkChartXY in a context actor) in its own renderer, so the
 // same chart renders in a window panel or offscreen into a PNG: stress-stretch curves

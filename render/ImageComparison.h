@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Compares a rendered image with a reference, for the image regression tests.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Renders a VTK renderer (a 3D scene or a chart's) into an image without showing a window, and
 // reads and writes PNGs. Debian's VTK 9.1 renders through X only, so this needs a display:

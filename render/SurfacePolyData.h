@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A vtkPolyData view of a triangle surface whose vertices move: the topology is copied once,
 // and each frame only the points are overwritten in place (no reallocation), then marked

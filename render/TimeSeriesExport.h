@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A simulation written for inspection in ParaView: at each call of write(), the drawn surface
 // (VTK XML polydata, .vtp) and the tet mesh (VTK XML unstructured grid, .vtu) at the given

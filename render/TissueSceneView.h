@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The 3D scene a trainee sees, as a VTK renderer: the liver's visual surface (smooth-shaded,
 // its vertices carried by the tet mesh through the barycentric embedding), an optional stretch

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // VTK's own mesh files, common in this field: legacy .vtk (polydata or unstructured grid),
 // XML .vtp (surfaces) and .vtu (volumes). Read here because they need VTK, which core must not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The corners of the tissue file's admitted ranges (docs/tissue-file.md), as tissue-file JSON:
 // what the material tests and the simulation tests each run every admitted extreme through.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Shared fixtures for the engine tests: the liver's tables and small spring systems.
 

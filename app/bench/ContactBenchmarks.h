@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Benchmarks of collision on the bundled liver scene: the contact query and response alone
 // (refit, FCL collide, penalty), and a whole physics step with the probe held pressed in,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Benchmarks of the engine: steps per second of each integrator on a block of about 5,300
 // springs (the paper's liver size) and of about 100,000, and the cost of building the mesh.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The small live plot of the tool force magnitude (N) over the last seconds, drawn with
 // QPainter: it repaints at the frame rate, where a second OpenGL chart would cost a render.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Mouse handling of the trainee's view: VTK's trackball camera (left drag rotates, middle drag
 // pans, right drag or Ctrl+wheel zooms), except that moving the mouse with no button pressed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The trainee's and instructor's window: the 3D view (QVTKOpenGLNativeWidget), a live force
 // plot, the tissue's stress-stretch chart (VTK charts), a status bar, and the menus.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Whether OpenGL here is a software rasteriser (Mesa's llvmpipe, softpipe, swrast: a VM or a
 // headless server, as on this project's machines) rather than a GPU. The window turns off

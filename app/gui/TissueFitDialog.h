@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Tools > Fit tissue from test data: the fit's constants, their errors and R^2 per branch
 // (analysis/TissueFit.h), with the two things an instructor does next: save the tissue file,

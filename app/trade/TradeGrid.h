@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The speed/accuracy map's rows (`tissuesim trade`): each a setting of the simulator's knobs,
 // measured for its cost on the bundled liver and for its error against the FEM reference.

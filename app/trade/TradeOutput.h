@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What `tissuesim trade` writes: tradeoff.csv (a row per setting, every figure), tradeoff.md
 // (the table a reader reads, the Pareto front, the scaling fit) and tradeoff.png (error against

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The virtual tensile test (TensileTest.h: the same specimen, grips and protocol) through the
 // FEM reference (fem/FemModel.h) instead of the spring network. The FEM is hyperelastic, with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Figures of merit for comparing a model's curve with a reference curve.
 

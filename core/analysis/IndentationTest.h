@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The indentation test: a block of tissue (default 60 x 60 x 30 mm), its bottom held, pressed at
 // the centre of its top face by a rigid probe (a capsule of the simulator's instrument radius,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The virtual tensile test of the paper's Section 4: a meshed block specimen (default
 // 55 x 20 x 5 mm) pulled quasi-statically along x to each lambda_max and back, cycle after

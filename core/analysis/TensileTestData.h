@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A uniaxial tensile test as an instructor brings it, read from CSV into the branches a fit
 // works on (analysis/TissueFit.h). Three layouts, told apart by the header:

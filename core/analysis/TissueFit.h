@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Fitting a tissue's seven constants to a uniaxial test (analysis/TensileTestData.h):
 //

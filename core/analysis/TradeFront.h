@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What a speed/accuracy map is read by: its Pareto front and the exponent of a cost's growth.
 //

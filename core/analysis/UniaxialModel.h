@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The force laws compared in uniaxial tests (docs/model.md, "The spring network").
 

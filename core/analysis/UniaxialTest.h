@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The virtual uniaxial test of one material point: cyclic loading and unloading with rising
 // amplitude, as in the paper's experiments (Section 6: lambda_max = 1.15, 1.23, 1.30), for any

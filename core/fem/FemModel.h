@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A finite-element model of the tissue, the continuum the spring network stands for: quadratic
 // (10-node) tets with a mean-dilatation volumetric term (P2/P0, Simo, Taylor and Pister 1985):

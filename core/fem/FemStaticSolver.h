@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Static equilibrium of the FEM model with prescribed displacements: Newton's method on
 //

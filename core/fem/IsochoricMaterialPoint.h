@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The tissue's isochoric strain energy at one material point, as the FEM evaluates it:
 //

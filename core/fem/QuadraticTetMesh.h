@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A quadratic (10-node) tetrahedral mesh made from a linear one: each tet keeps its four corners
 // and gains a node at the middle of each edge (shared between the tets around the edge), with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The quadratic tet's shape functions and the quadrature rules the FEM integrates with, on the
 // reference tet {xi, eta, zeta >= 0, xi + eta + zeta <= 1} (volume 1/6). In barycentric

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A rigid capsule (a probe: the segment from tip centre a to b, radius R) pushing points of a
 // surface out of it by a penalty on each one's penetration, for static indentation tests on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One force of the mechanical system, as SOFA separates them (its ForceField: addForce,
 // addDForce, addKToMatrix): the springs, the volume term, the contacts, gravity. The system

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What one force pass saw, per force field, for the instability report: the springs' stretch
 // range and the volume term's volume ratios.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Instrument contacts as penalty terms that the integrators evaluate at every trial state, so
 // that an implicit step carries the contact's stiffness in its Newton matrix and the penalty

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Implicit (backward) Euler, solved by Newton (NewtonSolver):
 //

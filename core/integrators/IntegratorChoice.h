@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The integrator a scene names (physics.integrator), built from its settings: one place that
 // maps the names to the schemes, for the simulation and the measurements that step the same way.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The fast iterative method: quasi-Newton implicit Euler of Liu, Bouaziz and Kavan,
 // "Quasi-Newton Methods for Real-Time Simulation of Hyperelastic Materials" (ACM TOG 2017),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The interface of a time integrator: advance a MechanicalState by one fixed time step.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Writing an output file whole or not at all: the bytes go to a sibling "NAME.partial", which is
 // flushed, closed and then renamed over NAME. A failure on the way (a full disk, a quota, a

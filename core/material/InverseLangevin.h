@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The Langevin function L(beta) = coth(beta) - 1/beta and its inverse, as used by the
 // non-Gaussian chain network of Eqs. 3-7 (Moreno-Guerra et al. 2022).

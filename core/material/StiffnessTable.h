@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Per-tissue lookup tables, computed once at start-up from the strain energy, for the spring
 // force laws of the simulator (Moreno-Guerra et al. 2022, Eqs. 10-12; docs/model.md).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The strain energy density W_T of the tissue (Moreno-Guerra et al. 2022, Eqs. 2-9) and the
 // uniaxial engineering stress derived from it (Eqs. 13, 18, 21, as corrected in

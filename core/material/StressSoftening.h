@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Stress softening with residual strain (the Mullins effect; Moreno-Guerra et al. 2022,
 // Eqs. 16, 17, 19, 20 as corrected in docs/model.md).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading and validating a tissue parameter file (JSON). The schema is in docs/tissue-file.md.
 //

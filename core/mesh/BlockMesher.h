@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A box meshed with tets: a regular grid of cells, each split into six tets around its main
 // diagonal (Kuhn's subdivision), which needs no alternation for conforming faces. Used for the

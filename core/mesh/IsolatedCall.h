@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Running untrusted parsing (assimp on a file from anywhere) in a child process, so that no file
 // can crash or hang the program: the child runs the work under limits on its memory and CPU

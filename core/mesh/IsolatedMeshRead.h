@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A mesh reader run in a child process (IsolatedCall.h): the library that parses a file from
 // anywhere (assimp, VTK) cannot crash or hang the program. The child sends the mesh back as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A tetrahedral mesh from a closed surface by a lattice cover: a regular grid of cubes of edge
 // h, each split into six Kuhn tets (BlockMesher's split), keeping the cubes whose centre lies

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The length unit of a mesh file that does not say (STL, OBJ, Gmsh: none of them carries units):
 // the one of metres, centimetres and millimetres that makes the mesh's size nearest an organ's.

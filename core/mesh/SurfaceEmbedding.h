@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The detailed visual surface follows the coarser simulation mesh: each surface vertex is tied,
 // once at load, to the tet containing it (or, outside the mesh, the nearest one: TetLocator) by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Checking and repairing a triangle surface before it is meshed or embedded: welding duplicate
 // vertices, counting what makes a surface unfit (open and non-manifold edges, degenerate

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading organ surfaces through assimp: STL, OBJ, PLY, OFF and glTF/GLB, the formats an organ's
 // surface comes in; others are refused by their extension before assimp sees them. assimp runs

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Which tet of a mesh holds a point, in the mesh's rest frame, and the point's barycentric
 // weights w (4, summing to 1; all >= 0 inside) there, so that the point moves with the mesh as

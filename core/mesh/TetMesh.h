@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A tetrahedral mesh: node positions and tets as four node indices each.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading and writing tetrahedral meshes:
 //   Gmsh .msh ASCII, format 1 ($NOD/$ELM, as SOFA's liver), 2.2 and 4.1 (read); 2.2 (write)

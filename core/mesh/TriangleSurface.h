@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A triangle surface: vertices 3 by #V (m) and triangles 3 by #F (vertex indices), the visual
 // surface of an organ or the boundary a tet mesh is built inside.

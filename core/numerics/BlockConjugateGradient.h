@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Block-Jacobi-preconditioned conjugate gradients on a symmetric positive definite
 // BlockLinearOperator (the assembled NodeBlockMatrix, or the springs' matrix-free operator):

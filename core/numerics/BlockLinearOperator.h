@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A symmetric linear operator on 3-vectors per node, y = A x (A: 3#V by 3#V), as conjugate
 // gradients needs it: the product in kParts fixed node ranges that may run on different threads

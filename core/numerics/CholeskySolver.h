@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Sparse Cholesky (Eigen's SimplicialLDLT) as a LinearSolver: a direct solve of an assembled
 // NodeBlockMatrix, its symbolic analysis done once per matrix (the pattern is fixed). A matrix

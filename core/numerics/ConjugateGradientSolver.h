@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Block-Jacobi conjugate gradients (BlockConjugateGradient) as a LinearSolver: an inexact solve,
 // to a relative residual, for inexact Newton (the outer iteration tightens the rest).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the CPU the program runs on can do, asked once: the SIMD kernels (the batched spring law,
 // CG's product) take their AVX+FMA path only where this says so, and a portable one elsewhere.

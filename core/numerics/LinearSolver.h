@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A linear solver for Newton's systems A x = b on a BlockLinearOperator (A: 3#V by 3#V,
 // symmetric; b, x: 3#V): iterative ones read A's products and diagonal blocks, direct ones

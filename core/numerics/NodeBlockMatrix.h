@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A sparse symmetric matrix of 3x3 node blocks (3#V by 3#V), with the pattern of a graph's
 // edges plus the diagonal, fixed at construction so that assembling into it never allocates:

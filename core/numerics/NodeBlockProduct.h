@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The kernel of NodeBlockMatrix's product y = A x, rows of a range of nodes (3 rows each).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A term k u u^T of a node-block matrix whose vector u has at most kMaxTermNodes nonzero 3-blocks:
 // an instrument contact's stiffness k w_i w_j n n^T on the nodes that carry the contact point

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The diagonal blocks that rank-one terms k u u^T add to a node-block matrix, per node they
 // touch: D_j = sum over terms and their blocks at j of k u_j u_j^T (3x3, N/m). What block Jacobi

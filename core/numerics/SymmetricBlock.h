@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Adding a symmetric 3x3 block given by its upper triangle: what the matrix-free operators'
 // diagonal passes sum in scalars (an Eigen 3x3 temporary per element made those passes several

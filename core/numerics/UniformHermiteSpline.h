@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A cubic Hermite spline on a uniform grid: values and slopes given at the nodes
 // x_i = origin + i h, i = 0 .. n-1. Inside a cell, with t = (x - x_i) / h in [0, 1],

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A fixed set of worker threads that run one task split into parts, for the physics loop's
 // per-spring and per-node passes. run(parts, task) calls task(part) once for every part in

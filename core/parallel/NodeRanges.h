@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Node-wise passes over vectors of #V nodes (residuals, external forces, predictor and velocity
 // updates), cut into kNodeRanges fixed ranges of [0, count):

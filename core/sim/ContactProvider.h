@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The engine's view of collision: given node positions and the instrument's pose, find where
 // the instrument touches (or is about to touch) the tissue, as penalty contacts frozen for the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The grasper: while the instrument's jaws are closed, the surface nodes that were within reach
 // of the tip when they closed are held at their offsets from the tip, each by a stiff spring

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Where the instrument is at time t: from a script (tests, demos: timed poses, linearly
 // interpolated), from the mouse, or from a haptic device later. The engine only sees this

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A trainee's session, at random and reproducibly (one seed, one session): the soak test's
 // workload. Over `duration_s` the tool repeats

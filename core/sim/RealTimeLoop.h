@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The fixed-rate loop: the Simulation stepped on its own thread at its time step (1 ms: the
 // haptic rate), publishing a snapshot after every step for rendering, which reads it without

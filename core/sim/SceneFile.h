@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The scene file (JSON): what to simulate. The schema is in docs/scene-file.md. Every path is
 // relative to the scene file. What a scene does not name is not built: no surface, no visual

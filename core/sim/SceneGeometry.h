@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What a scene's geometry builds, and only that: the simulation tet mesh (read, or generated
 // from the surface), the visual surface welded and embedded in it when the scene names one, and

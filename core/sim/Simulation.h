@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One simulated scene advanced at a fixed time step: tissue file -> material -> tables ->
 // spring mesh -> (contacts in) integration -> state out. What the scene does not name is not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The instrument as a proxy that tracks the trainee's input (the mouse, a haptic device's
 // handle) with bounded speed and acceleration, as haptic rendering separates the device from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The tray under the organ as a support: the tissue's surface points may not pass below the
 // plane up . y = h. Each point that is near the plane at a step's start becomes a penalty

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A lock-free triple buffer: one writer (the physics thread) publishes whole values, one reader
 // (rendering, the GUI) takes the newest whole value; neither ever waits for the other, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A per-node summary of the springs' stretch, for colour maps and exports: at each node, the
 // stretch lambda = |x_b - x_a| / L0 of the incident spring farthest from 1 (stretched or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Mesh-level loops over the springs: forces, stiffness blocks, the explicit stability bound and
 // the per-spring Mullins state. The per-spring kernels are SpringForceLaw's; this class only

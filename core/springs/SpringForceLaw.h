@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The force law of one spring, as a nominal stress P(lambda) (Pa) and its slope: a spring of
 // rest length L0 and volume V_e at stretch lambda = L / L0 pulls its ends together with

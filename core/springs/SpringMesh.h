@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The spring network built from a tetrahedral mesh: one spring per unique tet edge.
 //

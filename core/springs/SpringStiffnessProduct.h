@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The springs' part of Newton's matrix-free product, y += K x, with
 //

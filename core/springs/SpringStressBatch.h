@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The energy-consistent EESM law (eesm) of four springs at once, in AVX registers: the same
 // equations as SpringForceLaw::evaluate for stretches inside the usable range,

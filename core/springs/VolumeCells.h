@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The cells whose volume the volume term holds (VolumeForceField.h): the tets grouped so that
 // each group fills one lattice cube. A lattice mesh (LatticeMesher, BlockMesher) cuts every cube

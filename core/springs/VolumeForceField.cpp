@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "springs/VolumeForceField.h"
 
 #include <algorithm>

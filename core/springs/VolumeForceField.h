@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The near-incompressibility term, per cell of tets (VolumeCells.h: a lattice cube, else one
 // tet; docs/model.md, "The volume term"):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The mechanical system the integrators advance: lumped masses M (kg), the force fields
 // (forces/ForceField.h) that make up

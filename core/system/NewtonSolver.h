@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Newton's method for the nonlinear systems of implicit Euler and of static equilibrium:
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Newton's linear system, applied without assembling it (matrix-free):
 //

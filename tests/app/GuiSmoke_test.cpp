@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The window, driven as a trainee and an instructor would (QTest, under Xvfb when there is no
 // display): start on the bundled scene, push the instrument into the liver with the mouse
 // wheel, see the surface move and no error; load a bad tissue file, see the error dialog and

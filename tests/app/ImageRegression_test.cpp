@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Image regression: the bundled scene rendered offscreen (llvmpipe under Xvfb) against reference
 // PNGs in tests/images. Metric and tolerance: render/ImageComparison.h (a pixel differs when a
 // channel is off by more than 24/255; at most 0.2 % of the pixels may differ). On a failure the

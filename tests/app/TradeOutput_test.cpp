@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What `trade` writes, from a map whose figures are given: every CSV row has the header's
 // fields, the Pareto column marks exactly the rows nothing beats on both axes, a failed row and
 // the FEM rows stay off the cost axis, and the Markdown lists the front in increasing cost.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # expect.sh PROGRAM ok|fail REGEX ARGS...
 #   ok:   PROGRAM ARGS exits 0 and its stdout+stderr match REGEX (extended grep).
 #   fail: it exits non-zero, prints exactly one line on stderr, and that line matches REGEX.

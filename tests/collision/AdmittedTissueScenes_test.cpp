@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every tissue the file's validation admits runs in the bundled scene: the corners of the
 // admitted ranges (AdmittedTissueCorners.h) through start-up (calibration, tables, the settled
 // start under gravity) and a poke, with every step good and the state finite. What start-up

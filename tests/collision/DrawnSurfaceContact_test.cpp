@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The instrument touches the surface the trainee sees: on every mesh resolution shipped, the
 // probe meets the drawn (embedded) liver where it is drawn, and pressed to 2 N its tip is never
 // more than 0.5 mm inside it. Measured here independently of the contact code: the deformed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The fixed-step simulation of a scene with the FCL contact: a poke of the bundled liver.
 
 #include "sim/Simulation.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What every fuzz target shares: the input as a file (the parsers read files by name), and the
 // rule that only the project's own one-line errors may come out of a parser. Anything else (an

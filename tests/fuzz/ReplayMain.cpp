@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Replays inputs through a fuzz target's LLVMFuzzerTestOneInput without libFuzzer, so that the
 // seed corpora and every crasher kept in tests/fuzz/crashers/TARGET run in the ordinary test
 // suite (any compiler, any sanitizer). A finding aborts, as it does under the fuzzer.

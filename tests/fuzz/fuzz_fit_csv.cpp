@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The fit's test data (analysis/TensileTestData.h): any bytes give branches of finite stretches
 // and stresses, each loading branch rising and each unloading one falling, or a TestDataError.
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The instrument script's parser: any bytes give a script or its one-line error.
 #include <stdexcept>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The scene file's parser: any bytes give a scene or a SceneFileError.
 #include "FuzzInput.h"
 #include "sim/SceneFile.h"

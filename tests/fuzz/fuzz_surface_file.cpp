@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The surface-loading path (assimp in a child process, core/mesh/IsolatedMeshRead.h): any bytes,
 // as any of the formats read here (chosen by the first byte), give a surface or a MeshFileError.
 // The child's crashes and hangs are the reader's to contain; this target checks that what comes

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The TetGen reader: the input is split at its first NUL byte into the .node and the .ele file;
 // any bytes give a mesh or a MeshFileError.
 #include <algorithm>

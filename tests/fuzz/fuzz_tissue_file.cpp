@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The tissue file's parser: any bytes give parameters or a TissueFileError, and the parameters
 // it accepts give finite tables (docs/tissue-file.md's admissible ranges).
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // VTK's mesh files (render/VtkMeshFiles.h: legacy .vtk, XML .vtp and .vtu, read by VTK in a
 // child process): any bytes, as one of the three (chosen by the first byte), read as a surface
 // and as a tet mesh, give a mesh whose indices are in range or a MeshFileError.

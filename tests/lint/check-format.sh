@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # check-format.sh SOURCE_DIR: every C++ file of the project's libraries, program and tests is as
 # clang-format (the repository's .clang-format) writes it. Lists the files that are not, with
 # the command that fixes them; exits 1 then, 2 when clang-format is missing.

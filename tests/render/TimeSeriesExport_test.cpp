@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ParaView export: what is written reads back as the state that was written.
 #include "TimeSeriesExport.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The indentation test: the probe's penalty is its energy's gradient through both of its
 // interfaces, the FEM's force converges as the grid is refined towards the probe, and the spring
 // network's sampled surface meets the probe between its nodes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The map's reading: the Pareto front keeps exactly the points nothing beats on both axes, and
 // the growth exponent recovers a power law's.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The FEM reference: its forces are its energy's gradient and its Hessian the gradient's
 // derivative (finite differences), a homogeneous stretch of one cube matches the closed form of
 // the same energy, and the meshed tensile specimen reproduces the continuum's uniaxial curve.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The force-field contract, field by field on one system: each field's forces are minus its
 // energy's gradient, and its stiffness (exact where the field has an exact Hessian) is minus the
 // forces' derivative; the system's totals are the fields' sums.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tests of the three time integrators on small systems: analytic trajectories, stability at
 // the extremes, energy behaviour, refusal and rollback.
 

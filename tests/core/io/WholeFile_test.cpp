@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Output files are written whole or not at all: a full disk (simulated by a file-size limit)
 // leaves neither half a file nor the partial one, and the file that was there stays.
 

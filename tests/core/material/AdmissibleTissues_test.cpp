@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every tissue the file's validation admits gives finite tables, stresses and stiffnesses over
 // the stretches the program uses, in a table of bounded size: the corners of the admitted ranges
 // (docs/tissue-file.md), loaded through the parser as an instructor's file would be.

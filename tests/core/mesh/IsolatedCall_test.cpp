@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Untrusted work in a child process: its result comes back; a throw, a crash, a hang and a
 // runaway allocation each come back as one line, and this process goes on.
 

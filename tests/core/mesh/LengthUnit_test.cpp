@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Guessing a mesh file's unit from its size: the one that makes it an organ's.
 
 #include "mesh/LengthUnit.h"

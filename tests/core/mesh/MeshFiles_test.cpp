@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading surfaces and tet meshes, and refusing broken ones with one clear line each.
 
 #include <filesystem>

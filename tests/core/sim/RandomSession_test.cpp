@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The soak's random session: reproducible from its seed, within the bounds it states, and never
 // dragging the tool through the organ between pokes.
 #include "sim/RandomSession.h"

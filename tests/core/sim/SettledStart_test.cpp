@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A scene with gravity opens settled on its supports, stays there, and resets to it: the
 // bundled liver, on its tray.
 #include <gtest/gtest.h>

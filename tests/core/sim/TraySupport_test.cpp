@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The tray as a support: what it carries and how far the tissue sinks into it.
 #include "sim/TraySupport.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The matrix-free Newton operator against the assembled matrix it stands for, its parts'
 // independence of the thread count, and Newton with it against Newton with Cholesky.
 
