@@ -34,7 +34,7 @@ struct TensileCommandOptions {
   int points = 25;
   std::string outputPath;
   std::string plotPath;
-  std::string calibration = "small-strain";
+  std::string calibration = "simulator";
   double bulkModulus_kPa = 0.0;
   bool isSofteningOff = false;
   bool isComparing = false;
@@ -111,10 +111,10 @@ void runFemTensile(const TensileCommandOptions& options, const LoadedTissue& tis
 void runTensile(const TensileCommandOptions& options) {
   const bool isFem = options.modelName == "fem";
   const SpringLaw law = isFem ? SpringLaw::Eesm : parseLaw(options.modelName);
-  if (options.calibration != "small-strain" && options.calibration != "with-volume" &&
-      options.calibration != "none") {
+  if (options.calibration != "simulator" && options.calibration != "small-strain" &&
+      options.calibration != "with-volume" && options.calibration != "none") {
     throw CommandError("unknown --calibration '" + options.calibration +
-                       "'; expected small-strain, with-volume or none");
+                       "'; expected simulator, small-strain, with-volume or none");
   }
   if (options.resolution < 1 || options.resolution > 40) {
     throw CommandError("--resolution " + std::to_string(options.resolution) +
@@ -145,12 +145,13 @@ void runTensile(const TensileCommandOptions& options) {
 
   const TensileSpecimen specimen{parseSize(options.size), options.resolution};
   const TensileTest test(energy, table, specimen);
-  const double calibration =
-      options.calibration == "none"
-          ? 1.0
-          : test.smallStrainCalibration(
-                energy.initialShearModulus(),
-                options.calibration == "with-volume" ? options.bulkModulus_kPa * 1000.0 : 0.0);
+  const double bulkModulus_Pa = options.bulkModulus_kPa * 1000.0;
+  const double calibration = options.calibration == "none" ? 1.0
+                             : options.calibration == "simulator"
+                                 ? simulatorStiffnessScale(energy, table, bulkModulus_Pa)
+                                 : test.smallStrainCalibration(
+                                       energy.initialShearModulus(),
+                                       options.calibration == "with-volume" ? bulkModulus_Pa : 0.0);
 
   std::vector<SpringLaw> laws = {law};
   if (options.isComparing) {
@@ -243,8 +244,10 @@ void registerTensileCommand(CLI::App& app) {
                       "Also draw the curves and the sedf reference to this PNG");
   command
       ->add_option("--calibration", options->calibration,
-                   "small-strain (scale V_e so the springs' initial modulus is 3 mu0, as the "
-                   "simulator does), with-volume (the same with the volume term in place) or none")
+                   "simulator (what the simulator does: scale V_e so the springs' initial modulus "
+                   "is 3 mu0, refitted to the continuum's loading over the paper's cycles when "
+                   "there is a volume term), small-strain (the springs' factor alone), "
+                   "with-volume (3 mu0 with the volume term in place) or none")
       ->capture_default_str();
   command
       ->add_option("--bulk-modulus-kpa", options->bulkModulus_kPa,

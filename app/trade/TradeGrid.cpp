@@ -384,8 +384,8 @@ void TradeErrors::measure(const TradeRow& row, const TradeReference& reference,
     options.law = law;
     options.linearModulus_Pa =
         UniaxialTest::springLawLinearModulus(law, m_tissue.energy, m_tissue.table);
-    // The simulator's calibration on the specimen's own lattice (Simulation::buildPhysics).
-    options.volumeScale = test.smallStrainCalibration(m_tissue.energy.initialShearModulus());
+    options.volumeScale =
+        simulatorStiffnessScale(m_tissue.energy, m_tissue.table, row.bulkModulus_Pa);
     options.bulkModulus_Pa = row.bulkModulus_Pa;
     const std::vector<CurveBranch> curve = test.run(options, protocol);
     double loading = 1.0;

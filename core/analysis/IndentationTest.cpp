@@ -278,9 +278,7 @@ std::unique_ptr<BlockNetwork> makeBlockNetwork(const StrainEnergy& energy,
   auto network = std::make_unique<BlockNetwork>();
   network->tetMesh = makeBlockMesh(size, cells);
   network->mesh = buildSpringMesh(network->tetMesh, parameters.density_kg_m3);
-  // The simulator's calibration (Simulation::buildPhysics).
-  network->mesh.volume_m3 *= TensileTest(energy, table, TensileSpecimen{})
-                                 .smallStrainCalibration(energy.initialShearModulus());
+  network->mesh.volume_m3 *= simulatorStiffnessScale(energy, table, settings.bulkModulus_Pa);
   network->law = std::make_unique<SpringForceLaw>(
       settings.law, table, parameters,
       UniaxialTest::springLawLinearModulus(settings.law, energy, table), /*isSoftening=*/false);

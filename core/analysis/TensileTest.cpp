@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "analysis/TensileTest.h"
 
+#include "analysis/UniaxialTest.h"
+
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -218,6 +220,76 @@ double TensileTest::smallStrainCalibration(double initialShearModulus_Pa,
     scale = next > 0.0 ? next : 0.5 * scale;
   }
   return scale;
+}
+
+double TensileTest::volumeTermCalibration(double initialShearModulus_Pa,
+                                          double bulkModulus_Pa) const {
+  const double springsOnly = smallStrainCalibration(initialShearModulus_Pa);
+  if (!(bulkModulus_Pa > 0.0)) return springsOnly;
+  // The paper's cycles, within the stretches this tissue admits (a tissue that locks early is
+  // fitted over what it has).
+  const double usable = 1.0 + 0.9 * (m_table.range().upper - 1.0);
+  std::vector<double> ends;
+  for (const double end : kVolumeFitRanges) {
+    const double clipped = std::min(end, usable);
+    if (clipped > 1.0 + 1e-6 && (ends.empty() || clipped > ends.back() + 1e-9))
+      ends.push_back(clipped);
+  }
+  if (ends.empty()) return springsOnly;
+  const UniaxialProtocol protocol{{ends.back()}, kVolumeFitPoints};
+  const CurveBranch continuum =
+      UniaxialTest(m_energy, m_table).run(UniaxialModel::Sedf, protocol).front();
+  TensileOptions options;
+  options.isSoftening = false;
+  options.bulkModulus_Pa = bulkModulus_Pa;
+  const auto loading = [&](double factor) {
+    options.volumeScale = springsOnly * factor;
+    return run(options, protocol).front().stress_Pa;
+  };
+  const std::vector<double> atOne = loading(1.0);
+  const std::vector<double> atLow = loading(kVolumeFitLow);
+  // Each range weighs as the R^2 of a cycle to its end does: its squared residuals over its own
+  // sum of squares about the mean (a cycle to 1.15 counts as much as one to 1.3).
+  std::vector<double> weight(continuum.stretch.size(), 0.0);
+  for (const double end : ends) {
+    double sum = 0.0;
+    double sumOfSquares = 0.0;
+    int count = 0;
+    for (std::size_t i = 0; i < continuum.stretch.size(); ++i) {
+      if (continuum.stretch[i] > end + 1e-12) continue;
+      sum += continuum.stress_Pa[i];
+      sumOfSquares += continuum.stress_Pa[i] * continuum.stress_Pa[i];
+      ++count;
+    }
+    const double spread = sumOfSquares - sum * sum / std::max(1, count);
+    if (!(spread > 0.0)) continue;
+    for (std::size_t i = 0; i < continuum.stretch.size(); ++i) {
+      if (continuum.stretch[i] <= end + 1e-12) weight[i] += 1.0 / spread;
+    }
+  }
+  // s(f) ~ s(1) + (f - 1) d, d = (s(1) - s(low)) / (1 - low): minimise the weighted
+  // |s(f) - continuum|^2 in closed form.
+  double numerator = 0.0;
+  double denominator = 0.0;
+  for (std::size_t i = 0; i < weight.size(); ++i) {
+    const double slope = (atOne[i] - atLow[i]) / (1.0 - kVolumeFitLow);
+    numerator += weight[i] * slope * (continuum.stress_Pa[i] - atOne[i]);
+    denominator += weight[i] * slope * slope;
+  }
+  if (!(denominator > 0.0)) return springsOnly;
+  return springsOnly * (1.0 + numerator / denominator);
+}
+
+double simulatorStiffnessScale(const StrainEnergy& energy, const StiffnessTable& table,
+                               double bulkModulus_Pa) {
+  if (!(bulkModulus_Pa > 0.0)) {
+    return TensileTest(energy, table, TensileSpecimen{})
+        .smallStrainCalibration(energy.initialShearModulus());
+  }
+  TensileSpecimen specimen;
+  specimen.cellsAcrossThickness = 1;
+  return TensileTest(energy, table, specimen)
+      .volumeTermCalibration(energy.initialShearModulus(), bulkModulus_Pa);
 }
 
 }  // namespace tissuesim

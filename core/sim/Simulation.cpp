@@ -92,15 +92,14 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   const double bulkModulus_Pa = scene.bulkModulus_Pa;
   // The network's missing Poisson effect: scale V_e so a lattice's small-strain modulus is the
   // continuum's 3 mu0, measured once on the paper's specimen meshed with the same Kuhn lattice
-  // the bundled meshes use (TensileTest::smallStrainCalibration; about 5.8). Springs alone, with
-  // or without the volume term: at large stretch the springs along the pull carry the load, and
-  // a factor lowered to absorb the volume term's small-strain share leaves them 30 % short
-  // there (docs/model.md, "The volume term"). A scene can set its own factor
-  // (effects.stiffness_scale) for meshes of another structure.
+  // the bundled meshes use (about 5.8). With the volume term, which resists the lattice's own
+  // lateral contraction and so stiffens it most at small strain, that factor is refitted with
+  // the term in place to the continuum's loading over the paper's cycles (a few per cent lower:
+  // 5.57 at 100 kPa; simulatorStiffnessScale, docs/model.md "The volume term"). A scene can set
+  // its own factor (effects.stiffness_scale) for meshes of another structure.
   const double stiffnessScale = scene.stiffnessScale > 0.0
                                     ? scene.stiffnessScale
-                                    : TensileTest(*energy, *table, TensileSpecimen{})
-                                          .smallStrainCalibration(energy->initialShearModulus());
+                                    : simulatorStiffnessScale(*energy, *table, bulkModulus_Pa);
   springMesh.volume_m3 *= stiffnessScale;
 
   // Dependents first: each holds references into the ones before it.

@@ -39,6 +39,34 @@ TEST_F(TensileTestTest, CalibratedNetworkFollowsTheContinuumAndUncalibratedDoesN
   }
 }
 
+TEST_F(TensileTestTest, WithTheVolumeTermTheRefittedCalibrationHoldsTheCurveOverThePapersCycles) {
+  // The bundled scene's 100 kPa: the springs' own factor leaves the first cycle's loading at
+  // R^2 99.4 %; refitted with the term in place, every loading branch is at 99.9 % or above
+  // and every unloading one at 99 % or above (the simulator's requirement), with a factor a few
+  // per cent under the springs' own.
+  constexpr double kBulk_Pa = 1e5;
+  const double mu0 = m_liver.energy.initialShearModulus();
+  const double springsOnly = m_test.smallStrainCalibration(mu0);
+  const double refitted = m_test.volumeTermCalibration(mu0, kBulk_Pa);
+  EXPECT_LT(refitted, springsOnly);
+  EXPECT_GT(refitted, 0.9 * springsOnly);
+  EXPECT_DOUBLE_EQ(m_test.volumeTermCalibration(mu0, 0.0), springsOnly);
+  const UniaxialProtocol cycles{{1.15, 1.23, 1.30}, 10};
+  const auto reference = m_continuum.run(UniaxialModel::Sedf, cycles);
+  TensileOptions options;
+  options.bulkModulus_Pa = kBulk_Pa;
+  options.volumeScale = springsOnly;
+  const auto before = m_test.run(options, cycles);
+  EXPECT_LT(coefficientOfDetermination(reference[0].stress_Pa, before[0].stress_Pa), 0.999);
+  options.volumeScale = refitted;
+  const auto after = m_test.run(options, cycles);
+  for (std::size_t b = 0; b < reference.size(); ++b) {
+    EXPECT_GE(coefficientOfDetermination(reference[b].stress_Pa, after[b].stress_Pa),
+              b % 2 == 0 ? 0.999 : 0.99)
+        << "branch " << b;
+  }
+}
+
 TEST_F(TensileTestTest, TimeIntegratorsReachTheSameEquilibria) {
   TensileOptions options;
   options.volumeScale = 5.0;
