@@ -78,21 +78,12 @@ TradeSettings settingsFor(const TradeOptions& options) {
 void measureFemRow(const LoadedTissue& tissue, const TradeMap& map, const TradeRow& row,
                    TradeMeasurement& m) {
   const TradeReference fem = measureReference(tissue, map.settings, row.femRefinement);
-  m.nodes = fem.nodes;
+  m.cost.nodes = fem.nodes;
   m.staticForce_N = fem.force_N;
   const double loadSteps =
       std::ceil(map.settings.depths_m.back() / IndentationSetup{}.depthStep_m - 1e-9);
-  m.stepMedian_ms = 1e3 * fem.seconds / std::max(1.0, loadSteps);
-  double sum = 0.0;
-  for (std::size_t i = 0; i < fem.surfaceDisplacement_m.size(); ++i) {
-    const double gap =
-        (fem.surfaceDisplacement_m[i] - map.reference.surfaceDisplacement_m[i]).norm();
-    sum += gap * gap;
-    m.surfaceMax_mm = std::max(m.surfaceMax_mm, 1e3 * gap);
-  }
-  m.surfaceRms_mm =
-      1e3 *
-      std::sqrt(sum / std::max<double>(1.0, static_cast<double>(fem.surfaceDisplacement_m.size())));
+  m.cost.stepMedian_ms = 1e3 * fem.seconds / std::max(1.0, loadSteps);
+  setSurfaceGap(fem.surfaceDisplacement_m, map.reference.surfaceDisplacement_m, m);
 }
 
 void runTrade(const TradeOptions& options) {
@@ -153,28 +144,20 @@ void runTrade(const TradeOptions& options) {
     }
     map.cellEdges_m.push_back(errors.cellEdge(row.targetSprings));
   }
-  std::vector<std::vector<TradeMeasurement>> costs(map.rows.size());
+  std::vector<std::vector<TradeCost>> costs(map.rows.size());
   for (int round = 1; round <= rounds; ++round) {
     for (std::size_t r = 0; r < map.rows.size(); ++r) {
       if (map.rows[r].femRefinement > 0) continue;
       progress.start("cost, round " + std::to_string(round) + " of " + std::to_string(rounds) +
                      ": " + map.rows[r].name);
-      measureLiverCost(bundled, map.rows[r], costs[r].emplace_back());
+      costs[r].push_back(measureLiverCost(bundled, map.rows[r]));
     }
   }
   for (std::size_t r = 0; r < map.rows.size(); ++r) {
     if (costs[r].empty()) continue;
     TradeMeasurement& m = map.measurements[r];
-    const TradeMeasurement cost = medianOfRounds(costs[r]);
-    m.springs = cost.springs;
-    m.nodes = cost.nodes;
-    m.startup_s = cost.startup_s;
-    m.stepMedian_ms = cost.stepMedian_ms;
-    m.stepP99_ms = cost.stepP99_ms;
-    m.stepsPerSecond = cost.stepsPerSecond;
-    m.peakMemory_MB = cost.peakMemory_MB;
-    m.events = cost.events;
-    if (m.failure.empty()) m.failure = cost.failure;
+    m.cost = medianOfRounds(costs[r]);
+    if (m.failure.empty()) m.failure = m.cost.failure;
   }
   map.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   writeTextFile(csvPath, "--output", tradeCsv(map));

@@ -242,45 +242,61 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
   return rows;
 }
 
-void measureLiverCost(const SceneDescription& bundled, const TradeRow& row, TradeMeasurement& out) {
+TradeCost measureLiverCost(const SceneDescription& bundled, const TradeRow& row) {
   const SceneDescription scene = sceneOf(bundled, row);
   IsolationLimits limits;
   limits.wallTime = std::chrono::seconds(1200);
   limits.cpuSeconds = 2400;
   limits.addressSpaceBytes = 16ull << 30;
   const IsolatedResult result = runIsolated([&] { return timeLiverPoke(scene); }, limits);
+  TradeCost cost;
   if (!result.isOk) {
-    out.failure = "liver run: " + result.error;
-    return;
+    cost.failure = "liver run: " + result.error;
+    return cost;
   }
   const nlohmann::json reply = nlohmann::json::parse(result.bytes);
-  out.springs = reply["springs"].get<int>();
-  out.nodes = reply["nodes"].get<int>();
-  out.startup_s = reply["startup_s"].get<double>();
-  out.stepMedian_ms = reply["median_ms"].get<double>();
-  out.stepP99_ms = reply["p99_ms"].get<double>();
-  out.stepsPerSecond = reply["steps_per_s"].get<double>();
-  out.peakMemory_MB = reply["memory_mb"].get<double>();
-  out.events = reply["events"].get<long>();
+  cost.springs = reply["springs"].get<int>();
+  cost.nodes = reply["nodes"].get<int>();
+  cost.startup_s = reply["startup_s"].get<double>();
+  cost.stepMedian_ms = reply["median_ms"].get<double>();
+  cost.stepP99_ms = reply["p99_ms"].get<double>();
+  cost.stepsPerSecond = reply["steps_per_s"].get<double>();
+  cost.peakMemory_MB = reply["memory_mb"].get<double>();
+  cost.events = reply["events"].get<long>();
+  return cost;
 }
 
-TradeMeasurement medianOfRounds(const std::vector<TradeMeasurement>& rounds) {
-  TradeMeasurement combined = rounds.front();
-  const auto median = [&](double TradeMeasurement::*field) {
+TradeCost medianOfRounds(const std::vector<TradeCost>& rounds) {
+  TradeCost combined = rounds.front();
+  const auto median = [&](double TradeCost::*field) {
     std::vector<double> values;
-    for (const TradeMeasurement& round : rounds) values.push_back(round.*field);
+    for (const TradeCost& round : rounds) values.push_back(round.*field);
     return percentile(values, 0.5);
   };
-  combined.startup_s = median(&TradeMeasurement::startup_s);
-  combined.stepMedian_ms = median(&TradeMeasurement::stepMedian_ms);
-  combined.stepP99_ms = median(&TradeMeasurement::stepP99_ms);
-  combined.stepsPerSecond = median(&TradeMeasurement::stepsPerSecond);
-  for (const TradeMeasurement& round : rounds) {
+  combined.startup_s = median(&TradeCost::startup_s);
+  combined.stepMedian_ms = median(&TradeCost::stepMedian_ms);
+  combined.stepP99_ms = median(&TradeCost::stepP99_ms);
+  combined.stepsPerSecond = median(&TradeCost::stepsPerSecond);
+  for (const TradeCost& round : rounds) {
     combined.peakMemory_MB = std::max(combined.peakMemory_MB, round.peakMemory_MB);
     combined.events = std::max(combined.events, round.events);
     if (combined.failure.empty()) combined.failure = round.failure;
   }
   return combined;
+}
+
+void setSurfaceGap(const std::vector<Eigen::Vector3d>& model_m,
+                   const std::vector<Eigen::Vector3d>& reference_m, TradeMeasurement& out) {
+  double sum = 0.0;
+  double worst = 0.0;
+  const std::size_t count = std::min(model_m.size(), reference_m.size());
+  for (std::size_t i = 0; i < count; ++i) {
+    const double gap = (model_m[i] - reference_m[i]).norm();
+    sum += gap * gap;
+    worst = std::max(worst, gap);
+  }
+  out.surfaceRms_mm = count > 0 ? 1e3 * std::sqrt(sum / static_cast<double>(count)) : 0.0;
+  out.surfaceMax_mm = 1e3 * worst;
 }
 
 TradeReference measureReference(const LoadedTissue& tissue, const TradeSettings& settings,
@@ -360,16 +376,7 @@ void TradeErrors::measure(const TradeRow& row, const TradeReference& reference,
   out.staticForce_N = statics->second.force_N;
   out.paceForce_N = paced->second.force_N;
   out.failedSteps = paced->second.failedSteps;
-  double sum = 0.0;
-  double worst = 0.0;
-  const std::vector<Eigen::Vector3d>& mine = statics->second.surfaceDisplacement_m;
-  for (std::size_t i = 0; i < mine.size(); ++i) {
-    const double gap = (mine[i] - reference.surfaceDisplacement_m[i]).norm();
-    sum += gap * gap;
-    worst = std::max(worst, gap);
-  }
-  out.surfaceRms_mm = mine.empty() ? 0.0 : 1e3 * std::sqrt(sum / static_cast<double>(mine.size()));
-  out.surfaceMax_mm = 1e3 * worst;
+  setSurfaceGap(statics->second.surfaceDisplacement_m, reference.surfaceDisplacement_m, out);
 
   char tensileKey[96];
   std::snprintf(tensileKey, sizeof tensileKey, "%s|%.6g", row.law.c_str(), row.bulkModulus_Pa);

@@ -45,8 +45,9 @@ struct TradeRow {
   int femRefinement = 0;          ///< > 0: an FEM row (cost on the block, not the liver)
 };
 
-struct TradeMeasurement {
-  // On the liver (FEM rows: on the block, a static solve per load step).
+/// A row's cost on the liver (FEM rows: on the block, stepMedian_ms a static solve per load
+/// step).
+struct TradeCost {
   int springs = 0;
   int nodes = 0;
   double startup_s = 0.0;
@@ -55,6 +56,11 @@ struct TradeMeasurement {
   double stepsPerSecond = 0.0;
   double peakMemory_MB = 0.0;
   long events = 0;
+  std::string failure;  ///< what stopped the run, when something did
+};
+
+struct TradeMeasurement {
+  TradeCost cost;
   // On the block.
   std::vector<double> staticForce_N;
   std::vector<double> paceForce_N;  ///< empty for FEM rows
@@ -85,12 +91,15 @@ struct TradeSettings {
 /// integrators and Newton settings; then the FEM rows.
 std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSettings& settings);
 
-/// The cost of `row` on the liver, in a child process. Sets the liver fields of `out`, or its
-/// failure.
-void measureLiverCost(const SceneDescription& bundled, const TradeRow& row, TradeMeasurement& out);
-/// One measurement per round of the same row: their timings' medians, the largest memory and
-/// event count; the first failure, if any.
-TradeMeasurement medianOfRounds(const std::vector<TradeMeasurement>& rounds);
+/// The cost of `row` on the liver, in a child process (or the failure that stopped it).
+TradeCost measureLiverCost(const SceneDescription& bundled, const TradeRow& row);
+/// One cost per round of the same row (at least one): their timings' medians, the largest
+/// memory and event count; the first failure, if any.
+TradeCost medianOfRounds(const std::vector<TradeCost>& rounds);
+/// The RMS and largest distance (mm) between two samplings of the top face's displacement
+/// into `out`'s surface fields.
+void setSurfaceGap(const std::vector<Eigen::Vector3d>& model_m,
+                   const std::vector<Eigen::Vector3d>& reference_m, TradeMeasurement& out);
 
 /// The FEM reference on the block: its forces and surface displacement, cost per load step.
 struct TradeReference {

@@ -76,8 +76,8 @@ double scalingExponent(const TradeMap& map, const std::string& knob) {
   std::vector<double> time;
   for (std::size_t r = 0; r < map.rows.size(); ++r) {
     if (map.rows[r].knob != knob || !map.measurements[r].failure.empty()) continue;
-    springs.push_back(map.measurements[r].springs);
-    time.push_back(map.measurements[r].stepMedian_ms);
+    springs.push_back(map.measurements[r].cost.springs);
+    time.push_back(map.measurements[r].cost.stepMedian_ms);
   }
   return powerLawExponent(springs, time);
 }
@@ -105,7 +105,7 @@ double worstError(const TradeMap& map, std::size_t row) {
 
 double stepCost(const TradeMap& map, std::size_t row) {
   if (isFem(map, row) || !map.measurements[row].failure.empty()) return kNan;
-  return map.measurements[row].stepMedian_ms;
+  return map.measurements[row].cost.stepMedian_ms;
 }
 
 std::string tradeCsv(const TradeMap& map) {
@@ -130,8 +130,8 @@ std::string tradeCsv(const TradeMap& map) {
     const bool fem = isFem(map, r);
     std::vector<std::string> fields = {row.knob,
                                        quoted(row.name),
-                                       std::to_string(m.springs),
-                                       std::to_string(m.nodes),
+                                       std::to_string(m.cost.springs),
+                                       std::to_string(m.cost.nodes),
                                        format("%.3f", map.cellEdges_m[r] * 1e3),
                                        fem ? "fem" : row.law,
                                        format("%g", row.bulkModulus_Pa / 1e3),
@@ -139,12 +139,12 @@ std::string tradeCsv(const TradeMap& map) {
                                        fem ? "" : std::to_string(row.newtonIterations),
                                        fem ? "" : format("%g", row.cgTolerance),
                                        fem ? "1" : std::to_string(row.threads),
-                                       format("%.3f", m.startup_s),
-                                       format("%.4f", m.stepMedian_ms),
-                                       format("%.4f", m.stepP99_ms),
-                                       format("%.1f", m.stepsPerSecond),
-                                       format("%.1f", m.peakMemory_MB),
-                                       std::to_string(m.events)};
+                                       format("%.3f", m.cost.startup_s),
+                                       format("%.4f", m.cost.stepMedian_ms),
+                                       format("%.4f", m.cost.stepP99_ms),
+                                       format("%.1f", m.cost.stepsPerSecond),
+                                       format("%.1f", m.cost.peakMemory_MB),
+                                       std::to_string(m.cost.events)};
     for (const std::vector<double>* forces : {&m.staticForce_N, &m.paceForce_N}) {
       const std::vector<double> errors = forceErrors(*forces, map.reference.force_N);
       for (std::size_t d = 0; d < depths.size(); ++d)
@@ -219,15 +219,16 @@ std::string tradeMarkdown(const TradeMap& map) {
     const std::string surface =
         format("%.3f", m.surfaceRms_mm) + " / " + format("%.3f", m.surfaceMax_mm);
     if (isFem(map, r)) {
-      md << "- | - | " << format("%.1f", m.stepMedian_ms / 1e3)
+      md << "- | - | " << format("%.1f", m.cost.stepMedian_ms / 1e3)
          << " s a load step (block) | - | - | - | " << staticErrors << " | - | " << surface
          << " | - |\n";
       continue;
     }
-    md << m.springs << " | " << format("%.1f", map.cellEdges_m[r] * 1e3) << " | "
-       << format("%.3f", m.stepMedian_ms) << " / " << format("%.3f", m.stepP99_ms) << " | "
-       << format("%.0f", m.stepsPerSecond) << " | " << format("%.2f", m.startup_s) << " | "
-       << format("%.0f", m.peakMemory_MB) << " | " << staticErrors << " | "
+    md << m.cost.springs << " | " << format("%.1f", map.cellEdges_m[r] * 1e3) << " | "
+       << format("%.3f", m.cost.stepMedian_ms) << " / " << format("%.3f", m.cost.stepP99_ms)
+       << " | " << format("%.0f", m.cost.stepsPerSecond) << " | "
+       << format("%.2f", m.cost.startup_s) << " | " << format("%.0f", m.cost.peakMemory_MB) << " | "
+       << staticErrors << " | "
        << joined(forceErrors(m.paceForce_N, map.reference.force_N), "%+.0f")
        << (m.failedSteps > 0 ? " (" + std::to_string(m.failedSteps) + " steps failed)" : "")
        << " | " << surface << " | " << format("%.2f", 100.0 * m.tensileLoadingR2) << " / "
@@ -257,8 +258,9 @@ std::string tradeMarkdown(const TradeMap& map) {
       if (map.rows[s].knob == "resolution" &&
           map.rows[s].targetSprings == map.rows[r].targetSprings &&
           map.measurements[s].failure.empty()) {
-        md << " " << map.measurements[s].springs << " springs "
-           << format("%.2f", map.measurements[r].stepMedian_ms / map.measurements[s].stepMedian_ms)
+        md << " " << map.measurements[s].cost.springs << " springs "
+           << format("%.2f", map.measurements[r].cost.stepMedian_ms /
+                                 map.measurements[s].cost.stepMedian_ms)
            << "x;";
       }
     }

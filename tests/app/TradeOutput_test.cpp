@@ -48,8 +48,8 @@ TradeMap sampleMap() {
     row.knob = "resolution";
     row.name = name;
     TradeMeasurement m;
-    m.springs = 1000;
-    m.stepMedian_ms = median_ms;
+    m.cost.springs = 1000;
+    m.cost.stepMedian_ms = median_ms;
     m.staticForce_N = {0.1, 0.4};
     m.paceForce_N = std::move(pace);
     m.failure = failure;
@@ -67,7 +67,7 @@ TradeMap sampleMap() {
   fem.name = "fem, refinement 1";
   fem.femRefinement = 1;
   TradeMeasurement femMeasurement;
-  femMeasurement.stepMedian_ms = 5000.0;
+  femMeasurement.cost.stepMedian_ms = 5000.0;
   femMeasurement.staticForce_N = {0.099, 0.41};
   map.rows.push_back(fem);
   map.measurements.push_back(femMeasurement);
