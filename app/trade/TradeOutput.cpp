@@ -203,15 +203,15 @@ std::string tradeMarkdown(const TradeMap& map) {
      << " mm: " << joined(map.reference.force_N, "%.4g") << " N.\n\n";
 
   md << "| setting | springs | cell (mm) | step median / p99 (ms) | steps/s | start-up (s) | "
-        "memory (MB) | force error, static (%) | force error, at pace (%) | surface RMS / max "
-        "(mm) | tensile R^2 loading / unloading (%) |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "memory (MB) | instability events on the poke | force error, static (%) | force error, at "
+        "pace (%) | surface RMS / max (mm) | tensile R^2 loading / unloading (%) |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t r = 0; r < map.rows.size(); ++r) {
     const TradeRow& row = map.rows[r];
     const TradeMeasurement& m = map.measurements[r];
     md << "| " << row.name << " | ";
     if (!m.failure.empty()) {
-      md << "failed: " << m.failure << " |||||||||\n";
+      md << "failed: " << m.failure << " ||||||||||\n";
       continue;
     }
     const std::string staticErrors =
@@ -220,7 +220,7 @@ std::string tradeMarkdown(const TradeMap& map) {
         format("%.3f", m.surfaceRms_mm) + " / " + format("%.3f", m.surfaceMax_mm);
     if (isFem(map, r)) {
       md << "- | - | " << format("%.1f", m.cost.stepMedian_ms / 1e3)
-         << " s a load step (block) | - | - | - | " << staticErrors << " | - | " << surface
+         << " s a load step (block) | - | - | - | - | " << staticErrors << " | - | " << surface
          << " | - |\n";
       continue;
     }
@@ -228,7 +228,7 @@ std::string tradeMarkdown(const TradeMap& map) {
        << format("%.3f", m.cost.stepMedian_ms) << " / " << format("%.3f", m.cost.stepP99_ms)
        << " | " << format("%.0f", m.cost.stepsPerSecond) << " | "
        << format("%.2f", m.cost.startup_s) << " | " << format("%.0f", m.cost.peakMemory_MB) << " | "
-       << staticErrors << " | "
+       << m.cost.events << " | " << staticErrors << " | "
        << joined(forceErrors(m.paceForce_N, map.reference.force_N), "%+.0f")
        << (m.failedSteps > 0 ? " (" + std::to_string(m.failedSteps) + " steps failed)" : "")
        << " | " << surface << " | " << format("%.2f", 100.0 * m.tensileLoadingR2) << " / "
