@@ -84,7 +84,8 @@ void runSession(const RunOptions& options) {
     const StepOutcome outcome = simulation->step();
     maxForce = std::max(maxForce, outcome.contact.toolForce_N.norm());
     maxPenetration = std::max(maxPenetration, outcome.contact.maxPenetration_m);
-    maxStretch = std::max(maxStretch, outcome.maxStretch);
+    // A step that was rolled back left no state behind: its stretch is not the organ's.
+    if (outcome.isGood) maxStretch = std::max(maxStretch, outcome.maxStretch);
     minVolumeRatio = std::min(minVolumeRatio, outcome.integrator.forces.volume.minVolumeRatio);
     maxVolumeRatio = std::max(maxVolumeRatio, outcome.integrator.forces.volume.maxVolumeRatio);
     linearIterations += outcome.integrator.linearIterations;
