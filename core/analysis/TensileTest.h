@@ -83,10 +83,10 @@ class TensileTest {
   /// continuum's (sedf) by least squares over the paper's cycles, lambda 1 to 1.15, 1.23 and
   /// 1.3, each range weighted as its cycle's R^2 weighs it. The term resists the lattice's own
   /// lateral contraction (a spring network's Poisson ratio is 1/4, the tissue's 1/2), which
-  /// stiffens the specimen most at small strain: c0 alone leaves it a few per cent stiff (R^2
-  /// 99.4 % on the first cycle at 100 kPa), and c solved for 3 mu0 with the term in place
-  /// (smallStrainCalibration with bulkModulus_Pa) leaves the springs a third short at large
-  /// stretch (R^2 87 %). The stresses are linear enough in f between kVolumeFitLow and 1 to take
+  /// stiffens the specimen most at small strain: c0 alone leaves it a few per cent stiff there,
+  /// and c solved for 3 mu0 with the term in place (smallStrainCalibration with bulkModulus_Pa)
+  /// leaves the springs a third short at large stretch (docs/scene-file.md has both measured).
+  /// The stresses are linear enough in f between kVolumeFitLow and 1 to take
   /// their secant there and solve the least squares in closed form: two runs of the specimen.
   double volumeTermCalibration(double initialShearModulus_Pa, double bulkModulus_Pa) const;
   static constexpr std::array<double, 3> kVolumeFitRanges{1.15, 1.23, 1.3};
@@ -102,7 +102,7 @@ class TensileTest {
 /// The factor on every spring's V_e that the simulator applies (Simulation, and the indentation
 /// and trade measurements that stand for it): the springs' small-strain calibration on the
 /// paper's specimen, fitted with the volume term in place when bulkModulus_Pa > 0
-/// (volumeTermCalibration on the specimen one cell across: two runs, about 0.3 s).
+/// (volumeTermCalibration on the specimen one cell across: two runs of a small specimen).
 double simulatorStiffnessScale(const StrainEnergy& energy, const StiffnessTable& table,
                                double bulkModulus_Pa);
 

@@ -94,8 +94,8 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   // continuum's 3 mu0, measured once on the paper's specimen meshed with the same Kuhn lattice
   // the bundled meshes use (about 5.8). With the volume term, which resists the lattice's own
   // lateral contraction and so stiffens it most at small strain, that factor is refitted with
-  // the term in place to the continuum's loading over the paper's cycles (a few per cent lower:
-  // 5.57 at 100 kPa; simulatorStiffnessScale, docs/model.md "The volume term"). A scene can set
+  // the term in place to the continuum's loading over the paper's cycles (a few per cent lower;
+  // simulatorStiffnessScale, docs/scene-file.md "The volume term"). A scene can set
   // its own factor (effects.stiffness_scale) for meshes of another structure.
   const double stiffnessScale = scene.stiffnessScale > 0.0
                                     ? scene.stiffnessScale
