@@ -35,16 +35,7 @@ void runIndent(const IndentCommandOptions& options) {
   }
   if (options.volumeTerm_kPa < 0.0) throw CommandError("--volume-term-kpa must be >= 0");
   IndentationSetup setup;
-  setup.depths_m.clear();
-  double last = 0.0;
-  for (const double depth : options.depths_mm) {
-    // Past about 4.5 mm the continuum under the 2.5 mm probe reaches the chains' locking
-    // stretch: the FEM has no equilibrium there (docs/performance.md).
-    if (!(depth > last) || depth > 4.5)
-      throw CommandError("--depths-mm must increase, each in (0, 4.5] mm");
-    setup.depths_m.push_back(depth / 1000.0);
-    last = depth;
-  }
+  setup.depths_m = indentationDepthsFromMm(options.depths_mm);
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   const LoadedTissue tissue(options.tissuePath);
 
@@ -97,6 +88,20 @@ void runIndent(const IndentCommandOptions& options) {
 }
 
 }  // namespace
+
+std::vector<double> indentationDepthsFromMm(const std::vector<double>& depths_mm) {
+  std::vector<double> depths_m;
+  double last = 0.0;
+  for (const double depth : depths_mm) {
+    // Past about 4.5 mm the continuum under the 2.5 mm probe reaches the chains' locking
+    // stretch: the FEM has no equilibrium there (docs/performance.md).
+    if (!(depth > last) || depth > 4.5)
+      throw CommandError("--depths-mm must increase, each in (0, 4.5] mm");
+    depths_m.push_back(depth / 1000.0);
+    last = depth;
+  }
+  return depths_m;
+}
 
 void registerIndentCommand(CLI::App& app) {
   auto options = std::make_shared<IndentCommandOptions>();

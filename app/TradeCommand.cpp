@@ -12,6 +12,7 @@
 
 #include "AssetPaths.h"
 #include "CommandError.h"
+#include "IndentCommand.h"
 #include "LoadedTissue.h"
 #include "OutputFile.h"
 #include "sim/SceneFile.h"
@@ -57,15 +58,7 @@ TradeSettings settingsFor(const TradeOptions& options) {
       throw CommandError("--springs " + std::to_string(count) +
                          " is out of range; expected 200 to 200000");
   }
-  double last = 0.0;
-  for (const double depth : options.depths_mm) {
-    // Past about 4.5 mm the continuum under the 2.5 mm probe reaches the chains' locking
-    // stretch: the FEM has no equilibrium to compare with (docs/performance.md).
-    if (!(depth > last) || depth > 4.5)
-      throw CommandError("--depths-mm must increase, each in (0, 4.5] mm");
-    settings.depths_m.push_back(depth / 1000.0);
-    last = depth;
-  }
+  settings.depths_m = indentationDepthsFromMm(options.depths_mm);
   settings.referenceRefinement = options.isQuick ? 1 : 3;
   if (!options.isQuick) settings.femRows = {1, 2};
   settings.tensileResolution = options.isQuick ? 1 : 2;
