@@ -62,7 +62,7 @@ double percentile(std::vector<double> values, double share) {
 }
 
 /// The default poke through the scene, timed; its figures as JSON text (the child's reply).
-std::string timeLiverPoke(const SceneDescription& scene) {
+std::string timeLiverPoke(const SceneDescription& scene, double duration_s) {
   // The child shares its parent's pages, its freed heap among them (which it would reuse
   // without a page more), and inherits its high-water mark: the free heap is handed back and the
   // mark reset to what the child holds now, so the peak above it is this scene's alone.
@@ -73,7 +73,8 @@ std::string timeLiverPoke(const SceneDescription& scene) {
   SceneSession session(scene, "", InstrumentDriver::Script);
   Simulation& simulation = session.simulation();
   const double startup_s = secondsBetween(start, Clock::now());
-  const long steps = std::lround(session.script()->duration_s() / simulation.timeStep_s());
+  const double simulated_s = duration_s > 0.0 ? duration_s : session.script()->duration_s();
+  const long steps = std::lround(simulated_s / simulation.timeStep_s());
   std::vector<double> stepTimes_ms;
   stepTimes_ms.reserve(static_cast<std::size_t>(steps));
   const auto loop = Clock::now();
@@ -242,13 +243,15 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
   return rows;
 }
 
-TradeCost measureLiverCost(const SceneDescription& bundled, const TradeRow& row) {
+TradeCost measureLiverCost(const SceneDescription& bundled, const TradeRow& row,
+                           double duration_s) {
   const SceneDescription scene = sceneOf(bundled, row);
   IsolationLimits limits;
   limits.wallTime = std::chrono::seconds(1200);
   limits.cpuSeconds = 2400;
   limits.addressSpaceBytes = 16ull << 30;
-  const IsolatedResult result = runIsolated([&] { return timeLiverPoke(scene); }, limits);
+  const IsolatedResult result =
+      runIsolated([&] { return timeLiverPoke(scene, duration_s); }, limits);
   TradeCost cost;
   if (!result.isOk) {
     cost.failure = "liver run: " + result.error;
@@ -331,6 +334,17 @@ TradeErrors::TradeErrors(const LoadedTissue& tissue, const SceneDescription& bun
   m_surface = std::move(*geometry.surface);
 }
 
+double TradeErrors::stiffnessScale(double bulkModulus_Pa) {
+  auto found = m_stiffnessScales.find(bulkModulus_Pa);
+  if (found == m_stiffnessScales.end()) {
+    found = m_stiffnessScales
+                .emplace(bulkModulus_Pa,
+                         simulatorStiffnessScale(m_tissue.energy, m_tissue.table, bulkModulus_Pa))
+                .first;
+  }
+  return found->second;
+}
+
 double TradeErrors::cellEdge(int springs) const {
   return edgeLengthForSpringCount(m_surface, springs);
 }
@@ -338,7 +352,8 @@ double TradeErrors::cellEdge(int springs) const {
 void TradeErrors::measure(const TradeRow& row, const TradeReference& reference,
                           TradeMeasurement& out) {
   const SpringLaw law = springLawNamed(row.law).value_or(SpringLaw::Eesm);
-  const IndentationNetwork network{cellEdge(row.targetSprings), law, row.bulkModulus_Pa};
+  const IndentationNetwork network{cellEdge(row.targetSprings), law, row.bulkModulus_Pa,
+                                   stiffnessScale(row.bulkModulus_Pa)};
   IndentationSetup setup;
   setup.depths_m = m_settings.depths_m;
   char key[128];
@@ -391,8 +406,7 @@ void TradeErrors::measure(const TradeRow& row, const TradeReference& reference,
     options.law = law;
     options.linearModulus_Pa =
         UniaxialTest::springLawLinearModulus(law, m_tissue.energy, m_tissue.table);
-    options.volumeScale =
-        simulatorStiffnessScale(m_tissue.energy, m_tissue.table, row.bulkModulus_Pa);
+    options.volumeScale = stiffnessScale(row.bulkModulus_Pa);
     options.bulkModulus_Pa = row.bulkModulus_Pa;
     const std::vector<CurveBranch> curve = test.run(options, protocol);
     double loading = 1.0;

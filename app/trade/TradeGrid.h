@@ -84,6 +84,7 @@ struct TradeSettings {
   /// Each row's liver run is repeated this many times, the rows interleaved (this machine's
   /// speed drifts within minutes), and each timing is the median over the rounds.
   int costRounds = 3;
+  double pokeSeconds = 0.0;  ///< the cost runs' simulated time; 0: the whole poke (2 s)
 };
 
 /// The rows of the map: the bundled scene at each resolution (two threads, then one), and at
@@ -91,8 +92,10 @@ struct TradeSettings {
 /// integrators and Newton settings; then the FEM rows.
 std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSettings& settings);
 
-/// The cost of `row` on the liver, in a child process (or the failure that stopped it).
-TradeCost measureLiverCost(const SceneDescription& bundled, const TradeRow& row);
+/// The cost of `row` on the liver, in a child process (or the failure that stopped it), over the
+/// first `duration_s` of the poke (0: all of it). Its start-up includes all the scene's own
+/// start-up work, the calibration among it.
+TradeCost measureLiverCost(const SceneDescription& bundled, const TradeRow& row, double duration_s);
 /// One cost per round of the same row (at least one): their timings' medians, the largest
 /// memory and event count; the first failure, if any.
 TradeCost medianOfRounds(const std::vector<TradeCost>& rounds);
@@ -122,6 +125,8 @@ class TradeErrors {
 
   /// The cube edge (m) of the liver's lattice of about `springs` springs.
   double cellEdge(int springs) const;
+  /// The simulator's factor on V_e for a volume term (Pa), measured once each.
+  double stiffnessScale(double bulkModulus_Pa);
   /// The block and tensile fields of `out` for spring row `row`, against `reference`.
   void measure(const TradeRow& row, const TradeReference& reference, TradeMeasurement& out);
 
@@ -130,6 +135,7 @@ class TradeErrors {
   SceneDescription m_bundled;
   TradeSettings m_settings;
   TriangleSurface m_surface;  ///< the drawn liver
+  std::map<double, double> m_stiffnessScales;
   std::map<std::string, IndentationCurve> m_static;
   std::map<std::string, IndentationCurve> m_pace;
   std::map<std::string, std::pair<double, double>> m_tensile;

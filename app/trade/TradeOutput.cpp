@@ -187,7 +187,11 @@ std::string tradeMarkdown(const TradeMap& map) {
   md << "# The speed/accuracy map\n\n`tissuesim trade" << (map.settings.isQuick ? " --quick" : "")
      << "`: tissue " << map.tissueName << ", scene " << map.sceneName << "; " << machineLine()
      << "; " << format("%.0f", map.wall_s) << " s.\n\n";
-  md << "**Cost** is the bundled scene's default poke (4 cm along the tool and back, 2 s) on the "
+  md << "**Cost** is the bundled scene's default poke (4 cm along the tool and back, 2 s"
+     << (map.settings.pokeSeconds > 0.0
+             ? "; here its first " + format("%g", map.settings.pokeSeconds) + " s"
+             : std::string())
+     << ") on the "
         "liver lattice-meshed to each row's spring count, with the row's knobs, each run in a "
         "process of its own (memory: its peak resident set above its start), "
      << map.settings.costRounds

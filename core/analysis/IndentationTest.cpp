@@ -278,7 +278,9 @@ std::unique_ptr<BlockNetwork> makeBlockNetwork(const StrainEnergy& energy,
   auto network = std::make_unique<BlockNetwork>();
   network->tetMesh = makeBlockMesh(size, cells);
   network->mesh = buildSpringMesh(network->tetMesh, parameters.density_kg_m3);
-  network->mesh.volume_m3 *= simulatorStiffnessScale(energy, table, settings.bulkModulus_Pa);
+  network->mesh.volume_m3 *= settings.stiffnessScale > 0.0
+                                 ? settings.stiffnessScale
+                                 : simulatorStiffnessScale(energy, table, settings.bulkModulus_Pa);
   network->law = std::make_unique<SpringForceLaw>(
       settings.law, table, parameters,
       UniaxialTest::springLawLinearModulus(settings.law, energy, table), /*isSoftening=*/false);

@@ -63,6 +63,8 @@ struct IndentationNetwork {
   double cellEdge_m = 0.005;
   SpringLaw law = SpringLaw::Eesm;
   double bulkModulus_Pa = 0.0;  ///< 0: no volume term
+  /// The factor on V_e; 0: the simulator's for this volume term (simulatorStiffnessScale).
+  double stiffnessScale = 0.0;
 };
 
 /// The pace of a poke at a scene's speed: the probe descends at speed_m_s from the top face,
