@@ -8,13 +8,15 @@
 // - the FEM reference (fem/FemModel.h) on a quarter of the block (symmetry planes x = 0 and
 //   y = 0 through the probe's axis), on a rectilinear grid graded towards the probe: cells of
 //   probeRadius / refinement there, growing by kGrowth a cell to at most kCoarsest;
-// - the spring network with the simulator's settings (the eesm law, V_e scaled by the lattice's
-//   small-strain calibration, the volume term when asked for) on the whole block, a uniform Kuhn
-//   lattice of about the asked number of springs, as `tissuesim mesh` makes for an organ.
+// - the spring network with the simulator's settings (a spring law, V_e scaled by the
+//   simulator's calibration, the volume term when asked for) on the whole block, a uniform Kuhn
+//   lattice of a given cube edge, as `tissuesim mesh` makes for an organ.
 //
-// The probe pushes the top face's nodes by a penalty per unit area (CapsulePenalty). Every depth
-// is a converged static equilibrium (Newton; the FEM with its exact Hessian). Monotonic loading:
-// softening plays no part.
+// The probe pushes the top face by a penalty per unit area (CapsulePenalty). Every depth is a
+// converged static equilibrium (Newton; the FEM with its exact Hessian); or, for the network, the
+// poke is stepped at a scene's pace through a contact and an integrator as the simulator steps
+// it. Both report the top face's displacement at sample points. Monotonic loading: softening
+// plays no part.
 
 #include <functional>
 #include <memory>
