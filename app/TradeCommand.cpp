@@ -71,7 +71,7 @@ TradeSettings settingsFor(const TradeOptions& options) {
 /// An FEM row: a coarser reference, its error against the finest and its time per load step.
 void measureFemRow(const LoadedTissue& tissue, const TradeMap& map, const TradeRow& row,
                    TradeMeasurement& m) {
-  const TradeReference fem = measureReference(tissue, map.settings, row.femRefinement);
+  const IndentationCurve fem = measureReference(tissue, map.settings, row.femRefinement);
   m.cost.nodes = fem.nodes;
   m.staticForce_N = fem.force_N;
   const double loadSteps =
@@ -115,9 +115,9 @@ void runTrade(const TradeOptions& options) {
   progress.start("the FEM reference (refinement " +
                  std::to_string(map.settings.referenceRefinement) + ")");
   map.reference = measureReference(tissue, map.settings, map.settings.referenceRefinement);
-  if (map.reference.unconverged > 0) {
+  if (map.reference.unconvergedPoints > 0) {
     throw CommandError("the FEM reference did not converge at " +
-                       std::to_string(map.reference.unconverged) +
+                       std::to_string(map.reference.unconvergedPoints) +
                        " load steps; choose shallower --depths-mm");
   }
   // Accuracy first, a row at a time; then the cost, the rows interleaved round by round.

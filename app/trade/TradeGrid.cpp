@@ -302,19 +302,11 @@ void setSurfaceGap(const std::vector<Eigen::Vector3d>& model_m,
   out.surfaceMax_mm = 1e3 * worst;
 }
 
-TradeReference measureReference(const LoadedTissue& tissue, const TradeSettings& settings,
-                                int refinement) {
+IndentationCurve measureReference(const LoadedTissue& tissue, const TradeSettings& settings,
+                                  int refinement) {
   IndentationSetup setup;
   setup.depths_m = settings.depths_m;
-  const IndentationCurve curve =
-      indentFem(tissue.energy, setup, refinement, defaultFemBulkModulus(tissue.energy));
-  TradeReference reference;
-  reference.force_N = curve.force_N;
-  reference.surfaceDisplacement_m = curve.surfaceDisplacement_m;
-  reference.seconds = curve.seconds;
-  reference.nodes = curve.nodes;
-  reference.unconverged = curve.unconvergedPoints;
-  return reference;
+  return indentFem(tissue.energy, setup, refinement, defaultFemBulkModulus(tissue.energy));
 }
 
 TradeErrors::TradeErrors(const LoadedTissue& tissue, const SceneDescription& bundled,
@@ -349,7 +341,7 @@ double TradeErrors::cellEdge(int springs) const {
   return edgeLengthForSpringCount(m_surface, springs);
 }
 
-void TradeErrors::measure(const TradeRow& row, const TradeReference& reference,
+void TradeErrors::measure(const TradeRow& row, const IndentationCurve& reference,
                           TradeMeasurement& out) {
   const SpringLaw law = springLawNamed(row.law).value_or(SpringLaw::Eesm);
   const IndentationNetwork network{cellEdge(row.targetSprings), law, row.bulkModulus_Pa,

@@ -81,8 +81,8 @@ struct TradeSettings {
   std::vector<int> femRows;      ///< coarser FEM refinements measured as rows
   int tensileResolution = 1;     ///< cells across the tensile specimen's thickness
   int tensilePoints = 10;        ///< per branch
-  /// Each row's liver run is repeated this many times, the rows interleaved (this machine's
-  /// speed drifts within minutes), and each timing is the median over the rounds.
+  /// Each row's liver run is repeated this many times, the rows interleaved (a shared machine's
+  /// speed drifts from minute to minute), and each timing is the median over the rounds.
   int costRounds = 3;
   double pokeSeconds = 0.0;  ///< the cost runs' simulated time; 0: the whole poke (2 s)
 };
@@ -104,16 +104,9 @@ TradeCost medianOfRounds(const std::vector<TradeCost>& rounds);
 void setSurfaceGap(const std::vector<Eigen::Vector3d>& model_m,
                    const std::vector<Eigen::Vector3d>& reference_m, TradeMeasurement& out);
 
-/// The FEM reference on the block: its forces and surface displacement, cost per load step.
-struct TradeReference {
-  std::vector<double> force_N;
-  std::vector<Eigen::Vector3d> surfaceDisplacement_m;
-  double seconds = 0.0;
-  int nodes = 0;
-  int unconverged = 0;
-};
-TradeReference measureReference(const LoadedTissue& tissue, const TradeSettings& settings,
-                                int refinement);
+/// The FEM on the indentation block at the settings' depths and this refinement.
+IndentationCurve measureReference(const LoadedTissue& tissue, const TradeSettings& settings,
+                                  int refinement);
 
 /// The error side of the spring rows, each measurement made once and shared by the rows that
 /// need it (the threads and integrator rows share their network's static solve and tensile test).
@@ -128,7 +121,7 @@ class TradeErrors {
   /// The simulator's factor on V_e for a volume term (Pa), measured once each.
   double stiffnessScale(double bulkModulus_Pa);
   /// The block and tensile fields of `out` for spring row `row`, against `reference`.
-  void measure(const TradeRow& row, const TradeReference& reference, TradeMeasurement& out);
+  void measure(const TradeRow& row, const IndentationCurve& reference, TradeMeasurement& out);
 
  private:
   const LoadedTissue& m_tissue;

@@ -15,7 +15,7 @@ struct TradeMap {
   TradeSettings settings;
   std::string tissueName;
   std::string sceneName;
-  TradeReference reference;
+  IndentationCurve reference;  ///< the FEM reference
   std::vector<TradeRow> rows;
   std::vector<TradeMeasurement> measurements;  ///< one per row
   std::vector<double> cellEdges_m;             ///< per row: its lattice's cube edge (0: FEM)
