@@ -3,7 +3,9 @@
 
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 
 namespace tissuesim {
 
@@ -43,6 +45,60 @@ IsochoricResponse evaluateIsochoric(const StrainEnergy& energy, const Eigen::Mat
     }
   }
   return response;
+}
+
+StressTangent projectedIsochoricTangent(const Eigen::Matrix3d& f, double dEnergy, double d2Energy) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d, Eigen::NoQRPreconditioner> svd(
+      f, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  Eigen::Matrix3d v = svd.matrixV();
+  const Eigen::Vector3d sigma = svd.singularValues();
+  const double i1 = sigma.squaredNorm();
+  const double scale = std::pow(sigma.prod(), -2.0 / 3.0);  // J^(-2/3)
+  // dI1bar/dsigma_i and d2I1bar/dsigma_i dsigma_j.
+  Eigen::Vector3d g;
+  for (int i = 0; i < 3; ++i) g(i) = scale * (2.0 * sigma(i) - (2.0 / 3.0) * i1 / sigma(i));
+  Eigen::Matrix3d h;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const double delta = i == j ? 1.0 : 0.0;
+      h(i, j) = -(2.0 / 3.0) * g(i) / sigma(j) +
+                scale * (2.0 * delta - (4.0 / 3.0) * sigma(j) / sigma(i) +
+                         delta * (2.0 / 3.0) * i1 / (sigma(i) * sigma(i)));
+    }
+  }
+  const Eigen::Matrix3d scaling = d2Energy * g * g.transpose() + dEnergy * h;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(0.5 * (scaling + scaling.transpose()));
+  StressTangent tangent = StressTangent::Zero();
+  // vec of U M V^T in the tangent's order (index 3 i + J).
+  const auto addMode = [&](double value, const Eigen::Matrix3d& m) {
+    if (!(value > 0.0)) return;
+    const Eigen::Matrix3d q = u * m * v.transpose();
+    Eigen::Matrix<double, 9, 1> vq;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) vq(3 * i + j) = q(i, j);
+    }
+    tangent += value * vq * vq.transpose();
+  };
+  for (int k = 0; k < 3; ++k) {
+    addMode(eigen.eigenvalues()(k), eigen.eigenvectors().col(k).asDiagonal().toDenseMatrix());
+  }
+  const double root = std::sqrt(0.5);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i + 1; j < 3; ++j) {
+      const double ratio = i1 / (sigma(i) * sigma(j));
+      Eigen::Matrix3d twist = Eigen::Matrix3d::Zero();
+      twist(i, j) = root;
+      twist(j, i) = -root;
+      addMode(dEnergy * scale * (2.0 - (2.0 / 3.0) * ratio), twist);
+      Eigen::Matrix3d flip = Eigen::Matrix3d::Zero();
+      flip(i, j) = root;
+      flip(j, i) = root;
+      addMode(dEnergy * scale * (2.0 + (2.0 / 3.0) * ratio), flip);
+    }
+  }
+  return tangent;
 }
 
 }  // namespace tissuesim

@@ -33,4 +33,19 @@ struct IsochoricResponse {
 IsochoricResponse evaluateIsochoric(const StrainEnergy& energy, const Eigen::Matrix3d& f,
                                     bool withTangent);
 
+/// dP/dF at F (det F > 0) with its negative eigenvalues set to zero, for W' = dW_T/dI1bar and
+/// W'' = d2W_T/dI1bar2 (Pa) given: in closed form, from F's singular values sigma (F = U S V^T),
+/// as the tangent of an isotropic energy decomposes (Teran et al. 2005; Smith, de Goes and Kim
+/// 2019). With Psi_i = dW/dsigma_i = W' s (2 sigma_i - 2/3 I1 / sigma_i), s = J^(-2/3):
+///
+///   twist modes U (e_i e_j^T - e_j e_i^T) V^T / sqrt 2:  (Psi_i + Psi_j) / (sigma_i + sigma_j)
+///                                                      = W' s (2 - 2/3 I1 / (sigma_i sigma_j))
+///   flip modes  U (e_i e_j^T + e_j e_i^T) V^T / sqrt 2:  (Psi_i - Psi_j) / (sigma_i - sigma_j)
+///                                                      = W' s (2 + 2/3 I1 / (sigma_i sigma_j))
+///   scaling modes U diag(q) V^T, q the eigenvectors of d2W/dsigma_i dsigma_j (3x3).
+///
+/// No division by sigma_i - sigma_j: equal singular values (rest) are no special case. A 9x9
+/// eigensolver per element cost several times the rest of a real-time force pass.
+StressTangent projectedIsochoricTangent(const Eigen::Matrix3d& f, double dEnergy, double d2Energy);
+
 }  // namespace tissuesim

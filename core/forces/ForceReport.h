@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What one force pass saw, per force field, for the instability report: the springs' stretch
-// range and the volume term's volume ratios.
+// range, the volume term's volume ratios, the FEM tets' range.
 
 #include <algorithm>
 
@@ -36,10 +36,21 @@ struct VolumeFieldReport {
   }
 };
 
+struct TetFieldReport {
+  int beyondRangeCount = 0;  ///< tets past the material's usable range (continued linearly)
+  int invertedCount = 0;     ///< tets with J <= 0 (no isochoric force)
+
+  void include(const TetFieldReport& other) {
+    beyondRangeCount += other.beyondRangeCount;
+    invertedCount += other.invertedCount;
+  }
+};
+
 /// A pass over every field of a system: each fills its own part (the defaults where absent).
 struct ForceReport {
   SpringFieldReport springs;
   VolumeFieldReport volume;
+  TetFieldReport tets;
 };
 
 }  // namespace tissuesim

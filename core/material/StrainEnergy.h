@@ -68,6 +68,11 @@ class StrainEnergy {
   /// cancellation (see invariantShift()).
   EnergyInI1 atInvariantShift(double shift) const;
 
+  /// dW_T/dI1 and d2W_T/dI1^2 alone at shift = I1 - 3 (energy left 0): what a force pass
+  /// needs, without the quadrature that the energy takes near rest.
+  EnergyInI1 slopesAtInvariantShift(double shift) const {
+    return closedFormAtShift(shift, /*withEnergy=*/false);
+  }
   /// Q = W_T / (I1 - 3) and dQ/dI1 at shift = I1 - 3, with no division by a small number: for
   /// |shift| < 1e-2, Q = integral_0^1 dW_T/dI1(3 + s shift) ds by 8-point Gauss-Legendre.
   SecantFromRest secantFromRest(double shift) const;

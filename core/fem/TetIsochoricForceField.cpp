@@ -1,0 +1,308 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "fem/TetIsochoricForceField.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+#include "fem/IsochoricMaterialPoint.h"
+#include "numerics/NodeBlockMatrix.h"
+#include "parallel/NodeRanges.h"
+
+namespace tissuesim {
+
+namespace {
+
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+using Vector9d = Eigen::Matrix<double, 9, 1>;
+
+/// W_T and its derivatives at I1bar - 3 = shift, continued linearly past `limitShift`; the
+/// energy itself only `withEnergy` (a force pass needs the slopes alone).
+EnergyInI1 continuedEnergy(const StrainEnergy& energy, double shift, double limitShift,
+                           bool withEnergy) {
+  const double at = std::clamp(shift, 0.0, limitShift);
+  EnergyInI1 w = withEnergy ? energy.atInvariantShift(at) : energy.slopesAtInvariantShift(at);
+  if (shift <= limitShift) return w;
+  w.energy += withEnergy ? w.dEnergy * (shift - limitShift) : 0.0;
+  w.d2Energy = 0.0;
+  return w;
+}
+
+/// dP/dF = W_T'' A (x) A + W_T' d2I1bar/dF2, the latter (index 3 i + J of F_iJ)
+///   J^(-2/3) [2 I - 4/3 (F (x) H + H (x) F) + 4/9 I1 H (x) H + 2/3 I1 H_iL H_kJ],
+/// H = F^-T: symmetric in the pairs (iJ), (kL). The same as IsochoricMaterialPoint's, whose
+/// loop over unit dF it avoids.
+Matrix9d exactTangent(const Eigen::Matrix3d& f, const Eigen::Matrix3d& a, double i1, double scale,
+                      const EnergyInI1& w);
+
+/// F's entries in the tangent's order (index 3 i + J of F_iJ).
+Vector9d rowMajor(const Eigen::Matrix3d& m) {
+  Vector9d v;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) v(3 * i + j) = m(i, j);
+  }
+  return v;
+}
+
+Matrix9d exactTangent(const Eigen::Matrix3d& f, const Eigen::Matrix3d& a, double i1, double scale,
+                      const EnergyInI1& w) {
+  const Eigen::Matrix3d inverseTranspose = f.inverse().transpose();
+  const Vector9d av = rowMajor(a);
+  const Vector9d fv = rowMajor(f);
+  const Vector9d hv = rowMajor(inverseTranspose);
+  Matrix9d hessian = 2.0 * Matrix9d::Identity() -
+                     (4.0 / 3.0) * (fv * hv.transpose() + hv * fv.transpose()) +
+                     (4.0 / 9.0) * i1 * hv * hv.transpose();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      for (int k = 0; k < 3; ++k) {
+        for (int l = 0; l < 3; ++l) {
+          hessian(3 * i + j, 3 * k + l) +=
+              (2.0 / 3.0) * i1 * inverseTranspose(i, l) * inverseTranspose(k, j);
+        }
+      }
+    }
+  }
+  return (w.dEnergy * scale) * hessian + w.d2Energy * av * av.transpose();
+}
+
+}  // namespace
+
+TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPositions_m,
+                                               const Eigen::Matrix4Xi& tets,
+                                               const StrainEnergy& energy)
+    : m_tets(tets), m_energy(energy) {
+  const Eigen::Index tetCount = tets.cols();
+  const Eigen::Index nodeCount = restPositions_m.cols();
+  const double chainLimit =
+      3.0 * energy.parameters().chainSegmentsN * std::pow(1.0 - StrainEnergy::kLockingMargin, 2.0);
+  m_limitShift = chainLimit - 3.0;
+  m_gradients.resize(12, tetCount);
+  m_restVolume_m3.resize(tetCount);
+  for (Eigen::Index t = 0; t < tetCount; ++t) {
+    Eigen::Matrix3d dm;
+    for (int a = 1; a < 4; ++a) {
+      dm.col(a - 1) = restPositions_m.col(tets(a, t)) - restPositions_m.col(tets(0, t));
+    }
+    const double volume = dm.determinant() / 6.0;
+    if (!(volume > 0.0)) {
+      throw std::invalid_argument("tet " + std::to_string(t) +
+                                  " is not positively oriented at rest");
+    }
+    m_restVolume_m3[t] = volume;
+    const Eigen::Matrix3d inverse = dm.inverse();
+    // F = Ds Dm^-1 = sum_a x_a g_a^T: g_1..g_3 are Dm^-1's rows, g_0 minus their sum.
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int a = 1; a < 4; ++a) {
+      m_gradients.block<3, 1>(3 * a, t) = inverse.row(a - 1).transpose();
+      sum += inverse.row(a - 1).transpose();
+    }
+    m_gradients.block<3, 1>(0, t) = -sum;
+  }
+  std::vector<int> count(static_cast<std::size_t>(nodeCount), 0);
+  for (Eigen::Index t = 0; t < tetCount; ++t) {
+    for (int a = 0; a < 4; ++a) ++count[static_cast<std::size_t>(tets(a, t))];
+  }
+  m_incidenceStart.assign(static_cast<std::size_t>(nodeCount) + 1, 0);
+  for (Eigen::Index j = 0; j < nodeCount; ++j) {
+    const auto u = static_cast<std::size_t>(j);
+    m_incidenceStart[u + 1] = m_incidenceStart[u] + count[u];
+  }
+  m_incidence.resize(static_cast<std::size_t>(4 * tetCount));
+  std::vector<int> next(m_incidenceStart.begin(), m_incidenceStart.end() - 1);
+  for (Eigen::Index t = 0; t < tetCount; ++t) {
+    for (int a = 0; a < 4; ++a) {
+      m_incidence[static_cast<std::size_t>(next[static_cast<std::size_t>(tets(a, t))]++)] =
+          static_cast<int>(4 * t + a);
+    }
+  }
+  // Each node's neighbours through its tets, and where each incidence's four blocks go.
+  m_rowStart.assign(static_cast<std::size_t>(nodeCount) + 1, 0);
+  std::vector<int> neighbours;
+  m_incidenceSlot.resize(4 * m_incidence.size());
+  for (Eigen::Index j = 0; j < nodeCount; ++j) {
+    const auto u = static_cast<std::size_t>(j);
+    neighbours.clear();
+    for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
+      const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
+      for (int n = 0; n < 4; ++n) neighbours.push_back(tets(n, t));
+    }
+    std::sort(neighbours.begin(), neighbours.end());
+    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+    const int first = static_cast<int>(m_rowNode.size());
+    m_rowNode.insert(m_rowNode.end(), neighbours.begin(), neighbours.end());
+    m_rowStart[u + 1] = static_cast<int>(m_rowNode.size());
+    for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
+      const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
+      for (int n = 0; n < 4; ++n) {
+        const auto at = std::lower_bound(neighbours.begin(), neighbours.end(), tets(n, t));
+        m_incidenceSlot[4 * static_cast<std::size_t>(e) + static_cast<std::size_t>(n)] =
+            first + static_cast<int>(at - neighbours.begin());
+      }
+    }
+  }
+  m_tetForces_N.setZero(12, tetCount);
+  m_tetStiffness.setZero(144, tetCount);
+  const auto entries = static_cast<Eigen::Index>(m_rowNode.size());
+  m_rows[0].setZero(9, entries);
+  m_rows[1].setZero(9, entries);
+  for (Eigen::Index p = 0; p <= kParts; ++p) {
+    m_bounds[static_cast<std::size_t>(p)] = nodeCount * p / kParts;
+  }
+}
+
+double TetIsochoricForceField::energy(const Eigen::Matrix3Xd& x) const {
+  double total = 0.0;
+  for (Eigen::Index t = 0; t < m_tets.cols(); ++t) {
+    Eigen::Matrix3d f = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < 4; ++a) {
+      f += x.col(m_tets(a, t)) * m_gradients.block<3, 1>(3 * a, t).transpose();
+    }
+    const double j = f.determinant();
+    if (!(j > 0.0)) continue;
+    const double shift = std::pow(j, -2.0 / 3.0) * f.squaredNorm() - 3.0;
+    total += m_restVolume_m3[t] * continuedEnergy(m_energy, shift, m_limitShift, true).energy;
+  }
+  return total;
+}
+
+void TetIsochoricForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
+                                       const ForcePass& pass, ForceReport& report) const {
+  const bool needsStiffness =
+      pass.stiffness != StiffnessSlot::None || pass.nodeStiffness != nullptr;
+  TetStiffness& k = m_tetStiffness;
+  const Eigen::Index tetCount = m_tets.cols();
+  const auto tetRange = [&](int part) {
+    const Eigen::Index begin = tetCount * part / kTetRanges;
+    const Eigen::Index end = tetCount * (part + 1) / kTetRanges;
+    int beyondRange = 0;
+    int inverted = 0;
+    for (Eigen::Index t = begin; t < end; ++t) {
+      Eigen::Matrix3d deformation = Eigen::Matrix3d::Zero();
+      for (int a = 0; a < 4; ++a) {
+        deformation += x.col(m_tets(a, t)) * m_gradients.block<3, 1>(3 * a, t).transpose();
+      }
+      const double j = deformation.determinant();
+      if (!(j > 0.0)) {
+        ++inverted;
+        m_tetForces_N.col(t).setZero();
+        if (needsStiffness) k.col(t).setZero();
+        continue;
+      }
+      const double i1 = deformation.squaredNorm();
+      const double scale = std::pow(j, -2.0 / 3.0);  // J^(-2/3)
+      const double shift = scale * i1 - 3.0;
+      if (shift > m_limitShift) ++beyondRange;
+      const EnergyInI1 w = continuedEnergy(m_energy, shift, m_limitShift, false);
+      const Eigen::Matrix3d inverseTranspose = deformation.inverse().transpose();
+      // A = dI1bar/dF; P = W_T' A.
+      const Eigen::Matrix3d a = scale * (2.0 * deformation - (2.0 / 3.0) * i1 * inverseTranspose);
+      const Eigen::Matrix3d stress = w.dEnergy * a;
+      const double volume = m_restVolume_m3[t];
+      for (int n = 0; n < 4; ++n) {
+        m_tetForces_N.block<3, 1>(3 * n, t) = -volume * stress * m_gradients.block<3, 1>(3 * n, t);
+      }
+      if (!needsStiffness) continue;
+      const Matrix9d tangent = pass.isProjected
+                                   ? projectedIsochoricTangent(deformation, w.dEnergy, w.d2Energy)
+                                   : exactTangent(deformation, a, i1, scale, w);
+      // K_(a i)(b k) = V0 sum_JL T_(iJ)(kL) g_aJ g_bL, as (T B) then B^T (T B), B's sparsity
+      // used (dF_iJ / dx_(b k) = delta_ik g_bJ).
+      Eigen::Matrix<double, 9, 12> tb;
+      for (int n = 0; n < 4; ++n) {
+        const Eigen::Vector3d gn = m_gradients.block<3, 1>(3 * n, t);
+        for (int kk = 0; kk < 3; ++kk) {
+          tb.col(3 * n + kk) = tangent.col(3 * kk) * gn(0) + tangent.col(3 * kk + 1) * gn(1) +
+                               tangent.col(3 * kk + 2) * gn(2);
+        }
+      }
+      Eigen::Map<Matrix12d> kt(k.col(t).data());
+      for (int n = 0; n < 4; ++n) {
+        const Eigen::Vector3d gn = volume * m_gradients.block<3, 1>(3 * n, t);
+        for (int ii = 0; ii < 3; ++ii) {
+          kt.row(3 * n + ii) =
+              gn(0) * tb.row(3 * ii) + gn(1) * tb.row(3 * ii + 1) + gn(2) * tb.row(3 * ii + 2);
+        }
+      }
+    }
+    m_partBeyondRange[static_cast<std::size_t>(part)] = beyondRange;
+    m_partInverted[static_cast<std::size_t>(part)] = inverted;
+  };
+  runParts(m_pool, kTetRanges, tetRange);
+  RowBlocks* const rowBlocks =
+      pass.stiffness == StiffnessSlot::None ? nullptr : &rows(pass.stiffness);
+  const auto gather = [&](int, Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index j = begin; j < end; ++j) {
+      const auto u = static_cast<std::size_t>(j);
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      double bound = 0.0;
+      if (rowBlocks != nullptr) {
+        rowBlocks->middleCols(m_rowStart[u], m_rowStart[u + 1] - m_rowStart[u]).setZero();
+      }
+      for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
+        const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
+        const int a = m_incidence[static_cast<std::size_t>(e)] % 4;
+        sum += m_tetForces_N.block<3, 1>(3 * a, t);
+        const Eigen::Map<const Matrix12d> kt(k.col(t).data());
+        if (pass.nodeStiffness != nullptr) bound += kt.norm();
+        if (rowBlocks == nullptr) continue;
+        for (int n = 0; n < 4; ++n) {
+          const int slot =
+              m_incidenceSlot[4 * static_cast<std::size_t>(e) + static_cast<std::size_t>(n)];
+          Eigen::Map<Eigen::Matrix3d>(rowBlocks->col(slot).data()) += kt.block<3, 3>(3 * a, 3 * n);
+        }
+      }
+      f.col(j) += sum;
+      if (pass.nodeStiffness != nullptr) (*pass.nodeStiffness)[j] += bound;
+    }
+  };
+  forEachNodeRange(m_pool, x.cols(), gather);
+  for (int part = 0; part < kTetRanges; ++part) {
+    report.tets.beyondRangeCount += m_partBeyondRange[static_cast<std::size_t>(part)];
+    report.tets.invertedCount += m_partInverted[static_cast<std::size_t>(part)];
+  }
+}
+
+void TetIsochoricForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
+  for (std::size_t j = 0; j + 1 < m_rowStart.size(); ++j) {
+    nodeWork[j] += 9 * (m_rowStart[j + 1] - m_rowStart[j]);
+  }
+}
+
+void TetIsochoricForceField::addStiffnessProduct(int part, const double* x, double* y) const {
+  const RowBlocks& blocks = currentRows();
+  const auto p = static_cast<std::size_t>(part);
+  for (Eigen::Index j = m_bounds[p]; j < m_bounds[p + 1]; ++j) {
+    const auto u = static_cast<std::size_t>(j);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int e = m_rowStart[u]; e < m_rowStart[u + 1]; ++e) {
+      sum += Eigen::Map<const Eigen::Matrix3d>(blocks.col(e).data()) *
+             Eigen::Map<const Eigen::Vector3d>(x + 3 * m_rowNode[static_cast<std::size_t>(e)]);
+    }
+    Eigen::Map<Eigen::Vector3d>(y + 3 * j) += sum;
+  }
+}
+
+void TetIsochoricForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
+  const auto u = static_cast<std::size_t>(j);
+  const auto first = m_rowNode.begin() + m_rowStart[u];
+  const auto last = m_rowNode.begin() + m_rowStart[u + 1];
+  const auto self = std::lower_bound(first, last, static_cast<int>(j));
+  block += Eigen::Map<const Eigen::Matrix3d>(
+      currentRows().col(static_cast<Eigen::Index>(self - m_rowNode.begin())).data());
+}
+
+void TetIsochoricForceField::addStiffness(NodeBlockMatrix& matrix) const {
+  const RowBlocks& blocks = currentRows();
+  for (std::size_t j = 0; j + 1 < m_rowStart.size(); ++j) {
+    for (int e = m_rowStart[j]; e < m_rowStart[j + 1]; ++e) {
+      matrix.addBlock(static_cast<int>(j), m_rowNode[static_cast<std::size_t>(e)],
+                      Eigen::Map<const Eigen::Matrix3d>(blocks.col(e).data()));
+    }
+  }
+}
+
+}  // namespace tissuesim
