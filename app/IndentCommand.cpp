@@ -21,6 +21,7 @@ struct IndentCommandOptions {
   int refinement = 1;
   std::vector<int> springs{1000, 5300};
   double volumeTerm_kPa = 0.0;
+  std::vector<std::string> models{"springs"};
   std::string outputPath;
 };
 
@@ -34,6 +35,10 @@ void runIndent(const IndentCommandOptions& options) {
                          " is out of range; expected 100 to 200000");
   }
   if (options.volumeTerm_kPa < 0.0) throw CommandError("--volume-term-kpa must be >= 0");
+  for (const std::string& model : options.models) {
+    if (model != "springs" && model != "tets")
+      throw CommandError("--models: unknown model '" + model + "'; expected springs or tets");
+  }
   IndentationSetup setup;
   setup.depths_m = indentationDepthsFromMm(options.depths_mm);
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
@@ -52,12 +57,22 @@ void runIndent(const IndentCommandOptions& options) {
   rows.push_back(
       {"fem (refinement " + std::to_string(options.refinement) + ")",
        indentFem(tissue.energy, setup, options.refinement, defaultFemBulkModulus(tissue.energy))});
-  for (const int count : options.springs) {
-    std::string name = "springs ~" + std::to_string(count);
-    if (options.volumeTerm_kPa > 0.0) name += " + volume";
-    rows.push_back({name, indentSprings(tissue.energy, tissue.table, setup,
-                                        {indentationCellEdge(setup, count), SpringLaw::Eesm,
-                                         options.volumeTerm_kPa * 1000.0})});
+  for (const std::string& model : options.models) {
+    for (const int count : options.springs) {
+      IndentationNetwork network{indentationCellEdge(setup, count), SpringLaw::Eesm,
+                                 options.volumeTerm_kPa * 1000.0};
+      std::string name = model + " ~" + std::to_string(count);  // the lattice's springs
+      if (model == "tets") {
+        // The isochoric tets' volumetric part: the FEM reference's bulk modulus, or the one
+        // asked for.
+        network.model = LatticeModel::IsochoricTets;
+        if (!(network.bulkModulus_Pa > 0.0))
+          network.bulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
+      } else if (options.volumeTerm_kPa > 0.0) {
+        name += " + volume";
+      }
+      rows.push_back({name, indentSprings(tissue.energy, tissue.table, setup, network)});
+    }
   }
   std::string csv = "model,nodes,elements,depth_mm,force_n,error_vs_fem_percent,seconds\n";
   const std::vector<double>& reference = rows.front().curve.force_N;
@@ -111,6 +126,12 @@ void registerIndentCommand(CLI::App& app) {
       "through the FEM reference and spring networks of the given sizes; the probe's force at "
       "each depth and each network's error against the FEM (CSV; a table on stderr).");
   command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")->required();
+  command
+      ->add_option("--models", options->models,
+                   "Lattice models: springs (the simulator's network), tets (the tissue's "
+                   "isochoric energy per tet, the volume term per cube)")
+      ->delimiter(',')
+      ->capture_default_str();
   command->add_option("--depths-mm", options->depths_mm, "Depths below the top face, increasing")
       ->delimiter(',')
       ->capture_default_str();

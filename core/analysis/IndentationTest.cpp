@@ -15,6 +15,7 @@
 #include "fem/FemStaticSolver.h"
 #include "fem/QuadraticTetMesh.h"
 #include "fem/QuadraticTetShape.h"
+#include "fem/TetIsochoricForceField.h"
 #include "forces/CapsulePenalty.h"
 #include "integrators/IntegratorChoice.h"
 #include "mesh/BlockMesher.h"
@@ -179,6 +180,7 @@ struct BlockNetwork {
   std::unique_ptr<SpringForceLaw> law;
   std::unique_ptr<SpringForceField> springs;
   std::unique_ptr<VolumeForceField> volume;
+  std::unique_ptr<TetIsochoricForceField> tets;
   std::unique_ptr<MechanicalSystem> system;
   std::unique_ptr<CapsulePenalty> probe;
   Eigen::Vector2d axis_m = Eigen::Vector2d::Zero();
@@ -278,7 +280,12 @@ std::unique_ptr<BlockNetwork> makeBlockNetwork(const StrainEnergy& energy,
   auto network = std::make_unique<BlockNetwork>();
   network->tetMesh = makeBlockMesh(size, cells);
   network->mesh = buildSpringMesh(network->tetMesh, parameters.density_kg_m3);
-  network->mesh.volume_m3 *= settings.stiffnessScale > 0.0
+  const bool isTets = settings.model == LatticeModel::IsochoricTets;
+  if (isTets && !(settings.bulkModulus_Pa > 0.0))
+    throw std::invalid_argument("the isochoric tets need a volume term");
+  // The tets' model keeps the springs for the mesh's structure only: no stiffness.
+  network->mesh.volume_m3 *= isTets ? 0.0
+                             : settings.stiffnessScale > 0.0
                                  ? settings.stiffnessScale
                                  : simulatorStiffnessScale(energy, table, settings.bulkModulus_Pa);
   network->law = std::make_unique<SpringForceLaw>(
@@ -288,6 +295,11 @@ std::unique_ptr<BlockNetwork> makeBlockNetwork(const StrainEnergy& energy,
   if (settings.bulkModulus_Pa > 0.0)
     network->volume = std::make_unique<VolumeForceField>(network->mesh, settings.bulkModulus_Pa);
   network->system = std::make_unique<MechanicalSystem>(*network->springs, network->volume.get());
+  if (isTets) {
+    network->tets = std::make_unique<TetIsochoricForceField>(network->tetMesh.nodes_m,
+                                                             network->tetMesh.tets, energy);
+    network->system->addField(*network->tets);
+  }
   for (Eigen::Index i = 0; i < network->mesh.nodeCount(); ++i) {
     if (network->mesh.restPositions_m(2, i) < kOnPlane_m)
       network->system->fixNode(static_cast<int>(i));
@@ -329,7 +341,8 @@ IndentationCurve indentSprings(const StrainEnergy& energy, const StiffnessTable&
   CapsulePenalty& probe = *network->probe;
   IndentationCurve curve;
   curve.nodes = static_cast<int>(network->mesh.nodeCount());
-  curve.elements = static_cast<int>(network->mesh.springCount());
+  curve.elements =
+      static_cast<int>(network->tets ? network->tets->tetCount() : network->mesh.springCount());
   NewtonSolver newton(LinearSolverKind::Cholesky);
   Eigen::Matrix3Xd x = network->mesh.restPositions_m;
   const auto force = [&] { return probe.reaction(x).z(); };
@@ -371,7 +384,8 @@ IndentationCurve indentSpringsAtPace(const StrainEnergy& energy, const Stiffness
   MechanicalSystem& system = *network->system;
   IndentationCurve curve;
   curve.nodes = static_cast<int>(network->mesh.nodeCount());
-  curve.elements = static_cast<int>(network->mesh.springCount());
+  curve.elements =
+      static_cast<int>(network->tets ? network->tets->tetCount() : network->mesh.springCount());
   MechanicalState state = system.restState();
   const double stepDepth_m = pace.speed_m_s * pace.timeStep_s;
   const auto steps = static_cast<long>(std::ceil(setup.depths_m.back() / stepDepth_m - 1e-9));

@@ -60,13 +60,18 @@ struct IndentationCurve {
   int failedSteps = 0;  ///< at a pace: steps refused or not finite (their state not advanced)
 };
 
-/// The spring network's knobs: its lattice's cube edge, its law and its volume term.
+/// What carries the lattice's elasticity: its springs, or the tissue's isochoric energy in each
+/// tet with the volume term per cube as its volumetric part (fem/TetIsochoricForceField.h).
+enum class LatticeModel { Springs, IsochoricTets };
+
+/// The network's knobs: its lattice's cube edge, its model, its spring law and its volume term.
 struct IndentationNetwork {
   double cellEdge_m = 0.005;
   SpringLaw law = SpringLaw::Eesm;
-  double bulkModulus_Pa = 0.0;  ///< 0: no volume term
+  double bulkModulus_Pa = 0.0;  ///< 0: no volume term (the isochoric tets need one)
   /// The factor on V_e; 0: the simulator's for this volume term (simulatorStiffnessScale).
   double stiffnessScale = 0.0;
+  LatticeModel model = LatticeModel::Springs;
 };
 
 /// The pace of a poke at a scene's speed: the probe descends at speed_m_s from the top face,

@@ -84,6 +84,30 @@ TEST(Indentation, TheNetworksSurfaceMeetsTheProbeBetweenItsNodes) {
   EXPECT_LT(springs.force_N[0], fem.force_N[0] * 3.0);
 }
 
+TEST(Indentation, TheIsochoricTetsConvergeOnTheFemFromAboveAsTheLatticeIsRefined) {
+  // The tissue's energy per linear tet with the volume term per cube, at the FEM's bulk
+  // modulus, is a conforming discretisation of the same continuum: too stiff on a coarse
+  // lattice, and closer with every refinement (where the springs' network is not: see
+  // docs/performance.md).
+  const test::LiverMaterial& material = test::LiverMaterial::instance();
+  const double kappa = defaultFemBulkModulus(material.energy);
+  const double fem = indentFem(material.energy, smallBlock(), 2, kappa).force_N[0];
+  std::vector<double> errors;
+  // Lattices of 5, 9 and 13 cubes across: the probe's axis through a cube's middle in each (the
+  // parity of the count changes which nodes meet the probe, and the force with it).
+  for (const int springs : {400, 3000, 8000}) {
+    IndentationNetwork network{indentationCellEdge(smallBlock(), springs), SpringLaw::Eesm, kappa};
+    network.model = LatticeModel::IsochoricTets;
+    const IndentationCurve curve =
+        indentSprings(material.energy, material.table, smallBlock(), network);
+    EXPECT_EQ(curve.unconvergedPoints, 0) << springs;
+    EXPECT_GT(curve.force_N[0], fem) << springs;
+    errors.push_back(curve.force_N[0] / fem - 1.0);
+  }
+  EXPECT_LT(errors[1], errors[0]);
+  EXPECT_LT(errors[2], errors[1]);
+}
+
 TEST(Indentation, TheTopFaceUnderTheProbeSinksByTheDepthInBothModels) {
   // The samples from the axis outwards: under the probe the top face follows the probe's tip
   // down (the penalty lets it in by micrometres; the network's flat triangles, whose points are
