@@ -115,7 +115,9 @@ void runSession(const RunOptions& options) {
   }
   report["cg_products_per_step"] =
       steps > 0 ? static_cast<double>(linearIterations) / static_cast<double>(steps) : 0.0;
+  report["model"] = scene.model;
   report["springs"] = simulation->springMesh().springCount();
+  report["tets"] = simulation->geometry().mesh.tetCount();
   report["nodes"] = simulation->springMesh().nodeCount();
   report["integrator"] = scene.integrator;
   report["instability_event_count"] = simulation->eventCount();  // the list keeps the first 100
@@ -132,13 +134,16 @@ void runSession(const RunOptions& options) {
                         {"frames", exporter->frameCount()},
                         {"wall_seconds", exportWall_s}};
   }
+  const bool isFem = scene.model == "fem";
   std::printf(
-      "%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld springs; max tool force "
+      "%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld %s; max tool force "
       "%.3f N, max penetration %.2f mm, max stretch %.3f; %zu instability events\n",
       scene.name.c_str(), simulation->steps(), simulation->timeStep_s() * 1e3,
       report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
-      static_cast<long>(simulation->springMesh().springCount()), maxForce, maxPenetration * 1e3,
-      maxStretch, simulation->eventCount());
+      static_cast<long>(isFem ? simulation->geometry().mesh.tetCount()
+                              : simulation->springMesh().springCount()),
+      isFem ? "tets (FEM)" : "springs", maxForce, maxPenetration * 1e3, maxStretch,
+      simulation->eventCount());
   if (exporter) {
     std::printf("exported %d frames: %s\n", exporter->frameCount(),
                 exporter->collectionPath().string().c_str());

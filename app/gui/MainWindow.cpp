@@ -246,6 +246,10 @@ bool MainWindow::loadScene(const QString& path) {
   m_renderWindow->AddRenderer(m_view->renderer());
   m_pose = simulation.instrumentPose();
   m_softeningAction->setChecked(simulation.isSoftening());
+  // The FEM's tets have no stress softening to turn on.
+  const bool isFem = simulation.scene().model == "fem";
+  m_softeningAction->setEnabled(!isFem);
+  m_softeningAction->setToolTip(isFem ? "The FEM model has no stress softening" : "");
   m_gravityAction->setChecked(simulation.gravity().squaredNorm() > 0.0);
   m_forcePlot->clear();
   updateMaterialChart();
@@ -518,16 +522,24 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
                              : QString("%1 instability events, the latest: %2")
                                    .arg(snapshot.eventCount)
                                    .arg(eventKindWords(snapshot.latestEventKind));
-  m_statusLabel->setText(QString("%1   physics %2 Hz   %3 fps   %4 springs   tool force %5 N   max "
+  // The model, and whether the physics keeps up with the clock (the FEM does not at the
+  // bundled size): simulated time then runs slow, and the status says so.
+  const QString model = simulation.scene().model == "fem"
+                            ? QString("%1 tets (FEM)").arg(simulation.geometry().mesh.tetCount())
+                            : QString("%1 springs").arg(simulation.springMesh().springCount());
+  const bool isBehind =
+      !isPaused() && m_physicsHz > 0.0 && m_physicsHz < 0.9 / simulation.timeStep_s();
+  m_statusLabel->setText(QString("%1   physics %2 Hz%9   %3 fps   %4   tool force %5 N   max "
                                  "stretch %6   t = %7 s   %8")
                              .arg(isPaused() ? "paused" : "running")
                              .arg(m_physicsHz, 0, 'f', 0)
                              .arg(m_fps, 0, 'f', 0)
-                             .arg(simulation.springMesh().springCount())
+                             .arg(model)
                              .arg(snapshot.toolForce_N.norm(), 0, 'f', 3)
                              .arg(snapshot.maxStretch, 0, 'f', 3)
                              .arg(snapshot.time_s, 0, 'f', 2)
-                             .arg(events));
+                             .arg(events)
+                             .arg(isBehind ? " (slower than real time)" : ""));
 }
 
 void MainWindow::renderFrame() {

@@ -222,10 +222,21 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     scene.instrument = instrument;
   }
   if (fields.has("effects")) {
-    const Fields effects(fields.at("effects"), "effects", source,
-                         {"softening", "volume_term_kpa", "spring_law", "stiffness_scale"});
-    scene.isSoftening = effects.boolean("softening", true);
+    const Fields effects(
+        fields.at("effects"), "effects", source,
+        {"model", "softening", "volume_term_kpa", "spring_law", "stiffness_scale"});
+    scene.model = effects.string("model", "springs");
+    if (scene.model != "springs" && scene.model != "fem")
+      effects.fail("effects.model", "= \"" + scene.model + "\"; expected springs or fem");
+    const bool isFem = scene.model == "fem";
+    // The FEM's tets carry no stress softening (the Mullins effect lives in the springs).
+    scene.isSoftening = effects.boolean("softening", !isFem);
+    if (isFem && scene.isSoftening)
+      effects.fail("effects.softening", "must be false with model fem, which has no softening");
     scene.bulkModulus_Pa = effects.number("volume_term_kpa", 0.0, 0.0, false) * 1000.0;
+    if (isFem && !(scene.bulkModulus_Pa > 0.0))
+      effects.fail("effects.volume_term_kpa",
+                   "must be > 0 with model fem: it is the FEM's volumetric part");
     scene.springLaw = effects.string("spring_law", "eesm");
     scene.stiffnessScale = effects.number("stiffness_scale", 0.0, 0.0, false);
     if (!springLawNamed(scene.springLaw)) {
@@ -271,6 +282,12 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     fields.fail("gravity_m_s2",
                 "cannot be used with physics.integrator \"quasi-newton\"; use implicit or "
                 "explicit");
+  }
+  // Its fixed initial Hessian is built from the springs' rest stiffness.
+  if (scene.model == "fem" && scene.integrator == "quasi-newton") {
+    fields.fail("physics.integrator",
+                "= \"quasi-newton\" is for the springs model; use implicit or explicit with "
+                "effects.model fem");
   }
   return scene;
 }

@@ -67,12 +67,14 @@ struct SceneDescription {
   bool isSoftening = true;
   double bulkModulus_Pa = 0.0;  ///< > 0: volume term on
   double stiffnessScale = 0.0;  ///< > 0: V_e factor; 0: the lattice's small-strain calibration
+  /// What carries the elasticity: "springs" (the EESM network) or "fem" (the tissue's
+  /// isochoric energy per tet with the volume term per cube; fem/TetIsochoricForceField.h).
+  std::string model = "springs";
   std::string springLaw = "eesm";
   double timeStep_s = 1e-3;
   std::string integrator = "implicit";
   double massDamping_1_s = 0.0;
-  // Implicit: the speed/accuracy trade, measured on the bundled poke (README): 2 iterations and
-  // 1e-6 give the converged peak tool force within 0.2 %; 1 iteration is 1.8x faster but 48 % off.
+  // Implicit: the speed/accuracy trade of these two is measured in docs/performance.md.
   int newtonIterations = 2;       ///< Newton iterations per step
   double linearTolerance = 1e-6;  ///< CG relative tolerance per Newton iteration
   int threads = 1;                ///< threads for the spring passes (results do not depend on it)

@@ -97,7 +97,11 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   // the term in place to the continuum's loading over the paper's cycles (a few per cent lower;
   // simulatorStiffnessScale, docs/scene-file.md "The volume term"). A scene can set
   // its own factor (effects.stiffness_scale) for meshes of another structure.
-  const double stiffnessScale = scene.stiffnessScale > 0.0
+  // With the FEM the springs stay for the mesh's structure, the colour map's stretches and
+  // the grasp, with no stiffness: the tets carry the elasticity.
+  const bool isFem = scene.model == "fem";
+  const double stiffnessScale = isFem ? 0.0
+                                : scene.stiffnessScale > 0.0
                                     ? scene.stiffnessScale
                                     : simulatorStiffnessScale(*energy, *table, bulkModulus_Pa);
   springMesh.volume_m3 *= stiffnessScale;
@@ -105,6 +109,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   // Dependents first: each holds references into the ones before it.
   m_integrator.reset();
   m_system.reset();
+  m_tets.reset();
   m_volume.reset();
   m_springs.reset();
   m_law.reset();
@@ -136,6 +141,12 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_volume->setThreadPool(m_pool.get());
   }
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
+  if (isFem) {
+    m_tets = std::make_unique<TetIsochoricForceField>(m_geometry.mesh.nodes_m, m_geometry.mesh.tets,
+                                                      *m_energy);
+    m_tets->setThreadPool(m_pool.get());
+    m_system->addField(*m_tets);
+  }
   m_system->gravity.acceleration_m_s2 = scene.gravity_m_s2;
   // The instrument's few contacts and every tray point at once, without allocating.
   if (m_tray) m_system->contacts.reserve(256 + static_cast<std::size_t>(m_tray->pointCount()));
@@ -288,10 +299,17 @@ StepOutcome Simulation::step() {
           return "residual " + std::to_string(r.residual_N) + " N under an instrument force of " +
                  std::to_string(load_N) + " N (start " + std::to_string(r.initialResidual_N) + ")";
         });
-  check(r.forces.springs.beyondRangeCount > 0, "locking", [&] {
-    return std::to_string(r.forces.springs.beyondRangeCount) +
-           " springs past the usable stretch range";
-  });
+  // The FEM's tets carry the material; its inert springs only measure stretch.
+  if (m_tets) {
+    check(r.forces.tets.beyondRangeCount > 0, "locking", [&] {
+      return std::to_string(r.forces.tets.beyondRangeCount) + " tets past the usable range";
+    });
+  } else {
+    check(r.forces.springs.beyondRangeCount > 0, "locking", [&] {
+      return std::to_string(r.forces.springs.beyondRangeCount) +
+             " springs past the usable stretch range";
+    });
+  }
   check(r.forces.springs.collapsedCount > 0, "collapsed", [&] {
     return std::to_string(r.forces.springs.collapsedCount) + " springs of zero length";
   });

@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "fem/TetIsochoricForceField.h"
 #include "integrators/TimeIntegrator.h"
 #include "material/StiffnessTable.h"
 #include "sim/ContactProvider.h"
@@ -137,6 +138,7 @@ class Simulation {
   std::unique_ptr<ForkJoinPool> m_pool;  ///< the spring passes' threads (scene physics.threads)
   std::unique_ptr<SpringForceField> m_springs;
   std::unique_ptr<VolumeForceField> m_volume;
+  std::unique_ptr<TetIsochoricForceField> m_tets;  ///< effects.model fem
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
   std::size_t m_eventCount = 0;

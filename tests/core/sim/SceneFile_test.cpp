@@ -45,6 +45,12 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   EXPECT_TRUE(scene.fixed.nodes.empty());
   EXPECT_EQ(scene.gravity_m_s2, Eigen::Vector3d::Zero());
   EXPECT_FALSE(scene.tray.has_value());
+  EXPECT_EQ(scene.model, "springs");
+  EXPECT_TRUE(scene.isSoftening);
+  const SceneDescription fem = loadSceneFile(scenePath("fem.json"));
+  EXPECT_EQ(fem.model, "fem");
+  EXPECT_FALSE(fem.isSoftening);  // the FEM has none: off unless asked, and refused if asked
+  EXPECT_EQ(fem.bulkModulus_Pa, 100e3);
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
@@ -90,6 +96,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"tray-quasi-newton.json", "field 'tray' cannot be used with physics.integrator"},
         BadScene{"gravity-quasi-newton.json",
                  "field 'gravity_m_s2' cannot be used with physics.integrator"},
+        BadScene{"unknown-model.json", "field 'effects.model' = \"mpm\"; expected springs or fem"},
+        BadScene{"fem-softening.json",
+                 "field 'effects.softening' must be false with model fem, which has no softening"},
+        BadScene{"fem-no-volume.json",
+                 "field 'effects.volume_term_kpa' must be > 0 with model fem"},
+        BadScene{"fem-quasi-newton.json",
+                 "field 'physics.integrator' = \"quasi-newton\" is for the springs model"},
         BadScene{"does-not-exist.json", "cannot open the scene file"}),
     [](const auto& scene) {
       std::string name = scene.param.file;
