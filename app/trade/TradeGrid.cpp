@@ -46,6 +46,8 @@ SceneDescription sceneOf(const SceneDescription& bundled, const TradeRow& row) {
   scene.newtonIterations = row.newtonIterations;
   scene.linearTolerance = row.cgTolerance;
   scene.threads = row.threads;
+  scene.model = row.model;
+  if (row.model == "fem") scene.isSoftening = false;
   if (row.isWithoutGravity) {
     scene.gravity_m_s2.setZero();
     scene.tray.reset();
@@ -233,6 +235,15 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
     row.name = "quasi-newton (no gravity, no tray)" + at;
     rows.push_back(row);
   }
+  for (const int springs : settings.tetResolutions) {
+    TradeRow row = base;
+    row.knob = "fem-tets";
+    row.model = "fem";
+    row.targetSprings = springs;
+    row.bulkModulus_Pa = settings.tetBulkModulus_Pa;
+    row.name = "fem on the lattice, tets of " + springsName(springs);
+    rows.push_back(row);
+  }
   for (const int refinement : settings.femRows) {
     TradeRow row;
     row.knob = "reference";
@@ -344,13 +355,15 @@ double TradeErrors::cellEdge(int springs) const {
 void TradeErrors::measure(const TradeRow& row, const IndentationCurve& reference,
                           TradeMeasurement& out) {
   const SpringLaw law = springLawNamed(row.law).value_or(SpringLaw::Eesm);
-  const IndentationNetwork network{cellEdge(row.targetSprings), law, row.bulkModulus_Pa,
-                                   stiffnessScale(row.bulkModulus_Pa)};
+  const bool isTets = row.model == "fem";
+  IndentationNetwork network{cellEdge(row.targetSprings), law, row.bulkModulus_Pa,
+                             isTets ? 0.0 : stiffnessScale(row.bulkModulus_Pa)};
+  if (isTets) network.model = LatticeModel::IsochoricTets;
   IndentationSetup setup;
   setup.depths_m = m_settings.depths_m;
-  char key[128];
-  std::snprintf(key, sizeof key, "%d|%s|%.6g", row.targetSprings, row.law.c_str(),
-                row.bulkModulus_Pa);
+  char key[160];
+  std::snprintf(key, sizeof key, "%s|%d|%s|%.6g", row.model.c_str(), row.targetSprings,
+                row.law.c_str(), row.bulkModulus_Pa);
   auto statics = m_static.find(key);
   if (statics == m_static.end()) {
     statics =
@@ -384,6 +397,7 @@ void TradeErrors::measure(const TradeRow& row, const IndentationCurve& reference
   out.paceForce_N = paced->second.force_N;
   out.failedSteps = paced->second.failedSteps;
   setSurfaceGap(statics->second.surfaceDisplacement_m, reference.surfaceDisplacement_m, out);
+  if (isTets) return;  // the tensile test is the springs' (the FEM's own is `tensile --model fem`)
 
   char tensileKey[96];
   std::snprintf(tensileKey, sizeof tensileKey, "%s|%.6g", row.law.c_str(), row.bulkModulus_Pa);

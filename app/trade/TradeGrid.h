@@ -32,7 +32,7 @@ struct LoadedTissue;
 
 /// One setting of the knobs. `knob` says which one the row varies from the bundled scene's.
 struct TradeRow {
-  std::string knob;  ///< resolution, threads, model, volume, integrator, reference
+  std::string knob;  ///< resolution, threads, model, volume, integrator, fem-tets, reference
   std::string name;
   int targetSprings = 5300;
   std::string law = "eesm";
@@ -42,7 +42,10 @@ struct TradeRow {
   double cgTolerance = 1e-3;
   int threads = 2;
   bool isWithoutGravity = false;  ///< quasi-Newton takes no gravity and no tray
-  int femRefinement = 0;          ///< > 0: an FEM row (cost on the block, not the liver)
+  /// "springs", or "fem": the tets' FEM on the same lattice (effects.model fem), its volume term
+  /// at bulkModulus_Pa, no softening.
+  std::string model = "springs";
+  int femRefinement = 0;  ///< > 0: an FEM row (cost on the block, not the liver)
 };
 
 /// A row's cost on the liver (FEM rows: on the block, stepMedian_ms a static solve per load
@@ -79,8 +82,12 @@ struct TradeSettings {
   std::vector<double> depths_m;  ///< indentation depths, increasing
   int referenceRefinement = 1;   ///< the FEM reference's
   std::vector<int> femRows;      ///< coarser FEM refinements measured as rows
-  int tensileResolution = 1;     ///< cells across the tensile specimen's thickness
-  int tensilePoints = 10;        ///< per branch
+  /// Lattices (springs on the liver) on which the tets' FEM is a row, with this bulk modulus
+  /// (the reference's: the same continuum, so its error can converge).
+  std::vector<int> tetResolutions;
+  double tetBulkModulus_Pa = 0.0;
+  int tensileResolution = 1;  ///< cells across the tensile specimen's thickness
+  int tensilePoints = 10;     ///< per branch
   /// Each row's liver run is repeated this many times, the rows interleaved (a shared machine's
   /// speed drifts from minute to minute), and each timing is the median over the rounds.
   int costRounds = 3;
@@ -89,7 +96,7 @@ struct TradeSettings {
 
 /// The rows of the map: the bundled scene at each resolution (two threads, then one), and at
 /// the resolution nearest the bundled mesh's: the other spring laws, no volume term, the other
-/// integrators and Newton settings; then the FEM rows.
+/// integrators and Newton settings; the tets' FEM on the lattices; then the FEM rows.
 std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSettings& settings);
 
 /// The cost of `row` on the liver, in a child process (or the failure that stopped it), over the

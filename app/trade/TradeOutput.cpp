@@ -44,6 +44,10 @@ std::string quoted(const std::string& text) {
 std::string depthLabel(double depth_m) { return format("%g", depth_m * 1e3); }
 
 bool isFem(const TradeMap& map, std::size_t row) { return map.rows[row].femRefinement > 0; }
+/// Whether the row has a tensile R^2: the spring rows (the tensile test is the springs').
+bool hasTensile(const TradeMap& map, std::size_t row) {
+  return !isFem(map, row) && map.rows[row].model == "springs";
+}
 
 /// The machine, in a line: its processor and thread count.
 std::string machineLine() {
@@ -133,7 +137,9 @@ std::string tradeCsv(const TradeMap& map) {
                                        std::to_string(m.cost.springs),
                                        std::to_string(m.cost.nodes),
                                        format("%.3f", map.cellEdges_m[r] * 1e3),
-                                       fem ? "fem" : row.law,
+                                       fem                  ? "fem"
+                                       : row.model == "fem" ? "fem-tets"
+                                                            : row.law,
                                        format("%g", row.bulkModulus_Pa / 1e3),
                                        fem ? "static" : row.integrator,
                                        fem ? "" : std::to_string(row.newtonIterations),
@@ -156,9 +162,10 @@ std::string tradeCsv(const TradeMap& map) {
         std::find(onFront.begin(), onFront.end(), static_cast<int>(r)) != onFront.end();
     for (std::string field :
          {format("%.2f", worstError(map, r)), format("%.4f", m.surfaceRms_mm),
-          format("%.4f", m.surfaceMax_mm), fem ? "" : format("%.6f", m.tensileLoadingR2),
-          fem ? "" : format("%.6f", m.tensileUnloadingR2), std::to_string(m.failedSteps),
-          std::string(isOnFront ? "1" : "0"), quoted(m.failure)}) {
+          format("%.4f", m.surfaceMax_mm),
+          hasTensile(map, r) ? format("%.6f", m.tensileLoadingR2) : "",
+          hasTensile(map, r) ? format("%.6f", m.tensileUnloadingR2) : "",
+          std::to_string(m.failedSteps), std::string(isOnFront ? "1" : "0"), quoted(m.failure)}) {
       fields.push_back(std::move(field));
     }
     for (std::size_t f = 0; f < fields.size(); ++f) {
@@ -235,8 +242,11 @@ std::string tradeMarkdown(const TradeMap& map) {
        << m.cost.events << " | " << staticErrors << " | "
        << joined(forceErrors(m.paceForce_N, map.reference.force_N), "%+.0f")
        << (m.failedSteps > 0 ? " (" + std::to_string(m.failedSteps) + " steps failed)" : "")
-       << " | " << surface << " | " << format("%.2f", 100.0 * m.tensileLoadingR2) << " / "
-       << format("%.2f", 100.0 * m.tensileUnloadingR2) << " |\n";
+       << " | " << surface << " | "
+       << (hasTensile(map, r) ? format("%.2f", 100.0 * m.tensileLoadingR2) + " / " +
+                                    format("%.2f", 100.0 * m.tensileUnloadingR2)
+                              : std::string("-"))
+       << " |\n";
   }
   md << "\nForce errors at " << joined(depths_mm, "%g")
      << " mm, signed (negative: softer than the FEM). The surface columns compare the top "
@@ -289,7 +299,8 @@ void writeTradePlot(const TradeMap& map, const std::string& path) {
       {"threads", "resolution, 1 thread", {230, 140, 40}, false},
       {"model", "spring law", {30, 90, 200}, false},
       {"volume", "volume term", {120, 60, 170}, false},
-      {"integrator", "integrator", {30, 150, 60}, false}};
+      {"integrator", "integrator", {30, 150, 60}, false},
+      {"fem-tets", "fem on the lattice (tets)", {20, 160, 170}, true}};
   std::vector<ChartSeries> series;
   double lowest = std::numeric_limits<double>::infinity();
   double highest = 0.0;

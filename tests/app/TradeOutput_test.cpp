@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // What `trade` writes, from a map whose figures are given: every CSV row has the header's
 // fields, the Pareto column marks exactly the rows nothing beats on both axes, a failed row and
-// the FEM rows stay off the cost axis, and the Markdown lists the front in increasing cost.
+// the FEM reference's rows stay off the cost axis (the FEM on the lattice is on it, without a
+// tensile fit), and the Markdown lists the front in increasing cost.
 
 #include "trade/TradeOutput.h"
 
@@ -62,6 +63,19 @@ TradeMap sampleMap() {
   spring("slower and worse", 3.0, {0.15, 0.5});             // 50 %: beaten by "slow, good"
   spring("a name, with \"quotes\"", 0.5, {0.13, 0.44});     // 30 %: on the front
   spring("failed", 0.01, {0.1, 0.4}, "liver run: killed");  // no cost: off the map
+  TradeRow tets;
+  tets.knob = "fem-tets";
+  tets.model = "fem";
+  tets.name = "fem on the lattice";
+  TradeMeasurement tetsMeasurement;
+  tetsMeasurement.cost.springs = 1000;
+  tetsMeasurement.cost.stepMedian_ms = 1.5;
+  tetsMeasurement.staticForce_N = {0.15, 0.6};
+  tetsMeasurement.paceForce_N = {0.15, 0.6};  // 50 %: beaten by "a name"
+  tetsMeasurement.tensileLoadingR2 = 0.5;     // not measured: never shown
+  map.rows.push_back(tets);
+  map.measurements.push_back(tetsMeasurement);
+  map.cellEdges_m.push_back(0.01);
   TradeRow fem;
   fem.knob = "reference";
   fem.name = "fem, refinement 1";
@@ -95,7 +109,7 @@ TEST(TradeOutput, EveryCsvRowHasTheHeadersFieldsAndTheFrontIsMarked) {
     if (fields[pareto] == "1") onFront.push_back(fields[name]);
     ++rows;
   }
-  EXPECT_EQ(rows, 6);
+  EXPECT_EQ(rows, 7);
   // In the rows' order.
   EXPECT_EQ(onFront,
             (std::vector<std::string>{"fast, poor", "slow, good", "a name, with \"quotes\""}));
@@ -107,8 +121,34 @@ TEST(TradeOutput, TheAxesLeaveOutFailedAndFemRows) {
   EXPECT_NEAR(worstError(map, 1), 10.0, 1e-9);
   EXPECT_TRUE(std::isnan(stepCost(map, 4)));  // failed
   EXPECT_TRUE(std::isnan(worstError(map, 4)));
-  EXPECT_TRUE(std::isnan(stepCost(map, 5)));   // FEM: not a real-time step
-  EXPECT_NEAR(worstError(map, 5), 2.5, 1e-9);  // its static error
+  EXPECT_NEAR(stepCost(map, 5), 1.5, 1e-12);  // the lattice's FEM: a real-time step
+  EXPECT_NEAR(worstError(map, 5), 50.0, 1e-9);
+  EXPECT_TRUE(std::isnan(stepCost(map, 6)));   // FEM: not a real-time step
+  EXPECT_NEAR(worstError(map, 6), 2.5, 1e-9);  // its static error
+}
+
+TEST(TradeOutput, TheLatticeFemRowHasNoTensileFit) {
+  // The tensile test is the springs': the tets' row leaves its fields empty and shows "-".
+  const TradeMap map = sampleMap();
+  std::istringstream csv(tradeCsv(map));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = fieldsOf(line);
+  std::size_t loading = 0;
+  for (std::size_t f = 0; f < header.size(); ++f) {
+    if (header[f] == "tensile_r2_loading") loading = f;
+  }
+  ASSERT_GT(loading, 0u);
+  std::vector<std::string> shown;
+  while (std::getline(csv, line)) shown.push_back(fieldsOf(line)[loading]);
+  ASSERT_EQ(shown.size(), 7u);
+  EXPECT_EQ(shown[0], "0.000000");  // a spring row's, measured (0 in this sample)
+  EXPECT_EQ(shown[5], "");
+  const std::string md = tradeMarkdown(map);
+  const std::size_t row = md.find("| fem on the lattice | 1000 |");
+  ASSERT_NE(row, std::string::npos) << md;
+  const std::string text = md.substr(row, md.find('\n', row) - row);
+  EXPECT_EQ(text.substr(text.size() - 5), "| - |") << text;
 }
 
 TEST(TradeOutput, TheMarkdownListsTheFrontInIncreasingCost) {
