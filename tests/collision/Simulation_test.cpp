@@ -365,11 +365,9 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
   // tets inverted.
   // Where it comes to rest is not quite where it started: the poke softened the springs it
   // stretched past their history (the Mullins effect), and softer springs sag further under the
-  // organ's weight. That permanent set is the model's residual strain on unloading, 0.7-2.8 mm
-  // here (1.2-1.8 mm before the springs' factor was refitted with the volume term in place, 4 %
-  // lower; TensileTest::volumeTermCalibration), held under 3.5 mm; with softening off the fast
-  // poke comes back to within 0.5 mm of the start (0.015 mm measured): the elastic recovery is
-  // whole.
+  // organ's weight. That permanent set is the model's residual strain on unloading, held under
+  // 3.5 mm (docs/scene-file.md, "The volume term", has it measured); with softening off the
+  // fast poke comes back to within 0.5 mm of the start: the elastic recovery is whole.
   struct Case {
     double xMin, xMax;  // where on the upper surface (m)
     double depth_m, speed_m_s;
