@@ -8,6 +8,9 @@
 #   ./tissuesim.sh sanitize   the same tests in a separate ASan+UBSan build (build-asan/)
 #   ./tissuesim.sh tsan       the physics loop's threaded tests under ThreadSanitizer (build-tsan/)
 #   ./tissuesim.sh bench      the Google Benchmark suite (tissuesim bench)
+#   ./tissuesim.sh measure [DIR]  every figure of docs/performance.md into DIR (build/measurements):
+#                             the map (TRADE_ARGS=--quick: two minutes), the benchmarks
+#                             (BENCH_FILTER=REGEX), the bundled poke's report
 #   ./tissuesim.sh fuzz       every parser under libFuzzer with ASan+UBSan (clang, build-fuzz/),
 #                             FUZZ_SECONDS each (default 12), FUZZ_TARGETS to choose some
 #
@@ -103,7 +106,7 @@ case "${1:-}" in
     say "building build-tsan (core tests only)"
     cmake --build build-tsan -j "$JOBS" --target core_tests
     say "threaded tests under ThreadSanitizer"
-    TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/core_tests --gtest_filter='TripleBuffer.*:RealTimeLoop.*:ForkJoinPool.*:SpringForceField.ResultsDoNotDependOnTheThreadCount:BlockConjugateGradient.ResultsDoNotDependOnTheThreadCount:NodeBlockMatrix.ResultsDoNotDependOnTheThreadCount:SystemOperator.PartsAreIndependentOfOrderAndThreads:VolumeForceField.InspectionOnThePoolFindsWhatTheSerialOneDoes:VolumeForceField.PassesOnThePoolAreBitIdenticalToTheSerialOnes:ParallelPasses.*'
+    TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/core_tests --gtest_filter='TripleBuffer.*:RealTimeLoop.*:ForkJoinPool.*:SpringForceField.ResultsDoNotDependOnTheThreadCount:BlockConjugateGradient.ResultsDoNotDependOnTheThreadCount:NodeBlockMatrix.ResultsDoNotDependOnTheThreadCount:SystemOperator.PartsAreIndependentOfOrderAndThreads:VolumeForceField.InspectionOnThePoolFindsWhatTheSerialOneDoes:VolumeForceField.PassesOnThePoolAreBitIdenticalToTheSerialOnes:TetIsochoricForceField.OneThreadAndTwoGiveTheSameBits:ParallelPasses.*'
     ;;
   fuzz)
     PACKAGES+=(clang libclang-rt-14-dev)  # the compiler and its libFuzzer runtime
@@ -132,8 +135,24 @@ case "${1:-}" in
     shift
     build/app/tissuesim bench "$@"
     ;;
+  measure)
+    # Every figure of docs/performance.md: the speed/accuracy map, the benchmarks and the
+    # bundled poke's report, into one folder. TRADE_ARGS=--quick for the two-minute map.
+    install_packages
+    BUILD_ONLY=tissuesim build build
+    out=${2:-build/measurements}
+    mkdir -p "$out"
+    say "the speed/accuracy map into $out"
+    build/app/tissuesim trade ${TRADE_ARGS:-} --output "$out"
+    say "the benchmarks into $out/bench.json ${BENCH_FILTER:+(filter $BENCH_FILTER)}"
+    build/app/tissuesim bench --benchmark_out="$out/bench.json" --benchmark_out_format=json \
+      ${BENCH_FILTER:+--benchmark_filter=$BENCH_FILTER}
+    say "the bundled poke into $out/liver-poke-report.json"
+    build/app/tissuesim run --scene assets/scenes/liver-poke.json --report "$out/liver-poke-report.json"
+    say "measurements in $out (the machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
+    ;;
   *)
-    echo "usage: ./tissuesim.sh run|test|sanitize|tsan|fuzz|bench" >&2
+    echo "usage: ./tissuesim.sh run|test|sanitize|tsan|fuzz|bench|measure" >&2
     exit 2
     ;;
 esac
