@@ -32,6 +32,7 @@ class InstrumentScript final : public InstrumentSource {
   explicit InstrumentScript(std::vector<Keyframe> keyframes);
   InstrumentPose poseAt(double time_s) const override;
   double duration_s() const { return m_keyframes.back().time_s; }
+  const std::vector<Keyframe>& keyframes() const { return m_keyframes; }
 
   /// A straight poke: from `start` along its direction by `depth_m` over `pressTime_s`, then back.
   static InstrumentScript poke(const InstrumentPose& start, double depth_m, double pressTime_s);

@@ -18,6 +18,7 @@
 #include <optional>
 #include <thread>
 
+#include "sim/SessionRecording.h"
 #include "sim/Simulation.h"
 #include "sim/ToolProxy.h"
 #include "sim/TripleBuffer.h"
@@ -53,13 +54,22 @@ class LiveInstrument final : public InstrumentSource {
   /// as after a reset, restarts its clock without moving it).
   InstrumentPose poseAt(double time_s) const override {
     m_poses.update();
+    const long step = m_calls.fetch_add(1, std::memory_order_relaxed);
+    if (m_recorder != nullptr) m_recorder->notePose(step, m_poses.front());
     if (!m_proxy) return m_poses.front();
     const double h_s = m_lastTime_s ? time_s - *m_lastTime_s : 0.0;
     m_lastTime_s = time_s;
     return m_proxy->advance(m_poses.front(), h_s);
   }
+  /// Steps that have asked for a pose so far: the session's clock for recordings.
+  long steps() const { return m_calls.load(std::memory_order_relaxed); }
+  /// Records each new input pose as the physics first sees it (null: none). Set while no loop
+  /// runs; `recorder` must outlive this object or be unset.
+  void setRecorder(SessionRecorder* recorder) { m_recorder = recorder; }
 
  private:
+  mutable std::atomic<long> m_calls{0};
+  SessionRecorder* m_recorder = nullptr;
   mutable TripleBuffer<InstrumentPose> m_poses;
   mutable std::optional<ToolProxy> m_proxy;
   mutable std::optional<double> m_lastTime_s;
