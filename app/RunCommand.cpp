@@ -14,10 +14,12 @@
 #include "CommandError.h"
 #include "OutputFile.h"
 #include "SceneSession.h"
+#include "SessionSteps.h"
 #include "TimeSeriesExport.h"
 #include "material/TissueFile.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/SceneFile.h"
+#include "sim/SessionRecording.h"
 #include "sim/Simulation.h"
 
 namespace tissuesim::app {
@@ -30,126 +32,40 @@ struct RunOptions {
   std::string reportPath;
   std::string exportFolder;
   double exportEvery_s = 0.02;
+  std::string recordPath;
 };
 
 void runSession(const RunOptions& options) {
   if (!options.reportPath.empty()) checkOutputWritable(options.reportPath, "--report");
+  if (!options.recordPath.empty()) checkOutputWritable(options.recordPath, "--record");
   SceneSession session(options.scenePath, options.scriptPath, InstrumentDriver::Script);
   session.printAssumptions();
-  Simulation* simulation = &session.simulation();
-  const SceneDescription& scene = simulation->scene();
   const InstrumentScript* script = session.script();
   const double duration = options.duration_s > 0.0 ? options.duration_s
                           : script                 ? script->duration_s()
                                                    : 1.0;
   if (!std::isfinite(duration) || duration > 3600.0)
     throw CommandError("--duration must be at most 3600 s");
-  const long steps = std::lround(duration / simulation->timeStep_s());
-  if (!options.exportFolder.empty() &&
-      !(std::isfinite(options.exportEvery_s) && options.exportEvery_s > 0.0)) {
-    throw CommandError("--export-every must be a positive number of seconds");
+  const long steps = std::lround(duration / session.simulation().timeStep_s());
+  SessionOutputs outputs;
+  outputs.sceneLabel = options.scenePath;
+  outputs.reportPath = options.reportPath;
+  outputs.exportFolder = options.exportFolder;
+  outputs.exportEvery_s = options.exportEvery_s;
+  runSessionSteps(session, steps, outputs);
+  if (options.recordPath.empty()) return;
+  // A scripted session is its scene and its script: the keyframes, to the bit.
+  SessionRecording recording;
+  recording.scenePath = options.scenePath;
+  try {
+    recording.files = sceneFingerprints(options.scenePath);
+    if (script != nullptr) recording.script = script->keyframes();
+    recording.steps = steps;
+    writeRecording(options.recordPath, recording);
+  } catch (const RecordingError& error) {
+    throw CommandError(std::string("--record: ") + error.what());
   }
-  // The export's writing is timed apart: the physics rate reported is the physics' alone.
-  std::optional<TimeSeriesExport> exporter;
-  double exportWall_s = 0.0;
-  double nextExport_s = 0.0;
-  const auto exportFrame = [&] {
-    const auto begin = std::chrono::steady_clock::now();
-    try {
-      exporter->write(simulation->time_s(), simulation->state().x);
-    } catch (const std::runtime_error& error) {
-      throw CommandError(std::string("--export: ") + error.what());
-    }
-    exportWall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-    nextExport_s = simulation->time_s() + options.exportEvery_s - 0.5 * simulation->timeStep_s();
-  };
-  if (!options.exportFolder.empty()) {
-    try {
-      exporter.emplace(options.exportFolder, simulation->geometry(), simulation->springMesh());
-    } catch (const std::runtime_error& error) {
-      throw CommandError(std::string("--export: ") + error.what());
-    }
-    exportFrame();
-  }
-
-  double maxForce = 0.0;
-  double maxPenetration = 0.0;
-  double maxStretch = 1.0;
-  double minVolumeRatio = 1.0;
-  double maxVolumeRatio = 1.0;
-  long linearIterations = 0;
-  long badSteps = 0;
-  const auto start = std::chrono::steady_clock::now();
-  for (long n = 0; n < steps; ++n) {
-    const StepOutcome outcome = simulation->step();
-    maxForce = std::max(maxForce, outcome.contact.toolForce_N.norm());
-    maxPenetration = std::max(maxPenetration, outcome.contact.maxPenetration_m);
-    // A step that was rolled back left no state behind: its stretch is not the organ's.
-    if (outcome.isGood) maxStretch = std::max(maxStretch, outcome.maxStretch);
-    minVolumeRatio = std::min(minVolumeRatio, outcome.integrator.forces.volume.minVolumeRatio);
-    maxVolumeRatio = std::max(maxVolumeRatio, outcome.integrator.forces.volume.maxVolumeRatio);
-    linearIterations += outcome.integrator.linearIterations;
-    badSteps += outcome.isGood ? 0 : 1;
-    if (exporter && simulation->time_s() >= nextExport_s) exportFrame();
-  }
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
-      exportWall_s;
-
-  nlohmann::json report;
-  report["scene"] = options.scenePath;
-  report["steps"] = simulation->steps();
-  report["refused_or_failed_steps"] = badSteps;
-  report["time_step_s"] = simulation->timeStep_s();
-  report["simulated_seconds"] = simulation->time_s();
-  report["physics_hz"] = wall > 0.0 ? static_cast<double>(steps) / wall : 0.0;
-  report["realtime_factor"] = wall > 0.0 ? simulation->time_s() / wall : 0.0;
-  report["max_tool_force_n"] = maxForce;
-  report["max_penetration_mm"] = maxPenetration * 1e3;
-  report["max_stretch"] = maxStretch;
-  if (simulation->bulkModulus() > 0.0) {
-    // The volume term's kappa and the range of tet volume ratios J = V / V0 it allowed.
-    report["volume_term_kpa"] = simulation->bulkModulus() / 1000.0;
-    report["min_volume_ratio"] = minVolumeRatio;
-    report["max_volume_ratio"] = maxVolumeRatio;
-  }
-  report["cg_products_per_step"] =
-      steps > 0 ? static_cast<double>(linearIterations) / static_cast<double>(steps) : 0.0;
-  report["model"] = scene.model;
-  report["springs"] = simulation->springMesh().springCount();
-  report["tets"] = simulation->geometry().mesh.tetCount();
-  report["nodes"] = simulation->springMesh().nodeCount();
-  report["integrator"] = scene.integrator;
-  report["instability_event_count"] = simulation->eventCount();  // the list keeps the first 100
-  report["instability_events"] = nlohmann::json::array();
-  for (const InstabilityEvent& event : simulation->events()) {
-    report["instability_events"].push_back({{"step", event.step},
-                                            {"time_s", event.time_s},
-                                            {"kind", event.kind},
-                                            {"detail", event.detail}});
-  }
-  report["wall_seconds"] = wall;
-  if (exporter) {
-    report["export"] = {{"collection", exporter->collectionPath().string()},
-                        {"frames", exporter->frameCount()},
-                        {"wall_seconds", exportWall_s}};
-  }
-  const bool isFem = scene.model == "fem";
-  std::printf(
-      "%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld %s; max tool force "
-      "%.3f N, max penetration %.2f mm, max stretch %.3f; %zu instability events\n",
-      scene.name.c_str(), simulation->steps(), simulation->timeStep_s() * 1e3,
-      report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
-      static_cast<long>(isFem ? simulation->geometry().mesh.tetCount()
-                              : simulation->springMesh().springCount()),
-      isFem ? "tets (FEM)" : "springs", maxForce, maxPenetration * 1e3, maxStretch,
-      simulation->eventCount());
-  if (exporter) {
-    std::printf("exported %d frames: %s\n", exporter->frameCount(),
-                exporter->collectionPath().string().c_str());
-  }
-  if (!options.reportPath.empty())
-    writeTextFile(options.reportPath, "--report", report.dump(2) + "\n");
+  std::printf("recorded %ld steps: %s\n", steps, options.recordPath.c_str());
 }
 
 }  // namespace
@@ -168,6 +84,8 @@ void registerRunCommand(CLI::App& app) {
   command->add_option("--duration", options->duration_s,
                       "Simulated seconds (default: the script's length)");
   command->add_option("--report", options->reportPath, "Write the JSON report here");
+  command->add_option("--record", options->recordPath,
+                      "Write the session's recording here (tissuesim replay steps it again)");
   command->add_option("--export", options->exportFolder,
                       "Write the run for ParaView into this folder: the drawn surface (.vtp) and "
                       "the tet mesh (.vtu) with displacement and stretch, and series.pvd");

@@ -14,6 +14,7 @@
 #include "GuiCommand.h"
 #include "IndentCommand.h"
 #include "MeshCommand.h"
+#include "ReplayCommand.h"
 #include "RunCommand.h"
 #include "SnapshotCommand.h"
 #include "SoakCommand.h"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   tissuesim::app::registerTradeCommand(app);
   tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerRunCommand(app);
+  tissuesim::app::registerReplayCommand(app);
   tissuesim::app::registerSnapshotCommand(app);
   tissuesim::app::registerSoakCommand(app);
   tissuesim::app::registerBenchCommand(app);

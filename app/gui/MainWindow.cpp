@@ -147,6 +147,11 @@ void MainWindow::buildMenus() {
         if (!path.isEmpty()) saveImage(path);
       },
       QKeySequence::Save);
+  file->addAction("Save &recording...", this, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, "Save recording", "session.jsonl",
+                                                      "Recording (*.jsonl)");
+    if (!path.isEmpty()) saveRecording(path);
+  });
   file->addSeparator();
   file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
 
@@ -236,6 +241,16 @@ bool MainWindow::loadScene(const QString& path) {
   m_view.reset();
   m_session = std::move(session);
   m_scenePath = path;
+  // The recording starts with the scene: every input the physics sees from its first step.
+  m_recorder.reset();
+  if (m_session->liveInstrument() != nullptr) {
+    try {
+      m_recorder = std::make_unique<SessionRecorder>(path.toStdString());
+      m_session->liveInstrument()->setRecorder(m_recorder.get());
+    } catch (const std::exception& error) {
+      statusBar()->showMessage(QString("not recording: ") + error.what(), 10000);
+    }
+  }
   Simulation& simulation = m_session->simulation();
   const auto& instrument = m_session->scene().instrument;
   m_view = std::make_unique<TissueSceneView>(
@@ -279,9 +294,45 @@ bool MainWindow::loadTissue(const QString& path) {
     showError("Tissue refused", error.what());
     return false;
   }
-  whilePaused([&] { m_session->simulation().replaceTissue(parameters); });
+  whilePaused([&] {
+    m_session->simulation().replaceTissue(parameters);
+    RecordedEvent event;
+    event.tissue = parameters;
+    noteChange(std::move(event));
+  });
   updateMaterialChart();
   statusBar()->showMessage("tissue: " + QString::fromStdString(parameters.name) + " (" + path + ")",
+                           10000);
+  return true;
+}
+
+void MainWindow::noteChange(RecordedEvent event) {
+  if (!m_recorder || !m_session || m_session->liveInstrument() == nullptr) return;
+  event.step = m_session->liveInstrument()->steps();
+  m_recorder->noteChange(std::move(event));
+}
+
+bool MainWindow::saveRecording(const QString& path) {
+  if (!m_recorder || !m_session || m_session->liveInstrument() == nullptr) {
+    showError("Nothing to record",
+              "This scene has no instrument, or its files could not be read "
+              "when it was opened: there is no session to record.");
+    return false;
+  }
+  SessionRecording recording;
+  // Paused, so that no step begins between the count and the events.
+  whilePaused([&] { recording = m_recorder->recording(m_session->liveInstrument()->steps()); });
+  try {
+    writeRecording(path.toStdString(), recording);
+  } catch (const std::exception& error) {
+    showError("Recording not saved", error.what());
+    return false;
+  }
+  statusBar()->showMessage(QString("saved %1: %2 steps, %3 inputs (tissuesim replay --recording "
+                                   "%1)")
+                               .arg(path)
+                               .arg(recording.steps)
+                               .arg(recording.events.size()),
                            10000);
   return true;
 }
@@ -318,6 +369,9 @@ void MainWindow::resetSimulation() {
   if (!m_session) return;
   whilePaused([&] {
     m_session->simulation().reset();
+    RecordedEvent event;
+    event.isReset = true;
+    noteChange(std::move(event));
     m_loop = std::make_unique<RealTimeLoop>(m_session->simulation());  // a fresh first snapshot
     m_latest = nullptr;
     m_forcePlot->clear();
@@ -333,7 +387,12 @@ void MainWindow::resetSimulation() {
 void MainWindow::setSoftening(bool isOn) {
   m_softeningAction->setChecked(isOn);
   if (!m_session) return;
-  whilePaused([&] { m_session->simulation().setSoftening(isOn); });
+  whilePaused([&] {
+    m_session->simulation().setSoftening(isOn);
+    RecordedEvent event;
+    event.softening = isOn;
+    noteChange(std::move(event));
+  });
 }
 
 void MainWindow::setGravity(bool isOn) {
@@ -342,8 +401,13 @@ void MainWindow::setGravity(bool isOn) {
   // The scene's gravity when it has one, else 9.81 m/s^2 down the bundled scenes' -y.
   Eigen::Vector3d gravity = m_session->scene().gravity_m_s2;
   if (gravity.squaredNorm() == 0.0) gravity = {0.0, -9.81, 0.0};
-  whilePaused(
-      [&] { m_session->simulation().setGravity(isOn ? gravity : Eigen::Vector3d::Zero()); });
+  whilePaused([&] {
+    const Eigen::Vector3d value = isOn ? gravity : Eigen::Vector3d::Zero();
+    m_session->simulation().setGravity(value);
+    RecordedEvent event;
+    event.gravity_m_s2 = value;
+    noteChange(std::move(event));
+  });
 }
 
 void MainWindow::setColourMap(bool isOn) {
@@ -465,7 +529,12 @@ bool MainWindow::fitTissueFromTestData(const QString& csvPath) {
 
 bool MainWindow::applyFittedTissue() {
   if (!m_session || !m_fit) return false;
-  whilePaused([&] { m_session->simulation().replaceTissue(m_fit->parameters); });
+  whilePaused([&] {
+    m_session->simulation().replaceTissue(m_fit->parameters);
+    RecordedEvent event;
+    event.tissue = m_fit->parameters;
+    noteChange(std::move(event));
+  });
   drawFitOnChart();
   statusBar()->showMessage("tissue: " + QString::fromStdString(m_fit->parameters.name), 10000);
   return true;

@@ -45,6 +45,10 @@ class MainWindow : public QMainWindow {
   bool loadScene(const QString& path);
   bool loadTissue(const QString& path);
   bool saveImage(const QString& path);
+  /// File > Save recording: the session so far (sim/SessionRecording.h), for `tissuesim
+  /// replay`. False (after the error dialog) when it cannot be written or there is nothing to
+  /// record (a scene without an instrument).
+  bool saveRecording(const QString& path);
   /// Tools > Fit tissue from test data: fits the CSV (analysis/TissueFit.h, starting from the
   /// running tissue), draws the fit over the data in the Material panel and opens the result's
   /// dialog (objectName "fitDialog"). False (after the error dialog) for bad data.
@@ -95,7 +99,11 @@ class MainWindow : public QMainWindow {
   template <typename Change>
   void whilePaused(const Change& change);
 
+  /// A change between steps into the session's recording (its step: the live pose's clock).
+  void noteChange(RecordedEvent event);
+
   std::unique_ptr<SceneSession> m_session;
+  std::unique_ptr<SessionRecorder> m_recorder;  ///< null: the scene cannot be recorded
   std::unique_ptr<RealTimeLoop> m_loop;
   std::unique_ptr<TissueSceneView> m_view;
   std::unique_ptr<CurveChart> m_materialChart;

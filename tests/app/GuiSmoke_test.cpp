@@ -2,7 +2,8 @@
 // The window, driven as a trainee and an instructor would (QTest, under Xvfb when there is no
 // display): start on the bundled scene, push the instrument into the liver with the mouse
 // wheel, see the surface move and no error; load a bad tissue file, see the error dialog and
-// the simulation carry on; load a good one; save an image.
+// the simulation carry on; load a good one; save an image; save the session's recording and
+// step it again to the window's state.
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <QtTest/QtTest>
 
 #include "HeadlessDisplay.h"
+#include "SessionSteps.h"
 #include "gui/MainWindow.h"
 #include "gui/SoftwareOpenGL.h"
 #include "gui/TissueFitDialog.h"
@@ -233,6 +235,50 @@ class GuiSmokeTest : public QObject {
     if (const QString shot = qEnvironmentVariable("TISSUESIM_GUI_SCREENSHOT"); !shot.isEmpty()) {
       QVERIFY(m_window->grab().save(shot));
     }
+  }
+
+  void aSavedRecordingReplaysToTheWindowsState() {
+    // A session on the bundled scene: pushes, a new tissue, gravity off, a reset, more pushes;
+    // saved, then stepped again from the file alone (as `tissuesim replay` steps it): the same
+    // positions to the bit as the window's, the physics paused.
+    QVERIFY(m_window->loadScene(QString(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));
+    QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(), steps() > 20), 10000);
+    wheel(12);
+    QTest::qWait(150);
+    QVERIFY(
+        m_window->loadTissue(QString(TISSUESIM_TEST_DATA_DIR) + "/tissues/valid-exact-n2.json"));
+    wheel(-4);
+    m_window->setGravity(false);
+    QTest::qWait(150);
+    m_window->resetSimulation();
+    wheel(8);
+    QTest::qWait(200);
+    m_window->setPaused(true);
+    QTemporaryDir directory;
+    const QString path = directory.filePath("session.jsonl");
+    QVERIFY(m_window->saveRecording(path));
+    const Eigen::Matrix3Xd live = m_window->simulation()->state().x;
+    const SessionRecording recording = readRecording(path.toStdString());
+    QVERIFY(recording.isLive);
+    QVERIFY(recording.steps > 100);
+    const auto count = [&](const auto& has) {
+      return std::count_if(recording.events.begin(), recording.events.end(), has);
+    };
+    QVERIFY(count([](const RecordedEvent& e) { return e.pose.has_value(); }) >= 10);
+    QCOMPARE(count([](const RecordedEvent& e) { return e.tissue.has_value(); }), 1L);
+    QCOMPARE(count([](const RecordedEvent& e) { return e.gravity_m_s2.has_value(); }), 1L);
+    QCOMPARE(count([](const RecordedEvent& e) { return e.isReset; }), 1L);
+
+    SceneSession replay(recording.scenePath.string(), "", InstrumentDriver::Live);
+    std::size_t next = 0;
+    for (long step = 0; step < recording.steps; ++step) {
+      applyRecordedChanges(recording, next, step, replay);
+      replay.simulation().step();
+    }
+    QCOMPARE(replay.simulation().state().x.cols(), live.cols());
+    QCOMPARE((replay.simulation().state().x - live).cwiseAbs().maxCoeff(), 0.0);
+    QVERIFY((live - replay.simulation().startState().x).cwiseAbs().maxCoeff() > 1e-4);  // it moved
+    m_window->setPaused(false);
   }
 
   void aGuessedUnitIsShownInTheWindow() {

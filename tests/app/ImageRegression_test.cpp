@@ -5,10 +5,12 @@
 // actual image and an amplified difference are written to <build>/image-failures/.
 // To re-record the references after an intended change: TISSUESIM_UPDATE_IMAGES=1 ctest -R image
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <vtkActor.h>
@@ -16,11 +18,14 @@
 #include <vtkImageData.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
+#include <CLI/CLI.hpp>
 
 #include "CommandError.h"
 #include "HeadlessDisplay.h"
 #include "ImageComparison.h"
 #include "OffscreenImage.h"
+#include "ReplayCommand.h"
+#include "RunCommand.h"
 #include "SceneSession.h"
 #include "SceneSnapshot.h"
 #include "TissueSceneView.h"
@@ -92,6 +97,34 @@ TEST_F(ImageRegression, RenderingIsDeterministic) {
   EXPECT_TRUE(difference.isSameSize);
   EXPECT_EQ(difference.differingPixels, 0) << difference.describe();
   EXPECT_EQ(difference.meanAbsoluteDifference, 0.0);
+}
+
+TEST_F(ImageRegression, AReplayedRunDrawsTheSnapshotsImage) {
+  // `run --record` over the default poke, then `replay --snapshot` at frame 36: the image
+  // `snapshot` draws at that frame (the mid-poke reference's), pixel for pixel.
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / "tissuesim-replay-image-test";
+  std::filesystem::create_directories(folder);
+  const std::string recording = (folder / "run.jsonl").string();
+  const std::string png = (folder / "frame36.png").string();
+  const auto command = [](std::vector<std::string> arguments) {
+    CLI::App app("tissuesim");
+    registerRunCommand(app);
+    registerReplayCommand(app);
+    std::reverse(arguments.begin(), arguments.end());
+    app.parse(arguments);
+  };
+  command({"run", "--scene", std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json",
+           "--duration", "0.7", "--record", recording});
+  command({"replay", "--recording", recording, "--snapshot", png, "--frames", "36", "--size",
+           std::to_string(kWidth) + "x" + std::to_string(kHeight)});
+  const ImageDifference difference = compareImages(readPng(png), render(36, false), {});
+  EXPECT_TRUE(difference.isSameSize);
+  EXPECT_EQ(difference.differingPixels, 0) << difference.describe();
+  EXPECT_EQ(difference.meanAbsoluteDifference, 0.0);
+  // And not some other frame's.
+  EXPECT_GT(compareImages(readPng(png), render(30, false), {}).differingPixels, 0);
+  std::filesystem::remove_all(folder);
 }
 
 TEST_F(ImageRegression, TheMetricSeesThePokeAndTheColourMap) {

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: Apache-2.0
+// `run --record` then `replay`, through the commands themselves: the replay's report is the
+// run's, field for field, but for the wall-clock figures.
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "ReplayCommand.h"
+#include "RunCommand.h"
+
+namespace tissuesim::app {
+namespace {
+
+void runCommand(const std::vector<std::string>& arguments) {
+  CLI::App app("tissuesim");
+  app.require_subcommand(1);
+  registerRunCommand(app);
+  registerReplayCommand(app);
+  std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());
+  app.parse(reversed);
+}
+
+nlohmann::json readJson(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(Replay, ARecordedRunReplaysToTheSameReport) {
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / "tissuesim-replay-test";
+  std::filesystem::create_directories(folder);
+  const std::string recording = (folder / "run.jsonl").string();
+  const std::string scene = std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json";
+  // Far enough into the default poke to push the liver.
+  runCommand({"run", "--scene", scene, "--duration", "0.8", "--record", recording, "--report",
+              (folder / "run.json").string()});
+  runCommand({"replay", "--recording", recording, "--report", (folder / "replay.json").string()});
+  nlohmann::json run = readJson(folder / "run.json");
+  nlohmann::json replay = readJson(folder / "replay.json");
+  EXPECT_GT(run.at("max_tool_force_n").get<double>(), 0.1);
+  for (const char* timing : {"physics_hz", "realtime_factor", "wall_seconds"}) {
+    ASSERT_TRUE(run.contains(timing));
+    run.erase(timing);
+    replay.erase(timing);
+  }
+  EXPECT_EQ(run, replay);
+  std::filesystem::remove_all(folder);
+}
+
+}  // namespace
+}  // namespace tissuesim::app
