@@ -8,9 +8,10 @@
 
 namespace tissuesim::app {
 
-/// Opens the window on a scene and runs Qt's event loop; returns its exit code.
+/// Opens the window on a scene (and plays `recordingPath` when not empty) and runs Qt's event
+/// loop; returns its exit code.
 /// @throws CommandError when there is no X display to open it on (with what to do instead).
-int runGui(const std::string& scenePath, int argc, char** argv);
+int runGui(const std::string& scenePath, const std::string& recordingPath, int argc, char** argv);
 
 void registerGuiCommand(CLI::App& app, int argc, char** argv);
 

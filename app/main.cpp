@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     // No subcommand: the trainee's window on the bundled liver scene.
     try {
       return tissuesim::app::runGui(tissuesim::app::bundledAsset("scenes/liver-poke.json").string(),
-                                    1, argv);
+                                    "", 1, argv);
     } catch (const std::exception& error) {
       std::cerr << "tissuesim: error: " << error.what() << "\n";
       return 1;

@@ -26,6 +26,7 @@
 
 #include "CommandError.h"
 #include "OffscreenImage.h"
+#include "SessionSteps.h"
 #include "analysis/TensileTestData.h"
 #include "analysis/UniaxialTest.h"
 #include "gui/ForcePlotWidget.h"
@@ -147,6 +148,11 @@ void MainWindow::buildMenus() {
         if (!path.isEmpty()) saveImage(path);
       },
       QKeySequence::Save);
+  file->addAction("Open re&cording...", this, [this] {
+    const QString path =
+        QFileDialog::getOpenFileName(this, "Open recording", QString(), "Recording (*.jsonl)");
+    if (!path.isEmpty()) openRecording(path);
+  });
   file->addAction("Save &recording...", this, [this] {
     const QString path = QFileDialog::getSaveFileName(this, "Save recording", "session.jsonl",
                                                       "Recording (*.jsonl)");
@@ -162,8 +168,15 @@ void MainWindow::buildMenus() {
   simulation->addAction(
       "&Reset", this, [this] { resetSimulation(); }, Qt::Key_R);
   simulation->addAction(
+      "Playback: back 5 s", this, [this] { seekRecording(playbackTime_s() - 5.0); },
+      Qt::Key_BracketLeft);
+  simulation->addAction(
+      "Playback: forward 5 s", this, [this] { seekRecording(playbackTime_s() + 5.0); },
+      Qt::Key_BracketRight);
+  simulation->addAction(
       "Toggle &grasper", this,
       [this] {
+        if (m_playback) return;
         m_pose.isGrasping = !m_pose.isGrasping;
         publishPose();
       },
@@ -241,6 +254,7 @@ bool MainWindow::loadScene(const QString& path) {
   m_view.reset();
   m_session = std::move(session);
   m_scenePath = path;
+  m_playback.reset();  // a scene opened is the user's
   // The recording starts with the scene: every input the physics sees from its first step.
   m_recorder.reset();
   if (m_session->liveInstrument() != nullptr) {
@@ -294,6 +308,7 @@ bool MainWindow::loadTissue(const QString& path) {
     showError("Tissue refused", error.what());
     return false;
   }
+  leavePlayback("a new tissue");
   whilePaused([&] {
     m_session->simulation().replaceTissue(parameters);
     RecordedEvent event;
@@ -337,6 +352,91 @@ bool MainWindow::saveRecording(const QString& path) {
   return true;
 }
 
+bool MainWindow::openRecording(const QString& path) {
+  SessionRecording recording;
+  try {
+    recording = readRecording(path.toStdString());
+    checkFingerprints(recording, path.toStdString());
+  } catch (const std::exception& error) {
+    showError("Recording refused", error.what());
+    return false;
+  }
+  const bool wasPaused = isPaused();
+  setPaused(true);
+  if (!restartPlayback(recording)) {
+    setPaused(wasPaused);
+    return false;
+  }
+  installPlaybackHook();
+  setPaused(wasPaused);
+  statusBar()->showMessage("playing " + path + " ([ and ] move 5 s, R restarts)", 10000);
+  return true;
+}
+
+bool MainWindow::restartPlayback(const SessionRecording& recording) {
+  // The window is paused, so loadScene leaves the new loop stopped.
+  if (!loadScene(QString::fromStdString(recording.scenePath.string()))) return false;
+  m_recorder.reset();  // a playback is not a session of its own
+  if (m_session->liveInstrument() != nullptr) m_session->liveInstrument()->setRecorder(nullptr);
+  if (!recording.isLive && !recording.script.empty())
+    m_session->useScript(InstrumentScript(recording.script));
+  m_playback = recording;
+  m_playbackNext = 0;
+  m_playbackStep = 0;
+  return true;
+}
+
+void MainWindow::installPlaybackHook() {
+  m_loop->setBeforeStep([this] {
+    const long step = m_playbackStep.load(std::memory_order_relaxed);
+    if (step >= m_playback->steps) return false;  // its end: the loop stops there
+    applyRecordedChanges(*m_playback, m_playbackNext, step, *m_session);
+    m_playbackStep.store(step + 1, std::memory_order_relaxed);
+    return true;
+  });
+}
+
+void MainWindow::seekRecording(double time_s) {
+  if (!m_playback) return;
+  const bool wasPaused = isPaused();
+  setPaused(true);
+  const SessionRecording recording = *m_playback;
+  const double step_s = m_session->simulation().timeStep_s();
+  const long target =
+      std::clamp(std::lround(time_s / step_s), 0L, static_cast<long>(recording.steps));
+  if (!restartPlayback(recording)) return;
+  statusBar()->showMessage(QString("playback: stepping to %1 s").arg(target * step_s, 0, 'f', 2));
+  for (long step = 0; step < target; ++step) {
+    applyRecordedChanges(*m_playback, m_playbackNext, step, *m_session);
+    m_session->simulation().step();
+  }
+  m_playbackStep = target;
+  m_loop = std::make_unique<RealTimeLoop>(m_session->simulation());  // from the state reached
+  m_forcePlot->clear();
+  installPlaybackHook();
+  setPaused(wasPaused);
+  renderFrame();
+}
+
+void MainWindow::leavePlayback(const char* why) {
+  if (!m_playback) return;
+  whilePaused([&] { m_loop->setBeforeStep(nullptr); });
+  m_playback.reset();
+  statusBar()->showMessage(QString("playback left (%1): the session is yours now").arg(why), 10000);
+}
+
+double MainWindow::playbackTime_s() const {
+  return m_playback && m_session
+             ? static_cast<double>(m_playbackStep.load()) * m_session->simulation().timeStep_s()
+             : 0.0;
+}
+
+double MainWindow::playbackLength_s() const {
+  return m_playback && m_session
+             ? static_cast<double>(m_playback->steps) * m_session->simulation().timeStep_s()
+             : 0.0;
+}
+
 bool MainWindow::saveImage(const QString& path) {
   auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
   grab->SetInput(m_renderWindow);
@@ -367,6 +467,10 @@ bool MainWindow::isPaused() const { return !m_loop || !m_loop->isRunning(); }
 
 void MainWindow::resetSimulation() {
   if (!m_session) return;
+  if (m_playback) {
+    seekRecording(0.0);
+    return;
+  }
   whilePaused([&] {
     m_session->simulation().reset();
     RecordedEvent event;
@@ -387,6 +491,7 @@ void MainWindow::resetSimulation() {
 void MainWindow::setSoftening(bool isOn) {
   m_softeningAction->setChecked(isOn);
   if (!m_session) return;
+  leavePlayback("softening switched");
   whilePaused([&] {
     m_session->simulation().setSoftening(isOn);
     RecordedEvent event;
@@ -401,6 +506,7 @@ void MainWindow::setGravity(bool isOn) {
   // The scene's gravity when it has one, else 9.81 m/s^2 down the bundled scenes' -y.
   Eigen::Vector3d gravity = m_session->scene().gravity_m_s2;
   if (gravity.squaredNorm() == 0.0) gravity = {0.0, -9.81, 0.0};
+  leavePlayback("gravity switched");
   whilePaused([&] {
     const Eigen::Vector3d value = isOn ? gravity : Eigen::Vector3d::Zero();
     m_session->simulation().setGravity(value);
@@ -416,12 +522,14 @@ void MainWindow::setColourMap(bool isOn) {
 }
 
 void MainWindow::publishPose() {
+  if (m_playback) return;  // the recording drives the tool
   if (m_session && m_session->liveInstrument() != nullptr)
     m_session->liveInstrument()->setPose(m_pose);
 }
 
 void MainWindow::moveInstrumentToDisplay(int x, int y) {
   if (!m_view || !m_session || m_session->liveInstrument() == nullptr) return;
+  if (m_playback) return;  // the recording drives the tool
   vtkRenderer* renderer = m_view->renderer();
   // The tip's depth on screen, then the cursor's point at that depth.
   renderer->SetWorldPoint(m_pose.tip_m.x(), m_pose.tip_m.y(), m_pose.tip_m.z(), 1.0);
@@ -439,12 +547,14 @@ void MainWindow::moveInstrumentToDisplay(int x, int y) {
 
 void MainWindow::pushInstrument(double distance_m) {
   if (!m_session || m_session->liveInstrument() == nullptr) return;
+  if (m_playback) return;  // the recording drives the tool
   m_pose.tip_m += distance_m * m_pose.direction.normalized();
   publishPose();
 }
 
 void MainWindow::tiltInstrument(double right_rad, double forward_rad) {
   if (!m_view || !m_session || m_session->liveInstrument() == nullptr) return;
+  if (m_playback) return;  // the recording drives the tool
   vtkCamera* camera = m_view->renderer()->GetActiveCamera();
   double up[3], forward[3];
   camera->GetViewUp(up);
@@ -529,6 +639,7 @@ bool MainWindow::fitTissueFromTestData(const QString& csvPath) {
 
 bool MainWindow::applyFittedTissue() {
   if (!m_session || !m_fit) return false;
+  leavePlayback("a fitted tissue");
   whilePaused([&] {
     m_session->simulation().replaceTissue(m_fit->parameters);
     RecordedEvent event;
@@ -598,9 +709,15 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
                             : QString("%1 springs").arg(simulation.springMesh().springCount());
   const bool isBehind =
       !isPaused() && m_physicsHz > 0.0 && m_physicsHz < 0.9 / simulation.timeStep_s();
+  const QString state = m_playback ? QString("playback %1 / %2 s%3")
+                                         .arg(playbackTime_s(), 0, 'f', 2)
+                                         .arg(playbackLength_s(), 0, 'f', 2)
+                                         .arg(isPaused() ? " (paused)" : "")
+                        : isPaused() ? QString("paused")
+                                     : QString("running");
   m_statusLabel->setText(QString("%1   physics %2 Hz%9   %3 fps   %4   tool force %5 N   max "
                                  "stretch %6   t = %7 s   %8")
-                             .arg(isPaused() ? "paused" : "running")
+                             .arg(state)
                              .arg(m_physicsHz, 0, 'f', 0)
                              .arg(m_fps, 0, 'f', 0)
                              .arg(model)

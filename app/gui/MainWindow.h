@@ -11,6 +11,7 @@
 // Errors (a bad tissue or scene file) open a non-blocking error dialog (object name
 // "errorDialog") and leave the running simulation as it was.
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -49,6 +50,17 @@ class MainWindow : public QMainWindow {
   /// replay`. False (after the error dialog) when it cannot be written or there is nothing to
   /// record (a scene without an instrument).
   bool saveRecording(const QString& path);
+  /// File > Open recording: the recorded session played in the window, its scene loaded and
+  /// the recorded inputs applied at their steps (the mouse does not drive the tool meanwhile);
+  /// it pauses at its end. False (after the error dialog) when refused.
+  bool openRecording(const QString& path);
+  /// The playback moved to `time_s` of the recording (stepped again from its start, the
+  /// window waiting), paused or running as it was. Nothing without a playback.
+  void seekRecording(double time_s);
+  bool isPlayingBack() const { return m_playback.has_value(); }
+  /// The playback's place (s of simulated session time) and its length.
+  double playbackTime_s() const;
+  double playbackLength_s() const;
   /// Tools > Fit tissue from test data: fits the CSV (analysis/TissueFit.h, starting from the
   /// running tissue), draws the fit over the data in the Material panel and opens the result's
   /// dialog (objectName "fitDialog"). False (after the error dialog) for bad data.
@@ -104,6 +116,15 @@ class MainWindow : public QMainWindow {
 
   std::unique_ptr<SceneSession> m_session;
   std::unique_ptr<SessionRecorder> m_recorder;  ///< null: the scene cannot be recorded
+  /// Loads the playback's scene afresh (the loop not started), its source set, at step 0.
+  bool restartPlayback(const SessionRecording& recording);
+  /// The loop's before-step call for the playback: the recorded inputs, and its end.
+  void installPlaybackHook();
+  /// A change the user makes to the physics ends the playback: the session is theirs now.
+  void leavePlayback(const char* why);
+  std::optional<SessionRecording> m_playback;
+  std::size_t m_playbackNext = 0;       ///< the next recorded event (physics thread)
+  std::atomic<long> m_playbackStep{0};  ///< steps played (physics thread; read by the GUI)
   std::unique_ptr<RealTimeLoop> m_loop;
   std::unique_ptr<TissueSceneView> m_view;
   std::unique_ptr<CurveChart> m_materialChart;

@@ -24,8 +24,11 @@ RealTimeLoop::RealTimeLoop(Simulation& simulation)
 RealTimeLoop::~RealTimeLoop() { stop(); }
 
 void RealTimeLoop::start() {
-  if (m_isRunning.exchange(true)) return;
+  if (isRunning()) return;
+  if (m_thread.joinable()) m_thread.join();  // ended by the before-step call
+  m_hasEnded = false;
   m_shouldStop = false;
+  m_isRunning = true;
   m_thread = std::thread([this] { run(); });
 }
 
@@ -33,6 +36,7 @@ void RealTimeLoop::stop() {
   m_shouldStop = true;
   if (m_thread.joinable()) m_thread.join();
   m_isRunning = false;
+  m_hasEnded = false;
 }
 
 LoopStatistics RealTimeLoop::statistics() const {
@@ -56,6 +60,10 @@ void RealTimeLoop::run() {
   long steps = 0;
   long overruns = 0;
   while (!m_shouldStop.load(std::memory_order_relaxed)) {
+    if (m_beforeStep && !m_beforeStep()) {
+      m_hasEnded = true;
+      break;
+    }
     const StepOutcome outcome = m_simulation.step();
     ++steps;
     SimulationSnapshot& snapshot = m_snapshots.back();

@@ -15,6 +15,7 @@
 // dropped. Nothing is dropped silently.
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <thread>
 
@@ -102,7 +103,12 @@ class RealTimeLoop {
 
   void start();
   void stop();
-  bool isRunning() const { return m_isRunning.load(); }
+  /// Stepping now: started, and neither stopped nor ended by the before-step call.
+  bool isRunning() const { return m_isRunning.load() && !m_hasEnded.load(); }
+  /// Called on the physics thread before each step (a replay's recorded changes); returning
+  /// false ends the loop before that step (the end of a replay), as stop() would. Set while the
+  /// loop is stopped; it must not throw.
+  void setBeforeStep(std::function<bool()> beforeStep) { m_beforeStep = std::move(beforeStep); }
 
   /// Reader side: refreshes to the newest snapshot if any; returns it.
   const SimulationSnapshot& snapshot() {
@@ -115,10 +121,12 @@ class RealTimeLoop {
   void run();
 
   Simulation& m_simulation;
+  std::function<bool()> m_beforeStep;
   TripleBuffer<SimulationSnapshot> m_snapshots;
   std::thread m_thread;
   std::atomic<bool> m_isRunning{false};
   std::atomic<bool> m_shouldStop{false};
+  std::atomic<bool> m_hasEnded{false};  ///< the before-step call ended the loop
   // Written by the physics thread once per step, read by anyone: atomics, so reading never
   // blocks the physics.
   std::atomic<long> m_steps{0};

@@ -278,6 +278,34 @@ class GuiSmokeTest : public QObject {
     QCOMPARE(replay.simulation().state().x.cols(), live.cols());
     QCOMPARE((replay.simulation().state().x - live).cwiseAbs().maxCoeff(), 0.0);
     QVERIFY((live - replay.simulation().startState().x).cwiseAbs().maxCoeff() > 1e-4);  // it moved
+
+    // File > Open recording plays it in the window: running, it stops at its end, where the
+    // window's positions are the session's; the mouse does not move the tool meanwhile.
+    m_window->setPaused(false);
+    QVERIFY(m_window->openRecording(path));
+    QVERIFY(m_window->isPlayingBack());
+    QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(), m_window->isPaused()), 20000);
+    QCOMPARE(m_window->playbackTime_s(), m_window->playbackLength_s());
+    QCOMPARE((m_window->simulation()->state().x - live).cwiseAbs().maxCoeff(), 0.0);
+    const InstrumentPose held = m_window->instrumentPose();
+    wheel(3);
+    QCOMPARE(m_window->instrumentPose().tip_m, held.tip_m);
+    // Seeking back re-steps it from the start: the state at 0.1 s is the replay's at step 100.
+    m_window->seekRecording(0.1);
+    QVERIFY(m_window->isPaused());
+    QCOMPARE(m_window->playbackTime_s(), 0.1);
+    SceneSession again(recording.scenePath.string(), "", InstrumentDriver::Live);
+    next = 0;
+    for (long step = 0; step < 100; ++step) {
+      applyRecordedChanges(recording, next, step, again);
+      again.simulation().step();
+    }
+    QCOMPARE(
+        (m_window->simulation()->state().x - again.simulation().state().x).cwiseAbs().maxCoeff(),
+        0.0);
+    // A change of the user's own ends the playback.
+    m_window->setGravity(true);
+    QVERIFY(!m_window->isPlayingBack());
     m_window->setPaused(false);
   }
 

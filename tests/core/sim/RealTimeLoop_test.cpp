@@ -2,6 +2,7 @@
 #include "sim/RealTimeLoop.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -77,6 +78,28 @@ TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
   EXPECT_EQ(snapshot.positions_m.cols(), simulation.state().x.cols());
   EXPECT_TRUE(snapshot.positions_m.allFinite());
   EXPECT_NEAR(snapshot.instrument.tip_m.y(), moved.tip_m.y(), 1e-12);
+}
+
+TEST(RealTimeLoop, ABeforeStepCallThatSaysNoEndsTheLoopBeforeThatStep) {
+  // A replay's end: the call before step 5 says no, so the loop ends after exactly 4 steps and
+  // says it is not running; started again, it runs on.
+  Simulation simulation(loadSceneFile(bundledScene()));
+  RealTimeLoop loop(simulation);
+  std::atomic<int> calls{0};
+  loop.setBeforeStep([&] { return ++calls <= 4; });
+  loop.start();
+  for (int n = 0; n < 500 && loop.isRunning(); ++n)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_FALSE(loop.isRunning());
+  EXPECT_EQ(calls.load(), 5);
+  EXPECT_EQ(simulation.steps(), 4);
+  loop.setBeforeStep([] { return true; });
+  loop.start();
+  EXPECT_TRUE(loop.isRunning());
+  for (int n = 0; n < 500 && simulation.steps() < 10; ++n)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  loop.stop();
+  EXPECT_GE(simulation.steps(), 10);
 }
 
 TEST(RealTimeLoop, CountsOnlyItsOwnSimulatedTime) {
