@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <random>
 
 #include "TestTissues.h"
 #include "material/StiffnessTable.h"
@@ -26,6 +27,27 @@ struct LiverMaterial {
     return material;
   }
 };
+
+/// Positions `rest` (3 by #V) stretched 15 % along x, squeezed 6 % across and jiggled by up
+/// to `jiggle_m`, and a random direction of the same shape: a deformed state for finite
+/// differences.
+struct DeformedPositions {
+  Eigen::Matrix3Xd x;
+  Eigen::Matrix3Xd direction;
+};
+inline DeformedPositions stretchedAndJiggled(const Eigen::Matrix3Xd& rest, unsigned seed,
+                                             double jiggle_m) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  DeformedPositions out{rest, Eigen::Matrix3Xd(3, rest.cols())};
+  out.x.row(0) *= 1.15;
+  out.x.bottomRows(2) *= 0.94;
+  for (Eigen::Index i = 0; i < out.x.size(); ++i) {
+    out.x.data()[i] += jiggle_m * uniform(random);
+    out.direction.data()[i] = uniform(random);
+  }
+  return out;
+}
 
 /// A block of springs with its force field and system, owning everything it refers to.
 struct BlockSystem {

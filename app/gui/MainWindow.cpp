@@ -71,6 +71,15 @@ void MainWindow::whilePaused(const Change& change) {
   if (wasRunning) m_loop->start();
 }
 
+template <typename Change>
+void MainWindow::changePhysics(const char* why, RecordedEvent event, const Change& change) {
+  leavePlayback(why);
+  whilePaused([&] {
+    change();
+    noteChange(std::move(event));
+  });
+}
+
 MainWindow::MainWindow(const QString& scenePath, QWidget* parent) : QMainWindow(parent) {
   setWindowTitle("TissueSim");
   resize(1280, 800);
@@ -308,13 +317,10 @@ bool MainWindow::loadTissue(const QString& path) {
     showError("Tissue refused", error.what());
     return false;
   }
-  leavePlayback("a new tissue");
-  whilePaused([&] {
-    m_session->simulation().replaceTissue(parameters);
-    RecordedEvent event;
-    event.tissue = parameters;
-    noteChange(std::move(event));
-  });
+  RecordedEvent event;
+  event.tissue = parameters;
+  changePhysics("a new tissue", std::move(event),
+                [&] { m_session->simulation().replaceTissue(parameters); });
   updateMaterialChart();
   statusBar()->showMessage("tissue: " + QString::fromStdString(parameters.name) + " (" + path + ")",
                            10000);
@@ -491,13 +497,10 @@ void MainWindow::resetSimulation() {
 void MainWindow::setSoftening(bool isOn) {
   m_softeningAction->setChecked(isOn);
   if (!m_session) return;
-  leavePlayback("softening switched");
-  whilePaused([&] {
-    m_session->simulation().setSoftening(isOn);
-    RecordedEvent event;
-    event.softening = isOn;
-    noteChange(std::move(event));
-  });
+  RecordedEvent event;
+  event.softening = isOn;
+  changePhysics("softening switched", std::move(event),
+                [&] { m_session->simulation().setSoftening(isOn); });
 }
 
 void MainWindow::setGravity(bool isOn) {
@@ -506,14 +509,10 @@ void MainWindow::setGravity(bool isOn) {
   // The scene's gravity when it has one, else 9.81 m/s^2 down the bundled scenes' -y.
   Eigen::Vector3d gravity = m_session->scene().gravity_m_s2;
   if (gravity.squaredNorm() == 0.0) gravity = {0.0, -9.81, 0.0};
-  leavePlayback("gravity switched");
-  whilePaused([&] {
-    const Eigen::Vector3d value = isOn ? gravity : Eigen::Vector3d::Zero();
-    m_session->simulation().setGravity(value);
-    RecordedEvent event;
-    event.gravity_m_s2 = value;
-    noteChange(std::move(event));
-  });
+  RecordedEvent event;
+  event.gravity_m_s2 = isOn ? gravity : Eigen::Vector3d::Zero();
+  changePhysics("gravity switched", event,
+                [&] { m_session->simulation().setGravity(*event.gravity_m_s2); });
 }
 
 void MainWindow::setColourMap(bool isOn) {
@@ -639,13 +638,10 @@ bool MainWindow::fitTissueFromTestData(const QString& csvPath) {
 
 bool MainWindow::applyFittedTissue() {
   if (!m_session || !m_fit) return false;
-  leavePlayback("a fitted tissue");
-  whilePaused([&] {
-    m_session->simulation().replaceTissue(m_fit->parameters);
-    RecordedEvent event;
-    event.tissue = m_fit->parameters;
-    noteChange(std::move(event));
-  });
+  RecordedEvent event;
+  event.tissue = m_fit->parameters;
+  changePhysics("a fitted tissue", std::move(event),
+                [&] { m_session->simulation().replaceTissue(m_fit->parameters); });
   drawFitOnChart();
   statusBar()->showMessage("tissue: " + QString::fromStdString(m_fit->parameters.name), 10000);
   return true;

@@ -113,6 +113,10 @@ class MainWindow : public QMainWindow {
 
   /// A change between steps into the session's recording (its step: the live pose's clock).
   void noteChange(RecordedEvent event);
+  /// A change of the user's own to the physics: ends a playback (`why` says which change),
+  /// then applies `change` with the physics paused and records `event` at that step.
+  template <typename Change>
+  void changePhysics(const char* why, RecordedEvent event, const Change& change);
 
   std::unique_ptr<SceneSession> m_session;
   std::unique_ptr<SessionRecorder> m_recorder;  ///< null: the scene cannot be recorded

@@ -26,21 +26,9 @@ const StrainEnergy& liver() { return test::LiverMaterial::instance().energy; }
 struct DeformedBlock {
   QuadraticTetMesh mesh = makeQuadraticTetMesh(makeBlockMesh({0.02, 0.01, 0.01}, {2, 1, 1}));
   FemModel model{mesh, liver(), 50.0 * liver().initialShearModulus()};
-  Eigen::Matrix3Xd x;
-  Eigen::Matrix3Xd direction;
-
-  DeformedBlock() {
-    std::mt19937 random(3);
-    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    x = mesh.nodes_m;
-    x.row(0) *= 1.15;
-    x.bottomRows(2) *= 0.94;
-    direction.resize(3, x.cols());
-    for (Eigen::Index i = 0; i < x.size(); ++i) {
-      x.data()[i] += 2e-4 * uniform(random);
-      direction.data()[i] = uniform(random);
-    }
-  }
+  test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 3, 2e-4);
+  const Eigen::Matrix3Xd& x = deformed.x;
+  const Eigen::Matrix3Xd& direction = deformed.direction;
 };
 
 TEST(FemModel, TheGradientIsTheEnergysDerivative) {

@@ -26,21 +26,9 @@ const StrainEnergy& liver() { return test::LiverMaterial::instance().energy; }
 struct DeformedBlock {
   TetMesh mesh = makeBlockMesh({0.02, 0.02, 0.01}, {2, 2, 1});
   TetIsochoricForceField field{mesh.nodes_m, mesh.tets, liver()};
-  Eigen::Matrix3Xd x;
-  Eigen::Matrix3Xd direction;
-
-  DeformedBlock() {
-    std::mt19937 random(5);
-    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    x = mesh.nodes_m;
-    x.row(0) *= 1.15;
-    x.bottomRows(2) *= 0.94;
-    direction.resize(3, x.cols());
-    for (Eigen::Index i = 0; i < x.size(); ++i) {
-      x.data()[i] += 3e-4 * uniform(random);
-      direction.data()[i] = uniform(random);
-    }
-  }
+  test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 5, 3e-4);
+  Eigen::Matrix3Xd& x = deformed.x;
+  Eigen::Matrix3Xd& direction = deformed.direction;
 
   Eigen::Matrix3Xd forces(const Eigen::Matrix3Xd& at, StiffnessSlot slot = StiffnessSlot::None,
                           bool isProjected = false, ForceReport* report = nullptr) const {
