@@ -34,6 +34,7 @@ void replay(const ReplayOptions& options) {
   if (!options.reportPath.empty()) checkOutputWritable(options.reportPath, "--report");
   if (!options.snapshotPath.empty()) checkPngOutput(options.snapshotPath, "--snapshot");
   const ImageSize size = parseImageSize(options.size, "--size");
+  if (options.frames < -1) throw CommandError("--frames must be 0 or more");
   if (options.snapshotPath.empty() && options.frames >= 0)
     throw CommandError("--frames is the --snapshot's frame: give --snapshot too");
   SessionRecording recording;
@@ -58,9 +59,13 @@ void replay(const ReplayOptions& options) {
   if (options.frames >= 0) {
     snapshotStep = std::lround(options.frames / kSnapshotFrameRate_Hz / simulation.timeStep_s());
     if (snapshotStep > recording.steps) {
-      throw CommandError("--frames " + std::to_string(options.frames) +
-                         " lies past the recording's " + std::to_string(recording.steps) +
-                         " steps");
+      char reason[160];
+      std::snprintf(
+          reason, sizeof reason,
+          "--frames %d (%.2f s) lies past the recording's end (%.2f s, frame %ld)", options.frames,
+          options.frames / kSnapshotFrameRate_Hz, recording.steps * simulation.timeStep_s(),
+          static_cast<long>(recording.steps * simulation.timeStep_s() * kSnapshotFrameRate_Hz));
+      throw CommandError(reason);
     }
   }
   std::optional<HeadlessDisplay> display;

@@ -14,8 +14,8 @@
 // tissue or mesh that has changed since.
 //
 // The file is JSON Lines: a header, one line an event, and an end line with the step count,
-// written last, so a recording cut short is told from a finished one. An hour of window use is
-// a few megabytes (a line for each mouse move the physics saw, about 100 bytes).
+// written last, so a recording cut short is told from a finished one. A live session writes a
+// line for each mouse move the physics saw, not one a step, so an hour of use stays small.
 //
 // Errors are RecordingError, one line naming the file, the line and what was expected.
 
