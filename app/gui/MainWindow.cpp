@@ -501,6 +501,7 @@ void MainWindow::setSoftening(bool isOn) {
   event.softening = isOn;
   changePhysics("softening switched", std::move(event),
                 [&] { m_session->simulation().setSoftening(isOn); });
+  updateMaterialChart();
 }
 
 void MainWindow::setGravity(bool isOn) {
@@ -587,10 +588,15 @@ void MainWindow::updateMaterialChart() {
   for (const double peak : {1.15, 1.23, 1.30}) {
     if (peak < table.range().upper) peaks.push_back(peak);
   }
+  // Without softening (switched off, or the FEM, which has none) the tissue unloads down its
+  // virgin loading curve: that curve alone, to the largest peak.
+  const bool isSoftening = simulation.isSoftening();
+  if (!isSoftening && !peaks.empty()) peaks.erase(peaks.begin(), peaks.end() - 1);
   std::vector<ChartSeries> series;
   if (!peaks.empty()) {
     const std::vector<CurveBranch> curve = test.run(UniaxialModel::Sedf, {peaks, 60});
     for (const CurveBranch& branch : curve) {
+      if (!isSoftening && branch.phase != LoadPhase::Loading) continue;
       // One line per branch (a joined line would draw chords between cycles).
       series.push_back(branchLine(branch, branch.stress_Pa));
     }
@@ -601,7 +607,9 @@ void MainWindow::updateMaterialChart() {
     });
   }
   // Two lines: at the default window size the dock is narrower than name and legend together.
-  m_materialChart->chart()->SetTitle(parameters.name + "\nloading (red), unloading (blue)");
+  m_materialChart->chart()->SetTitle(parameters.name + (isSoftening
+                                                            ? "\nloading (red), unloading (blue)"
+                                                            : "\nno softening: one elastic curve"));
   m_materialChart->setLegend(false);
   m_materialChart->setSeries(series);
   m_chartWindow->Render();
