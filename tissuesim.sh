@@ -120,7 +120,7 @@ case "${1:-}" in
     seconds=${FUZZ_SECONDS:-12}
     # A file that hangs a library in the isolated readers costs 2 s here, not the program's 60.
     export TISSUESIM_READER_SECONDS=2
-    for target in ${FUZZ_TARGETS:-tissue_file scene_file instrument_script tet_mesh_gmsh tet_mesh_tetgen surface_file vtk_mesh fit_csv}; do
+    for target in ${FUZZ_TARGETS:-tissue_file scene_file instrument_script tet_mesh_gmsh tet_mesh_tetgen surface_file vtk_mesh fit_csv recording}; do
       say "fuzzing $target for $seconds s"
       mkdir -p "build-fuzz/corpus/$target" build-fuzz/findings
       # New inputs go to build-fuzz/corpus; the seeds in tests/fuzz/corpus are only read.

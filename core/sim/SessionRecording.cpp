@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/SessionRecording.h"
 
+#include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -15,6 +16,8 @@ namespace {
 
 constexpr const char* kFormat = "tissuesim recording";
 constexpr int kVersion = 1;
+/// A day at 1 ms: past that a count is a corrupt file's, not a session's.
+constexpr long kMostSteps = 86400L * 1000L;
 
 using Json = nlohmann::json;
 
@@ -108,8 +111,10 @@ class LineReader {
     p.fibreFraction = number(field("fibre_fraction"), "tissue.fibre_fraction");
     p.softeningB = number(field("softening_b"), "tissue.softening_b");
     p.softeningC_Pa = number(field("softening_c_pa"), "tissue.softening_c_pa");
-    p.softeningExponentN =
-        static_cast<int>(number(field("softening_exponent_n"), "tissue.softening_exponent_n"));
+    const double exponent = number(field("softening_exponent_n"), "tissue.softening_exponent_n");
+    if (exponent != 1.0 && exponent != 2.0)
+      fail("field 'tissue.softening_exponent_n' must be 1 or 2");
+    p.softeningExponentN = static_cast<int>(exponent);
     p.springArea_m2 = number(field("spring_area_m2"), "tissue.spring_area_m2");
     p.density_kg_m3 = number(field("density_kg_m3"), "tissue.density_kg_m3");
     p.inverseLangevin =
@@ -234,14 +239,19 @@ SessionRecording readRecording(const std::filesystem::path& path) {
       if (!json.contains("scene") || !json.at("scene").is_string())
         reader.fail("lacks the scene's path");
       recording.scenePath = json.at("scene").get<std::string>();
+      if (json.contains("live") && !json.at("live").is_boolean())
+        reader.fail("field 'live' must be true or false");
       recording.isLive = json.value("live", false);
       for (const Json& file : json.value("files", Json::array())) {
         if (!file.is_object() || !file.contains("path") || !file.contains("fnv1a64") ||
             !file.at("path").is_string() || !file.at("fnv1a64").is_string())
           reader.fail("has a file entry without 'path' and 'fnv1a64'");
-        recording.files.push_back(
-            {file.at("path").get<std::string>(),
-             std::stoull(file.at("fnv1a64").get<std::string>(), nullptr, 16)});
+        const std::string hex = file.at("fnv1a64").get<std::string>();
+        std::uint64_t hash = 0;
+        const auto [end, error] = std::from_chars(hex.data(), hex.data() + hex.size(), hash, 16);
+        if (error != std::errc() || end != hex.data() + hex.size() || hex.empty())
+          reader.fail("has a file fingerprint that is not 16 hexadecimal digits");
+        recording.files.push_back({file.at("path").get<std::string>(), hash});
       }
       for (const Json& key : json.value("script", Json::array())) {
         if (!key.is_array() || key.size() != 8)
@@ -253,6 +263,8 @@ SessionRecording readRecording(const std::filesystem::path& path) {
     }
     if (json.contains("end_steps")) {
       recording.steps = reader.count("end_steps");
+      if (recording.steps > kMostSteps)
+        reader.fail("field 'end_steps' is more than a day of steps at 1 ms");
       isEnded = true;
       continue;
     }
