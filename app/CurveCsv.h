@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 
 namespace tissuesim::app {
 

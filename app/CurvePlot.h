@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 
 namespace tissuesim::app {
 

@@ -9,7 +9,7 @@
 #include "CommandError.h"
 #include "LoadedTissue.h"
 #include "OutputFile.h"
-#include "analysis/IndentationTest.h"
+#include "analysis/IndentationExperiment.h"
 #include "fem/FemModel.h"
 
 namespace tissuesim::app {

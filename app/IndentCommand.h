@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// `tissuesim indent`: the indentation test (core/analysis/IndentationTest.h) through the FEM
+// `tissuesim indent`: the indentation test (core/analysis/IndentationExperiment.h) through the FEM
 // reference and the spring network side by side: the probe's force at each depth, and each
 // network's error against the FEM.
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "CommandError.h"
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/TissueFile.h"
@@ -34,7 +34,7 @@ struct LoadedTissue {
   TissueParameters parameters;
   StrainEnergy energy;
   StiffnessTable table;
-  UniaxialTest continuum;
+  UniaxialExperiment continuum;
 };
 
 }  // namespace tissuesim::app

@@ -15,9 +15,9 @@
 #include "ImageSize.h"
 #include "LoadedTissue.h"
 #include "OutputFile.h"
-#include "analysis/FemTensileTest.h"
+#include "analysis/FemTensileExperiment.h"
 #include "analysis/GoodnessOfFit.h"
-#include "analysis/TensileTest.h"
+#include "analysis/TensileExperiment.h"
 #include "fem/FemModel.h"
 #include "material/TissueFile.h"
 
@@ -144,7 +144,7 @@ void runTensile(const TensileCommandOptions& options) {
   }
 
   const TensileSpecimen specimen{parseSize(options.size), options.resolution};
-  const TensileTest test(energy, table, specimen);
+  const TensileExperiment test(energy, table, specimen);
   const double bulkModulus_Pa = options.bulkModulus_kPa * 1000.0;
   const double calibration = options.calibration == "none" ? 1.0
                              : options.calibration == "simulator"
@@ -174,7 +174,7 @@ void runTensile(const TensileCommandOptions& options) {
     run.volumeScale = calibration;
     run.bulkModulus_Pa = options.bulkModulus_kPa * 1000.0;
     run.integrator = options.integrator;
-    run.linearModulus_Pa = UniaxialTest::fitLinearModulus(reference);
+    run.linearModulus_Pa = UniaxialExperiment::fitLinearModulus(reference);
     TensilePointStats stats;
     const auto start = std::chrono::steady_clock::now();
     std::vector<CurveBranch> curve;

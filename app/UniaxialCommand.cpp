@@ -13,7 +13,7 @@
 #include "LoadedTissue.h"
 #include "OutputFile.h"
 #include "analysis/GoodnessOfFit.h"
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/TissueFile.h"
@@ -42,7 +42,7 @@ void runUniaxial(const UniaxialOptions& options) {
   const TissueParameters& parameters = tissue.parameters;
   const StrainEnergy& energy = tissue.energy;
   const StiffnessTable& table = tissue.table;
-  const UniaxialTest& test = tissue.continuum;
+  const UniaxialExperiment& test = tissue.continuum;
   const UniaxialProtocol protocol{options.lambdaMax, options.points};
   tissue.validate(protocol);
 
@@ -60,7 +60,7 @@ void runUniaxial(const UniaxialOptions& options) {
                table.range().upper);
   if (*model == UniaxialModel::Smm) {
     std::fprintf(stderr, "smm: fitted modulus E = %.6g kPa (stress = E (lambda - 1))\n",
-                 UniaxialTest::fitLinearModulus(reference) / 1000.0);
+                 UniaxialExperiment::fitLinearModulus(reference) / 1000.0);
   }
   for (std::size_t b = 0; b < curve.size(); ++b) {
     const double r2 = coefficientOfDetermination(reference[b].stress_Pa, curve[b].stress_Pa);

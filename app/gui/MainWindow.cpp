@@ -28,7 +28,7 @@
 #include "OffscreenImage.h"
 #include "SessionSteps.h"
 #include "analysis/TensileTestData.h"
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 #include "gui/ForcePlotWidget.h"
 #include "gui/InstrumentInteractorStyle.h"
 #include "gui/SoftwareOpenGL.h"
@@ -583,7 +583,7 @@ void MainWindow::updateMaterialChart() {
   const Simulation& simulation = m_session->simulation();
   const TissueParameters& parameters = simulation.parameters();
   const StiffnessTable& table = simulation.table();
-  const UniaxialTest test(simulation.energy(), table);
+  const UniaxialExperiment test(simulation.energy(), table);
   std::vector<double> peaks;
   for (const double peak : {1.15, 1.23, 1.30}) {
     if (peak < table.range().upper) peaks.push_back(peak);

@@ -18,7 +18,7 @@
 #include "ProcessMemory.h"
 #include "SceneSession.h"
 #include "analysis/GoodnessOfFit.h"
-#include "analysis/TensileTest.h"
+#include "analysis/TensileExperiment.h"
 #include "fem/FemModel.h"
 #include "mesh/IsolatedCall.h"
 #include "mesh/LatticeMesher.h"
@@ -407,11 +407,11 @@ void TradeErrors::measure(const TradeRow& row, const IndentationCurve& reference
     const std::vector<CurveBranch> sedf = m_tissue.continuum.run(UniaxialModel::Sedf, protocol);
     TensileSpecimen specimen;
     specimen.cellsAcrossThickness = m_settings.tensileResolution;
-    const TensileTest test(m_tissue.energy, m_tissue.table, specimen);
+    const TensileExperiment test(m_tissue.energy, m_tissue.table, specimen);
     TensileOptions options;
     options.law = law;
     options.linearModulus_Pa =
-        UniaxialTest::springLawLinearModulus(law, m_tissue.energy, m_tissue.table);
+        UniaxialExperiment::springLawLinearModulus(law, m_tissue.energy, m_tissue.table);
     options.volumeScale = stiffnessScale(row.bulkModulus_Pa);
     options.bulkModulus_Pa = row.bulkModulus_Pa;
     const std::vector<CurveBranch> curve = test.run(options, protocol);

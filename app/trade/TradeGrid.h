@@ -9,8 +9,8 @@
 // calibration, the settled start), each step's wall time (median, 99th percentile), steps per
 // second, and the child's peak resident memory above what it started with.
 //
-// Error: the indentation test (analysis/IndentationTest.h) on a network with the same cube edge
-// as the row's liver lattice, its law and volume term: the probe's force at each depth, static
+// Error: the indentation test (analysis/IndentationExperiment.h) on a network with the same cube
+// edge as the row's liver lattice, its law and volume term: the probe's force at each depth, static
 // and at the scene's pace (the bundled poke's 4 cm/s, stepped by the row's integrator), against
 // the FEM reference's static force; the top face's displacement against the FEM's; and the
 // tensile test's R^2 against sedf.
@@ -22,7 +22,7 @@
 
 #include <Eigen/Core>
 
-#include "analysis/IndentationTest.h"
+#include "analysis/IndentationExperiment.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/SceneFile.h"
 

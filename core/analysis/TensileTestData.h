@@ -17,7 +17,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 
 namespace tissuesim {
 

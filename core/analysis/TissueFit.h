@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 #include "material/TissueParameters.h"
 
 namespace tissuesim {

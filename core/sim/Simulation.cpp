@@ -7,8 +7,8 @@
 #include <string_view>
 #include <utility>
 
-#include "analysis/TensileTest.h"
-#include "analysis/UniaxialTest.h"
+#include "analysis/TensileExperiment.h"
+#include "analysis/UniaxialExperiment.h"
 #include "integrators/ImplicitEulerSolver.h"
 #include "integrators/IntegratorChoice.h"
 #include "material/TissueFile.h"
@@ -128,7 +128,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   const SpringLaw law = springLawNamed(scene.springLaw).value_or(SpringLaw::Eesm);
   // smm's one stiffness is fitted only when the scene asks for that law (start-up does no work a
   // scene does not need).
-  const double linearModulus = UniaxialTest::springLawLinearModulus(law, *m_energy, *m_table);
+  const double linearModulus = UniaxialExperiment::springLawLinearModulus(law, *m_energy, *m_table);
   m_law = std::make_unique<SpringForceLaw>(law, *m_table, *m_parameters, linearModulus,
                                            scene.isSoftening);
   m_springs = std::make_unique<SpringForceField>(*m_springMesh, *m_law);

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "TestSystems.h"
-#include "analysis/FemTensileTest.h"
+#include "analysis/FemTensileExperiment.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialModel.h"
 #include "fem/FemStaticSolver.h"

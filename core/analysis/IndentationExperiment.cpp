@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "analysis/IndentationTest.h"
+#include "analysis/IndentationExperiment.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,8 +9,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "analysis/TensileTest.h"
-#include "analysis/UniaxialTest.h"
+#include "analysis/TensileExperiment.h"
+#include "analysis/UniaxialExperiment.h"
 #include "fem/FemModel.h"
 #include "fem/FemStaticSolver.h"
 #include "fem/QuadraticTetMesh.h"
@@ -290,7 +290,8 @@ std::unique_ptr<BlockNetwork> makeBlockNetwork(const StrainEnergy& energy,
                                  : simulatorStiffnessScale(energy, table, settings.bulkModulus_Pa);
   network->law = std::make_unique<SpringForceLaw>(
       settings.law, table, parameters,
-      UniaxialTest::springLawLinearModulus(settings.law, energy, table), /*isSoftening=*/false);
+      UniaxialExperiment::springLawLinearModulus(settings.law, energy, table),
+      /*isSoftening=*/false);
   network->springs = std::make_unique<SpringForceField>(network->mesh, *network->law);
   if (settings.bulkModulus_Pa > 0.0)
     network->volume = std::make_unique<VolumeForceField>(network->mesh, settings.bulkModulus_Pa);

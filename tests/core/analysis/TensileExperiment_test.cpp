@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "analysis/TensileTest.h"
+#include "analysis/TensileExperiment.h"
 
 #include <gtest/gtest.h>
 
@@ -9,16 +9,16 @@
 namespace tissuesim {
 namespace {
 
-class TensileTestTest : public ::testing::Test {
+class TensileCurves : public ::testing::Test {
  protected:
   const test::LiverMaterial& m_liver = test::LiverMaterial::instance();
   // A coarse specimen (1 cell across 5 mm) keeps the test quick; the CLI default is 2.
-  TensileTest m_test{m_liver.energy, m_liver.table, {{0.055, 0.020, 0.005}, 1}};
+  TensileExperiment m_test{m_liver.energy, m_liver.table, {{0.055, 0.020, 0.005}, 1}};
   UniaxialProtocol m_protocol{{1.15, 1.23}, 8};
-  UniaxialTest m_continuum{m_liver.energy, m_liver.table};
+  UniaxialExperiment m_continuum{m_liver.energy, m_liver.table};
 };
 
-TEST_F(TensileTestTest, CalibratedNetworkFollowsTheContinuumAndUncalibratedDoesNot) {
+TEST_F(TensileCurves, CalibratedNetworkFollowsTheContinuumAndUncalibratedDoesNot) {
   const double calibration = m_test.smallStrainCalibration(m_liver.energy.initialShearModulus());
   // A central-force network without the continuum's lateral contraction is several times softer.
   EXPECT_GT(calibration, 3.0);
@@ -39,7 +39,7 @@ TEST_F(TensileTestTest, CalibratedNetworkFollowsTheContinuumAndUncalibratedDoesN
   }
 }
 
-TEST_F(TensileTestTest, WithTheVolumeTermTheRefittedCalibrationHoldsTheCurveOverThePapersCycles) {
+TEST_F(TensileCurves, WithTheVolumeTermTheRefittedCalibrationHoldsTheCurveOverThePapersCycles) {
   // The bundled scene's 100 kPa: the springs' own factor leaves the first cycle's loading at
   // R^2 99.4 %; refitted with the term in place, every loading branch is at 99.9 % or above
   // and every unloading one at 99 % or above (the simulator's requirement), with a factor a few
@@ -67,7 +67,7 @@ TEST_F(TensileTestTest, WithTheVolumeTermTheRefittedCalibrationHoldsTheCurveOver
   }
 }
 
-TEST_F(TensileTestTest, TimeIntegratorsReachTheSameEquilibria) {
+TEST_F(TensileCurves, TimeIntegratorsReachTheSameEquilibria) {
   TensileOptions options;
   options.volumeScale = 5.0;
   options.isSoftening = false;
@@ -84,7 +84,7 @@ TEST_F(TensileTestTest, TimeIntegratorsReachTheSameEquilibria) {
   }
 }
 
-TEST_F(TensileTestTest, JustBelowLockingStaysFiniteAndConverged) {
+TEST_F(TensileCurves, JustBelowLockingStaysFiniteAndConverged) {
   TensileOptions options;
   options.volumeScale = 5.8;
   TensilePointStats stats;

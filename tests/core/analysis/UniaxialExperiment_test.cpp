@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 
 #include <algorithm>
 
@@ -11,15 +11,15 @@
 namespace tissuesim {
 namespace {
 
-class UniaxialTestTest : public ::testing::Test {
+class UniaxialCycles : public ::testing::Test {
  protected:
   StrainEnergy m_energy{test::porcineLiver()};
   StiffnessTable m_table{m_energy};
-  UniaxialTest m_test{m_energy, m_table};
+  UniaxialExperiment m_test{m_energy, m_table};
   UniaxialProtocol m_paperProtocol{{1.15, 1.23, 1.30}, 100};
 };
 
-TEST_F(UniaxialTestTest, BranchesFollowTheProtocol) {
+TEST_F(UniaxialCycles, BranchesFollowTheProtocol) {
   const auto branches = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
   ASSERT_EQ(branches.size(), 6u);
   for (std::size_t b = 0; b < branches.size(); ++b) {
@@ -37,7 +37,7 @@ TEST_F(UniaxialTestTest, BranchesFollowTheProtocol) {
   }
 }
 
-TEST_F(UniaxialTestTest, StateCarriesOverBetweenCycles) {
+TEST_F(UniaxialCycles, StateCarriesOverBetweenCycles) {
   const auto branches = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
   const CurveBranch& secondLoading = branches[2];  // cycle 2, up to 1.23, after a peak of 1.15
   for (std::size_t i = 1; i < secondLoading.stretch.size(); ++i) {
@@ -50,7 +50,7 @@ TEST_F(UniaxialTestTest, StateCarriesOverBetweenCycles) {
   }
 }
 
-TEST_F(UniaxialTestTest, EnergyConsistentSpringReproducesTheContinuum) {
+TEST_F(UniaxialCycles, EnergyConsistentSpringReproducesTheContinuum) {
   const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
   const auto eesm = m_test.run(UniaxialModel::Eesm, m_paperProtocol);
   for (std::size_t b = 0; b < sedf.size(); ++b) {
@@ -58,7 +58,7 @@ TEST_F(UniaxialTestTest, EnergyConsistentSpringReproducesTheContinuum) {
   }
 }
 
-TEST_F(UniaxialTestTest, PaperSecantSpringAndLinearSpringFallShort) {
+TEST_F(UniaxialCycles, PaperSecantSpringAndLinearSpringFallShort) {
   const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
   const auto paper = m_test.run(UniaxialModel::EesmPaper, m_paperProtocol);
   const auto smm = m_test.run(UniaxialModel::Smm, m_paperProtocol);
@@ -68,10 +68,10 @@ TEST_F(UniaxialTestTest, PaperSecantSpringAndLinearSpringFallShort) {
   }
 }
 
-TEST_F(UniaxialTestTest, LinearSpringIsTheLeastSquaresFit) {
+TEST_F(UniaxialCycles, LinearSpringIsTheLeastSquaresFit) {
   const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
   const auto smm = m_test.run(UniaxialModel::Smm, m_paperProtocol);
-  const double modulus = UniaxialTest::fitLinearModulus(sedf);
+  const double modulus = UniaxialExperiment::fitLinearModulus(sedf);
   EXPECT_GT(modulus, 0.0);
   // Least squares: residuals are orthogonal to the regressor (lambda - 1).
   double orthogonality = 0.0;
@@ -87,7 +87,7 @@ TEST_F(UniaxialTestTest, LinearSpringIsTheLeastSquaresFit) {
   EXPECT_LT(std::abs(orthogonality), 1e-12 * scale);
 }
 
-TEST_F(UniaxialTestTest, RejectsBadProtocols) {
+TEST_F(UniaxialCycles, RejectsBadProtocols) {
   EXPECT_THROW(m_test.validate({{1.0}, 100}), std::invalid_argument);
   EXPECT_THROW(m_test.validate({{0.8}, 100}), std::invalid_argument);
   EXPECT_THROW(m_test.validate({{1.2, 1.6}, 100}), std::invalid_argument);
@@ -97,7 +97,7 @@ TEST_F(UniaxialTestTest, RejectsBadProtocols) {
   EXPECT_THROW(m_test.validate({{m_table.range().upper + 1e-9}, 2}), std::invalid_argument);
 }
 
-TEST_F(UniaxialTestTest, JustBelowLockingStaysFinite) {
+TEST_F(UniaxialCycles, JustBelowLockingStaysFinite) {
   const UniaxialProtocol extreme{{m_table.range().upper}, 200};
   for (const UniaxialModel model :
        {UniaxialModel::Sedf, UniaxialModel::Eesm, UniaxialModel::EesmPaper, UniaxialModel::Smm}) {

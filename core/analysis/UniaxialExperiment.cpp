@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 
 #include <sstream>
 
@@ -31,10 +31,10 @@ std::vector<CurveBranch> protocolStretches(const UniaxialProtocol& protocol) {
   return branches;
 }
 
-UniaxialTest::UniaxialTest(const StrainEnergy& energy, const StiffnessTable& table)
+UniaxialExperiment::UniaxialExperiment(const StrainEnergy& energy, const StiffnessTable& table)
     : m_energy(energy), m_table(table), m_softening(energy.parameters()) {}
 
-void UniaxialTest::validate(const UniaxialProtocol& protocol) const {
+void UniaxialExperiment::validate(const UniaxialProtocol& protocol) const {
   if (protocol.lambdaMax.empty()) throw std::invalid_argument("no lambda_max given");
   if (protocol.pointsPerBranch < 2) {
     throw std::invalid_argument("--points must be at least 2 (both ends of a branch), got " +
@@ -57,8 +57,8 @@ void UniaxialTest::validate(const UniaxialProtocol& protocol) const {
   }
 }
 
-double UniaxialTest::virginStress(UniaxialModel model, double lambda,
-                                  double linearModulus_Pa) const {
+double UniaxialExperiment::virginStress(UniaxialModel model, double lambda,
+                                        double linearModulus_Pa) const {
   switch (model) {
     case UniaxialModel::Sedf:
       return m_energy.stress(lambda);
@@ -74,8 +74,8 @@ double UniaxialTest::virginStress(UniaxialModel model, double lambda,
   return 0.0;
 }
 
-std::vector<CurveBranch> UniaxialTest::run(UniaxialModel model,
-                                           const UniaxialProtocol& protocol) const {
+std::vector<CurveBranch> UniaxialExperiment::run(UniaxialModel model,
+                                                 const UniaxialProtocol& protocol) const {
   validate(protocol);
   double linearModulus = 0.0;
   if (model == UniaxialModel::Smm) {
@@ -97,14 +97,14 @@ std::vector<CurveBranch> UniaxialTest::run(UniaxialModel model,
   return branches;
 }
 
-double UniaxialTest::springLawLinearModulus(SpringLaw law, const StrainEnergy& energy,
-                                            const StiffnessTable& table) {
+double UniaxialExperiment::springLawLinearModulus(SpringLaw law, const StrainEnergy& energy,
+                                                  const StiffnessTable& table) {
   if (law != SpringLaw::Smm) return 0.0;
   return fitLinearModulus(
-      UniaxialTest(energy, table).run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
+      UniaxialExperiment(energy, table).run(UniaxialModel::Sedf, {{1.15, 1.23, 1.30}, 50}));
 }
 
-double UniaxialTest::fitLinearModulus(std::span<const CurveBranch> reference) {
+double UniaxialExperiment::fitLinearModulus(std::span<const CurveBranch> reference) {
   std::vector<double> strain;
   std::vector<double> stress;
   for (const CurveBranch& branch : reference) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "analysis/FemTensileTest.h"
+#include "analysis/FemTensileExperiment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +28,7 @@ std::vector<CurveBranch> runFemTensileTest(const StrainEnergy& energy,
   const Eigen::Vector3d& size = specimen.size_m;
   const QuadraticTetMesh mesh = makeQuadraticTetMesh(makeTensileSpecimenMesh(specimen));
   const FemModel model(mesh, energy, bulkModulus_Pa);
-  // TensileTest's grips, on the quadratic mesh's nodes (its edge midpoints among them).
+  // TensileExperiment's grips, on the quadratic mesh's nodes (its edge midpoints among them).
   std::vector<int> moving;
   const std::vector<char> isFixed = tensileGripDofs(mesh.nodes_m, size, moving);
 
@@ -51,7 +51,7 @@ std::vector<CurveBranch> runFemTensileTest(const StrainEnergy& energy,
       x.bottomRows(2) *= 1.0 / std::sqrt(ratio);
       for (const int node : moving) x(0, node) = lambda * size.x();
       currentStretch = lambda;
-      // Tolerance relative to the grip force, as TensileTest's: round-off in the forces grows
+      // Tolerance relative to the grip force, as TensileExperiment's: round-off in the forces grows
       // with them (and with the stiff volumetric term).
       // The floor: the stiff volumetric term's round-off leaves about 1e-9 N at rest.
       solver.setTolerance(kForceTolerance * std::max(10.0, std::abs(lastReaction_N)));

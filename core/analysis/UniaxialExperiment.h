@@ -41,9 +41,9 @@ struct UniaxialProtocol {
 /// vertical tangent (model.md).
 std::vector<CurveBranch> protocolStretches(const UniaxialProtocol& protocol);
 
-class UniaxialTest {
+class UniaxialExperiment {
  public:
-  UniaxialTest(const StrainEnergy& energy, const StiffnessTable& table);
+  UniaxialExperiment(const StrainEnergy& energy, const StiffnessTable& table);
 
   /// Checks a protocol against this tissue. @throws std::invalid_argument with one clear line:
   /// lambda_max <= 1, beyond the usable (locking) range, too few points.

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 #include "mesh/TetMesh.h"
 #include "springs/SpringForceLaw.h"
 #include "system/NewtonSolver.h"
@@ -62,12 +62,13 @@ struct TensilePointStats {
   int nodes = 0;
 };
 
-class TensileTest {
+class TensileExperiment {
  public:
   /// `energy` and `table` (built from it) must outlive this object.
-  TensileTest(const StrainEnergy& energy, const StiffnessTable& table, TensileSpecimen specimen);
+  TensileExperiment(const StrainEnergy& energy, const StiffnessTable& table,
+                    TensileSpecimen specimen);
 
-  /// Runs the protocol (UniaxialTest::validate's rules apply). @throws std::invalid_argument.
+  /// Runs the protocol (UniaxialExperiment::validate's rules apply). @throws std::invalid_argument.
   std::vector<CurveBranch> run(const TensileOptions& options, const UniaxialProtocol& protocol,
                                TensilePointStats* stats = nullptr) const;
 

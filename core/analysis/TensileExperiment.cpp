@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "analysis/TensileTest.h"
+#include "analysis/TensileExperiment.h"
 
-#include "analysis/UniaxialTest.h"
+#include "analysis/UniaxialExperiment.h"
 
 #include <cmath>
 #include <memory>
@@ -90,14 +90,14 @@ std::vector<char> tensileGripDofs(const Eigen::Matrix3Xd& rest, const Eigen::Vec
   return isFixed;
 }
 
-TensileTest::TensileTest(const StrainEnergy& energy, const StiffnessTable& table,
-                         TensileSpecimen specimen)
+TensileExperiment::TensileExperiment(const StrainEnergy& energy, const StiffnessTable& table,
+                                     TensileSpecimen specimen)
     : m_energy(energy), m_table(table), m_specimen(specimen) {}
 
-std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
-                                          const UniaxialProtocol& protocol,
-                                          TensilePointStats* stats) const {
-  UniaxialTest(m_energy, m_table).validate(protocol);
+std::vector<CurveBranch> TensileExperiment::run(const TensileOptions& options,
+                                                const UniaxialProtocol& protocol,
+                                                TensilePointStats* stats) const {
+  UniaxialExperiment(m_energy, m_table).validate(protocol);
   const TissueParameters& parameters = m_energy.parameters();
   Specimen specimen = buildSpecimen(m_specimen, parameters.density_kg_m3);
   specimen.mesh.volume_m3 *= options.volumeScale;
@@ -193,8 +193,8 @@ std::vector<CurveBranch> TensileTest::run(const TensileOptions& options,
   return branches;
 }
 
-double TensileTest::smallStrainCalibration(double initialShearModulus_Pa,
-                                           double bulkModulus_Pa) const {
+double TensileExperiment::smallStrainCalibration(double initialShearModulus_Pa,
+                                                 double bulkModulus_Pa) const {
   TensileOptions options;
   options.isSoftening = false;
   options.bulkModulus_Pa = bulkModulus_Pa;
@@ -222,8 +222,8 @@ double TensileTest::smallStrainCalibration(double initialShearModulus_Pa,
   return scale;
 }
 
-double TensileTest::volumeTermCalibration(double initialShearModulus_Pa,
-                                          double bulkModulus_Pa) const {
+double TensileExperiment::volumeTermCalibration(double initialShearModulus_Pa,
+                                                double bulkModulus_Pa) const {
   const double springsOnly = smallStrainCalibration(initialShearModulus_Pa);
   if (!(bulkModulus_Pa > 0.0)) return springsOnly;
   // The paper's cycles, within the stretches this tissue admits (a tissue that locks early is
@@ -238,7 +238,7 @@ double TensileTest::volumeTermCalibration(double initialShearModulus_Pa,
   if (ends.empty()) return springsOnly;
   const UniaxialProtocol protocol{{ends.back()}, kVolumeFitPoints};
   const CurveBranch continuum =
-      UniaxialTest(m_energy, m_table).run(UniaxialModel::Sedf, protocol).front();
+      UniaxialExperiment(m_energy, m_table).run(UniaxialModel::Sedf, protocol).front();
   TensileOptions options;
   options.isSoftening = false;
   options.bulkModulus_Pa = bulkModulus_Pa;
@@ -283,12 +283,12 @@ double TensileTest::volumeTermCalibration(double initialShearModulus_Pa,
 double simulatorStiffnessScale(const StrainEnergy& energy, const StiffnessTable& table,
                                double bulkModulus_Pa) {
   if (!(bulkModulus_Pa > 0.0)) {
-    return TensileTest(energy, table, TensileSpecimen{})
+    return TensileExperiment(energy, table, TensileSpecimen{})
         .smallStrainCalibration(energy.initialShearModulus());
   }
   TensileSpecimen specimen;
   specimen.cellsAcrossThickness = 1;
-  return TensileTest(energy, table, specimen)
+  return TensileExperiment(energy, table, specimen)
       .volumeTermCalibration(energy.initialShearModulus(), bulkModulus_Pa);
 }
 

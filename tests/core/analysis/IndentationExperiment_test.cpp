@@ -3,7 +3,7 @@
 // interfaces, the FEM's force converges as the grid is refined towards the probe, and the spring
 // network's sampled surface meets the probe between its nodes.
 
-#include "analysis/IndentationTest.h"
+#include "analysis/IndentationExperiment.h"
 
 #include <random>
 #include <string>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The virtual tensile test (TensileTest.h: the same specimen, grips and protocol) through the
+// The virtual tensile test (TensileExperiment.h: the same specimen, grips and protocol) through the
 // FEM reference (fem/FemModel.h) instead of the spring network. The FEM is hyperelastic, with
 // no Mullins softening: every branch follows the virgin curve, so it is compared with sedf's
 // loading branches only. The specimen's tets become quadratic ones; engineering stress is the
@@ -8,8 +8,8 @@
 
 #include <vector>
 
-#include "analysis/TensileTest.h"
-#include "analysis/UniaxialTest.h"
+#include "analysis/TensileExperiment.h"
+#include "analysis/UniaxialExperiment.h"
 #include "material/StrainEnergy.h"
 
 namespace tissuesim {
