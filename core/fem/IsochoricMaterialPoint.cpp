@@ -17,9 +17,7 @@ IsochoricResponse evaluateIsochoric(const StrainEnergy& energy, const Eigen::Mat
   const double i1 = f.squaredNorm();
   const double scale = std::pow(j, -2.0 / 3.0);  // J^(-2/3)
   const double shift = scale * i1 - 3.0;         // I1bar - 3
-  const double chainLimit =
-      3.0 * energy.parameters().chainSegmentsN * std::pow(1.0 - StrainEnergy::kLockingMargin, 2.0);
-  if (!(shift + 3.0 < chainLimit)) return response;
+  if (!(shift < energy.usableInvariantShift())) return response;
   const EnergyInI1 w = energy.atInvariantShift(std::max(shift, 0.0));
   const Eigen::Matrix3d inverseTranspose = f.inverse().transpose();
   const Eigen::Matrix3d a = scale * (2.0 * f - (2.0 / 3.0) * i1 * inverseTranspose);

@@ -64,6 +64,8 @@ class TetIsochoricForceField final : public ForceField {
   using TetStiffness = Eigen::Matrix<double, 144, Eigen::Dynamic>;  // 12x12 column-major a tet
   using RowBlocks = Eigen::Matrix<double, 9, Eigen::Dynamic>;       // 3x3 column-major a row entry
 
+  /// F of tet t at positions x.
+  Eigen::Matrix3d deformationGradient(const Eigen::Matrix3Xd& x, Eigen::Index t) const;
   const RowBlocks& currentRows() const { return m_rows[static_cast<std::size_t>(m_current)]; }
   RowBlocks& rows(StiffnessSlot which) const {
     return m_rows[static_cast<std::size_t>(which == StiffnessSlot::Trial ? 1 - m_current

@@ -32,6 +32,7 @@ StrainEnergy::StrainEnergy(const TissueParameters& parameters) : m_parameters(pa
   m_locking = stretchesAtInvariant(n);
   // Keep at least half the gap between rest and locking, for N barely above 1.
   const double margin = std::min(kLockingMargin, 0.5 * (1.0 - restChainStretch));
+  m_usableShift = 3.0 * n * (1.0 - margin) * (1.0 - margin) - 3.0;
   m_usable = stretchesAtInvariant(n * (1.0 - margin) * (1.0 - margin));
 }
 

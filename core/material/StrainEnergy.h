@@ -88,6 +88,9 @@ class StrainEnergy {
   StretchRange lockingRange() const { return m_locking; }
   /// The stretches at which r <= 1 - kLockingMargin: where tables and simulations may go.
   StretchRange usableRange() const { return m_usable; }
+  /// The largest I1 - 3 in that usable range (any deformation, not only uniaxial): where the
+  /// FEM's isochoric energy stops.
+  double usableInvariantShift() const { return m_usableShift; }
 
   /// mu0 = 2 dW_T/dI1 at I1 = 3: the small-strain shear modulus (Pa). Young's modulus is 3 mu0.
   double initialShearModulus() const { return m_initialShearModulus; }
@@ -121,6 +124,7 @@ class StrainEnergy {
   double m_initialShearModulus = 0.0;
   StretchRange m_locking{};
   StretchRange m_usable{};
+  double m_usableShift = 0.0;
 };
 
 }  // namespace tissuesim
