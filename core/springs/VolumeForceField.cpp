@@ -96,8 +96,11 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
     VolumeFieldReport& report = parts[static_cast<std::size_t>(p)];
     const Eigen::Index end = cells * (p + 1) / kParts;
     for (Eigen::Index c = cells * p / kParts; c < end; ++c) {
-      double* const g = out.col(c).data();
-      std::fill(g, g + kVolumeBlockRows - 1, 0.0);
+      // g is summed in registers and on the stack, one scalar per axis and slot, then stored
+      // once: summed in place in the column, each tet's vector add read back a slot that the
+      // zero fill and the tet before had written with stores of another width and alignment,
+      // which the processor cannot forward (the pass's hottest instructions).
+      std::array<double, VolumeCells::kMaxNodes> gx{}, gy{}, gz{};
       double volume = 0.0;
       for (int k = m_cells.tetStart[static_cast<std::size_t>(c)];
            k < m_cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k) {
@@ -113,13 +116,22 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
         const double tetVolume = ab.dot(g1);  // V = (x_b - x_a) . g_b
         volume += tetVolume;
         const auto addAt = [&](int i, const Eigen::Vector3d& gi) {
-          Eigen::Map<Eigen::Vector3d>(g + 3 * m_cells.tetSlots(i, t)) += gi;
+          const auto slot = static_cast<std::size_t>(m_cells.tetSlots(i, t));
+          gx[slot] += gi.x();
+          gy[slot] += gi.y();
+          gz[slot] += gi.z();
         };
         addAt(0, g0);
         addAt(1, g1);
         addAt(2, g2);
         addAt(3, g3);
         report.invertedTetCount += tetVolume <= 0.0 ? 1 : 0;
+      }
+      double* const g = out.col(c).data();
+      for (std::size_t slot = 0; slot < VolumeCells::kMaxNodes; ++slot) {
+        g[3 * slot] = gx[slot];
+        g[3 * slot + 1] = gy[slot];
+        g[3 * slot + 2] = gz[slot];
       }
       const double inverseRestVolume = m_inverseCellRestVolume_1_m3[c];
       const double ratio = volume * inverseRestVolume;
