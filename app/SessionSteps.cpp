@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "AssessmentReport.h"
 #include "CommandError.h"
 #include "OutputFile.h"
 #include "TimeSeriesExport.h"
@@ -119,6 +120,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
                                             {"kind", event.kind},
                                             {"detail", event.detail}});
   }
+  report["assessment"] = assessmentJson(simulation->assessment().summary());
   report["wall_seconds"] = wall;
   if (exporter) {
     report["export"] = {{"collection", exporter->collectionPath().string()},

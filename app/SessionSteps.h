@@ -2,8 +2,8 @@
 #pragma once
 // A headless session stepped to its end: what `run` and `replay` share. Its report (JSON: the
 // physics rate, the largest tool force, penetration and stretch, the volume ratios, CG's
-// products a step, the events) and the one-line summary on stdout; optionally a ParaView time
-// series of the states.
+// products a step, the events, the session's assessment) and the one-line summary on stdout;
+// optionally a ParaView time series of the states.
 
 #include <functional>
 #include <string>

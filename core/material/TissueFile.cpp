@@ -49,6 +49,7 @@ const NumberField kNumberFields[] = {
     {"C_kpa", "residual-strain modulus C in kPa", true, {0.0, true}, kMaxModulus_kPa},
     {"v_ij_m2", "spring cross-section v_ij in m^2", true, {0.0, true}, 1.0},
     {"density_kg_m3", "mass density in kg/m^3", false, {1.0, false}, 1e5},
+    {"damage_stretch", "damage stretch (dimensionless, above 1)", false, {1.0, true}, 10.0},
 };
 const char* const kStringFields[] = {"name", "source", "notes", "inverse_langevin"};
 const char* const kIntegerFields[] = {"n"};
@@ -262,6 +263,7 @@ TissueParameters parseTissueJson(std::string_view text, const std::string& sourc
   params.softeningC_Pa = number("C_kpa", 0.0) * kPaToPa;
   params.springArea_m2 = number("v_ij_m2", 0.0);
   params.density_kg_m3 = number("density_kg_m3", 1060.0);
+  params.damageStretch = number("damage_stretch", TissueParameters{}.damageStretch);
 
   if (const auto found = root.find("n"); found != root.end()) {
     if (!found->is_number_integer() && !found->is_number_unsigned()) {
@@ -319,6 +321,7 @@ std::string tissueFileText(const TissueParameters& parameters, const std::string
   root["n"] = parameters.softeningExponentN;
   root["v_ij_m2"] = parameters.springArea_m2;
   root["density_kg_m3"] = parameters.density_kg_m3;
+  root["damage_stretch"] = parameters.damageStretch;
   root["inverse_langevin"] =
       parameters.inverseLangevin == InverseLangevin::Exact ? "exact" : "puso";
   return root.dump(2) + "\n";

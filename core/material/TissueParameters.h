@@ -35,6 +35,13 @@ struct TissueParameters {
   double springArea_m2 = 0.0;     ///< v_ij, the specimen cross-section of the fit (m^2)
   double density_kg_m3 = 1060.0;  ///< mass density (liver about 1060 kg/m^3)
 
+  // The session assessment's damage threshold (sim/SessionAssessment.h): a spring stretched to
+  // this is counted as damaged tissue. The default is the liver capsule's ultimate local strain
+  // one standard deviation below its mean, 47 +- 29 % (Brunon, Bruyere-Garnier and Coret 2010,
+  // J. Biomech. 43:2221, uniaxial tension of human and porcine capsule to failure; the specimen
+  // preparation the paper follows): the strain at which about one capsule in six has torn.
+  double damageStretch = 1.18;  ///< > 1 (dimensionless)
+
   InverseLangevin inverseLangevin = InverseLangevin::Puso;
 };
 

@@ -153,9 +153,10 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     throw SceneFileError(source + ": not valid JSON (" + detail + ")");
   }
   const std::filesystem::path folder = path.parent_path();
-  const Fields fields(root, "", source,
-                      {"name", "tissue", "surface", "tet_mesh", "generate_tet_mesh", "fixed_region",
-                       "gravity_m_s2", "tray", "instrument", "effects", "physics", "notes"});
+  const Fields fields(
+      root, "", source,
+      {"name", "tissue", "surface", "tet_mesh", "generate_tet_mesh", "fixed_region", "gravity_m_s2",
+       "tray", "instrument", "effects", "physics", "assessment", "notes"});
   SceneDescription scene;
   scene.source = path;
   scene.name = fields.string("name", path.stem().string());
@@ -267,6 +268,14 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                    "= " + given.str() + "; expected a whole number from 1 to 64");
     }
     scene.threads = static_cast<int>(threads);
+  }
+  if (fields.has("assessment")) {
+    const Fields assessment(fields.at("assessment"), "assessment", source,
+                            {"force_threshold_n", "damage_stretch"});
+    scene.assessment.toolForceThreshold_N =
+        assessment.number("force_threshold_n", scene.assessment.toolForceThreshold_N, 0.0, true);
+    if (assessment.has("damage_stretch"))
+      scene.assessment.damageStretch = assessment.number("damage_stretch", 0.0, 1.0, true);
   }
   // Quasi-Newton inverts its contacts' stiffness as dense columns beside a fixed initial Hessian:
   // fine for the instrument's few, not for a tray's hundreds (the liver on its tray ran at 7

@@ -53,6 +53,16 @@ struct SceneTray {
   double stiffness_Pa_per_m = 1e7;
 };
 
+/// The session assessment's thresholds (sim/SessionAssessment.h, docs/assessment.md).
+struct SceneAssessment {
+  /// Time above this force on the tool is reported. The default sits three standard deviations
+  /// below the mean force at which a blunt rod pushed into intact human liver tore its capsule,
+  /// 34.1 +- 8.7 N (Simon et al. 2020, Int. J. Legal Med. 134:1067; lowest 18.1 N): a force a
+  /// careful trainee has no reason to reach.
+  double toolForceThreshold_N = 8.0;
+  std::optional<double> damageStretch;  ///< none: the tissue file's damage_stretch
+};
+
 struct SceneDescription {
   std::filesystem::path source;  ///< the scene file
   std::string name;
@@ -78,6 +88,7 @@ struct SceneDescription {
   int newtonIterations = 2;       ///< Newton iterations per step
   double linearTolerance = 1e-6;  ///< CG relative tolerance per Newton iteration
   int threads = 1;                ///< threads for the spring passes (results do not depend on it)
+  SceneAssessment assessment;
 };
 
 /// Reads and validates a scene; paths resolved, files checked to exist.

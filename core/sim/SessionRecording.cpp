@@ -40,6 +40,7 @@ Json tissueJson(const TissueParameters& p) {
               {"softening_exponent_n", p.softeningExponentN},
               {"spring_area_m2", p.springArea_m2},
               {"density_kg_m3", p.density_kg_m3},
+              {"damage_stretch", p.damageStretch},
               {"inverse_langevin", p.inverseLangevin == InverseLangevin::Exact ? "exact" : "puso"}};
 }
 
@@ -117,6 +118,11 @@ class LineReader {
     p.softeningExponentN = static_cast<int>(exponent);
     p.springArea_m2 = number(field("spring_area_m2"), "tissue.spring_area_m2");
     p.density_kg_m3 = number(field("density_kg_m3"), "tissue.density_kg_m3");
+    // Optional: recordings written before the assessment have none (the default then).
+    if (value.contains("damage_stretch")) {
+      p.damageStretch = number(field("damage_stretch"), "tissue.damage_stretch");
+      if (!(p.damageStretch > 1.0)) fail("field 'tissue.damage_stretch' must be above 1");
+    }
     p.inverseLangevin =
         text("inverse_langevin") == "exact" ? InverseLangevin::Exact : InverseLangevin::Puso;
     return p;

@@ -38,16 +38,25 @@ Simulation::Simulation(const SceneDescription& scene)
     : m_scene(scene), m_geometry(loadSceneGeometry(scene)), m_timeStep_s(scene.timeStep_s) {
   if (scene.tray) m_tray = std::make_unique<TraySupport>(m_geometry, *scene.tray);
   buildPhysics(loadTissueFile(scene.tissue));
+  m_assessment = std::make_unique<SessionAssessment>(
+      *m_springMesh,
+      AssessmentThresholds{scene.assessment.toolForceThreshold_N,
+                           scene.assessment.damageStretch.value_or(m_parameters->damageStretch)});
+  m_assessment->setThreadPool(m_pool.get());
   settle();
   m_state = m_startState;
   m_lastGoodState = m_state;
   if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
+  m_assessment->restart(m_pose.tip_m);
 }
 
 void Simulation::replaceTissue(const TissueParameters& parameters) {
   const MechanicalState kept = m_state;
   const Eigen::Vector3d gravity = m_system->gravity.acceleration_m_s2;
   buildPhysics(parameters);
+  m_assessment->setThreadPool(m_pool.get());
+  // The damage done so far is judged against the new tissue's threshold (a scene's own stays).
+  if (!m_scene.assessment.damageStretch) m_assessment->setDamageStretch(parameters.damageStretch);
   settle();  // the new tissue's own start (under the scene's gravity)
   m_system->gravity.acceleration_m_s2 = gravity;
   m_state = kept;
@@ -237,6 +246,7 @@ void Simulation::reset() {
   m_latestEventKind = nullptr;
   m_activeConditions.clear();
   if (m_grasp) m_grasp->release();
+  m_assessment->restart(m_pose.tip_m);
 }
 
 void Simulation::record(const char* kind, const std::string& detail) {
@@ -326,6 +336,8 @@ StepOutcome Simulation::step() {
     ++m_steps;
     m_lastGoodState.x = m_state.x;  // same sizes: copies, no allocation
     m_lastGoodState.v = m_state.v;
+    m_assessment->addStep(m_state.x, m_pose.tip_m, outcome.contact.toolForce_N.norm(),
+                          m_timeStep_s);
   }
   return outcome;
 }

@@ -12,6 +12,8 @@
 // Each step: the instrument pose at t + dt from the InstrumentSource, the contacts it makes from
 // the ContactProvider, the tray's and the grasp's springs (penalty terms the integrator evaluates
 // at its trial states: implicit with the implicit integrators), one integrator step.
+// Each good step is added to the session's assessment (SessionAssessment: force, path, damage);
+// reset() starts a new one.
 // Instabilities (refused or non-finite steps, Newton not converged, springs past locking, collapsed
 // springs, inverted tets) are detected every step and recorded as events when they start; a refused
 // or non-finite step leaves the last good state in place, so the simulation stays usable.
@@ -29,6 +31,7 @@
 #include "sim/Grasp.h"
 #include "sim/InstrumentScript.h"
 #include "sim/SceneGeometry.h"
+#include "sim/SessionAssessment.h"
 #include "sim/TraySupport.h"
 #include "springs/SpringForceField.h"
 
@@ -115,6 +118,10 @@ class Simulation {
   const char* latestEventKind() const { return m_latestEventKind; }
   /// The instrument pose used by the last step (the scene's start pose before any).
   InstrumentPose instrumentPose() const { return m_pose; }
+  /// The session so far (since the start, the last reset or restartAssessment()).
+  const SessionAssessment& assessment() const { return *m_assessment; }
+  /// A new session for the assessment alone (the organ stays as it is).
+  void restartAssessment() { m_assessment->restart(m_pose.tip_m); }
   /// Nodes the grasper holds now (empty without an instrument or with open jaws).
   std::vector<int> heldNodes() const { return m_grasp ? m_grasp->heldNodes() : std::vector<int>{}; }
 
@@ -141,6 +148,7 @@ class Simulation {
   std::unique_ptr<TetIsochoricForceField> m_tets;  ///< effects.model fem
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
+  std::unique_ptr<SessionAssessment> m_assessment;
   std::size_t m_eventCount = 0;
   const char* m_latestEventKind = nullptr;
   std::unique_ptr<Grasp> m_grasp;       ///< only with an instrument

@@ -44,6 +44,13 @@ TEST(Replay, ARecordedRunReplaysToTheSameReport) {
   nlohmann::json run = readJson(folder / "run.json");
   nlohmann::json replay = readJson(folder / "replay.json");
   EXPECT_GT(run.at("max_tool_force_n").get<double>(), 0.1);
+  // The session's assessment is in the report, and so in the comparison below.
+  const nlohmann::json& assessment = run.at("assessment");
+  EXPECT_EQ(assessment.at("peak_tool_force_n"), run.at("max_tool_force_n"));
+  EXPECT_NEAR(assessment.at("duration_s").get<double>(), run.at("simulated_seconds").get<double>(),
+              1e-9);
+  EXPECT_GT(assessment.at("tool_path_length_mm").get<double>(), 10.0);
+  EXPECT_GT(assessment.at("contact_time_s").get<double>(), 0.0);
   for (const char* timing : {"physics_hz", "realtime_factor", "wall_seconds"}) {
     ASSERT_TRUE(run.contains(timing));
     run.erase(timing);

@@ -102,6 +102,51 @@ TEST(Simulation, APokeIsBitIdenticalOnOneAndTwoThreads) {
   EXPECT_EQ(one.finalPositions, two.finalPositions);
 }
 
+TEST(Simulation, TheSessionIsAssessedAsItIsStepped) {
+  SceneDescription scene = pokeScene();
+  scene.assessment.toolForceThreshold_N = 1.0;
+  scene.assessment.damageStretch = 1.08;
+  ScriptedPoke poke(0.04, 1.0, scene);
+  Simulation& simulation = poke.simulation;
+  const double dt_s = simulation.timeStep_s();
+  // The same figures from the steps' own outcomes.
+  double peak_N = 0.0, impulse_Ns = 0.0, path_m = 0.0;
+  long inContact = 0, above = 0;
+  Eigen::Vector3d lastTip = simulation.instrumentPose().tip_m;
+  long damagedAtDepth = 0;
+  for (int n = 0; n < 2400; ++n) {
+    const StepOutcome outcome = simulation.step();
+    ASSERT_TRUE(outcome.isGood) << n;
+    const double force_N = outcome.contact.toolForce_N.norm();
+    peak_N = std::max(peak_N, force_N);
+    inContact += force_N > 0.0 ? 1 : 0;
+    impulse_Ns += force_N * dt_s;
+    above += force_N > 1.0 ? 1 : 0;
+    path_m += (simulation.instrumentPose().tip_m - lastTip).norm();
+    lastTip = simulation.instrumentPose().tip_m;
+    if (n == 1000) damagedAtDepth = simulation.assessment().summary().damagedSpringCount;
+  }
+  const AssessmentSummary summary = simulation.assessment().summary();
+  EXPECT_NEAR(summary.duration_s, 2400 * dt_s, 1e-9);
+  EXPECT_EQ(summary.peakToolForce_N, peak_N);
+  EXPECT_GT(peak_N, 1.0);
+  EXPECT_NEAR(summary.contactTime_s, inContact * dt_s, 1e-9);
+  EXPECT_NEAR(summary.meanContactForce_N, impulse_Ns / (inContact * dt_s), 1e-9);
+  EXPECT_NEAR(summary.aboveForceThreshold_s, above * dt_s, 1e-9);
+  EXPECT_NEAR(summary.toolPathLength_m, path_m, 1e-12);
+  EXPECT_NEAR(path_m, 2 * 0.04, 1e-6);  // pressed 4 cm and back
+  // The press stretched some of the liver past 1.08; it is still counted after the tool left.
+  EXPECT_GT(damagedAtDepth, 0);
+  EXPECT_GE(summary.damagedSpringCount, damagedAtDepth);
+  EXPECT_GT(summary.damagedFraction(), 0.0);
+  EXPECT_LT(summary.damagedFraction(), 0.1);
+  EXPECT_GE(summary.largestStretch, 1.08);
+  EXPECT_EQ(simulation.events().size(), 0u);
+  simulation.reset();
+  EXPECT_EQ(simulation.assessment().summary().damagedSpringCount, 0);
+  EXPECT_EQ(simulation.assessment().summary().duration_s, 0.0);
+}
+
 TEST(Simulation, NonFiniteContactIsReportedAndTheStateKept) {
   Simulation simulation(
       loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"));

@@ -31,7 +31,9 @@ TEST(TissueFile, OptionalFieldsAreRead) {
   EXPECT_EQ(p.softeningExponentN, 2);
   EXPECT_EQ(p.inverseLangevin, InverseLangevin::Exact);
   EXPECT_DOUBLE_EQ(p.density_kg_m3, 1000.0);
+  EXPECT_DOUBLE_EQ(p.damageStretch, 1.3);
   EXPECT_EQ(p.name, "test");
+  EXPECT_DOUBLE_EQ(test::porcineLiver().damageStretch, 1.18);  // the bundled file's
 }
 
 struct BadTissueCase {
@@ -79,6 +81,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadTissueCase{"unknown-langevin.json", "field 'inverse_langevin' = \"pade\""},
         BadTissueCase{"zero-softening-modulus.json", "field 'C_kpa' = 0 is out of range"},
         BadTissueCase{"negative-density.json", "field 'density_kg_m3' = -1060 is out of range"},
+        BadTissueCase{"damage-stretch-one.json", "field 'damage_stretch' = 1 is out of range"},
         BadTissueCase{"does-not-exist.json", "cannot open the tissue file"}),
     [](const ::testing::TestParamInfo<BadTissueCase>& testCase) {
       std::string name = testCase.param.file;

@@ -51,6 +51,11 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   EXPECT_EQ(fem.model, "fem");
   EXPECT_FALSE(fem.isSoftening);  // the FEM has none: off unless asked, and refused if asked
   EXPECT_EQ(fem.bulkModulus_Pa, 100e3);
+  EXPECT_EQ(scene.assessment.toolForceThreshold_N, 8.0);
+  EXPECT_FALSE(scene.assessment.damageStretch.has_value());  // the tissue's
+  const SceneDescription assessed = loadSceneFile(scenePath("assessment.json"));
+  EXPECT_EQ(assessed.assessment.toolForceThreshold_N, 3.5);
+  EXPECT_EQ(assessed.assessment.damageStretch, 1.25);
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
@@ -103,6 +108,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "field 'effects.volume_term_kpa' must be > 0 with model fem"},
         BadScene{"fem-quasi-newton.json",
                  "field 'physics.integrator' = \"quasi-newton\" is for the springs model"},
+        BadScene{"assessment-zero-force.json",
+                 "field 'assessment.force_threshold_n' = 0 is out of range"},
+        BadScene{"assessment-damage-below-one.json",
+                 "field 'assessment.damage_stretch' = 0.95 is out of range; expected a finite "
+                 "number > 1"},
+        BadScene{"assessment-unknown.json",
+                 "field 'assessment.force_threshold' is not a known field"},
         BadScene{"does-not-exist.json", "cannot open the scene file"}),
     [](const auto& scene) {
       std::string name = scene.param.file;
