@@ -5,8 +5,10 @@
 #include <cmath>
 
 #include <vtkActor.h>
+#include <vtkAssignAttribute.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
+#include <vtkContourFilter.h>
 #include <vtkCylinderSource.h>
 #include <vtkDiskSource.h>
 #include <vtkDoubleArray.h>
@@ -30,6 +32,8 @@
 
 namespace tissuesim {
 namespace {
+
+constexpr double kLiverColour[3] = {0.55, 0.16, 0.14};  // red-brown
 
 void setPoints(vtkPoints* points, const Eigen::Matrix3Xd& x) {
   for (Eigen::Index i = 0; i < x.cols(); ++i) points->SetPoint(i, x(0, i), x(1, i), x(2, i));
@@ -58,6 +62,7 @@ TissueSceneView::TissueSceneView(const SceneGeometry& geometry, const SpringMesh
   m_renderer->SetBackground2(0.55, 0.60, 0.68);
   m_renderer->GradientBackgroundOn();
   buildSurface();
+  buildDamageOverlay();
   buildSprings();
   buildTray(tray);
   buildInstrument();
@@ -98,7 +103,8 @@ void TissueSceneView::buildSurface() {
   m_normals->ConsistencyOff();
   m_normals->AutoOrientNormalsOff();
 
-  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  m_stretchLut = vtkSmartPointer<vtkLookupTable>::New();
+  vtkLookupTable* lut = m_stretchLut;
   lut->SetNumberOfTableValues(256);
   lut->SetTableRange(kStretchRange[0], kStretchRange[1]);
   for (int i = 0; i < 256; ++i) {
@@ -113,13 +119,12 @@ void TissueSceneView::buildSurface() {
   lut->Build();
   auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
   mapper->SetInputConnection(m_normals->GetOutputPort());
-  mapper->SetLookupTable(lut);
-  mapper->SetScalarRange(kStretchRange[0], kStretchRange[1]);
+  mapper->SetScalarModeToUsePointFieldData();
   mapper->ScalarVisibilityOff();
   m_surfaceActor = vtkSmartPointer<vtkActor>::New();
   m_surfaceActor->SetMapper(mapper);
   vtkProperty* property = m_surfaceActor->GetProperty();
-  property->SetColor(0.55, 0.16, 0.14);  // liver red-brown
+  property->SetColor(kLiverColour[0], kLiverColour[1], kLiverColour[2]);
   property->SetSpecular(0.35);
   property->SetSpecularPower(30.0);
   property->SetDiffuse(0.8);
@@ -139,6 +144,62 @@ void TissueSceneView::buildSurface() {
   m_scalarBar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
   m_scalarBar->VisibilityOff();
   m_renderer->AddViewProp(m_scalarBar);
+}
+
+void TissueSceneView::buildDamageOverlay() {
+  m_surfaceDamage = vtkSmartPointer<vtkDoubleArray>::New();
+  m_surfaceDamage->SetName("damage");
+  m_surfaceDamage->SetNumberOfTuples(m_surface->GetPoints()->GetNumberOfPoints());
+  m_surfaceDamage->Fill(0.0);
+  m_surface->GetPointData()->AddArray(m_surfaceDamage);
+  m_nodeDamage.resize(m_springs.nodeCount());
+
+  // The damaged part of the surface (damage >= 1/2) is painted by the surface's own mapper (a
+  // lookup table that steps from the liver's colour to a pale, bloodless one at 1/2, the values
+  // interpolated across each triangle before the lookup, so the step is sharp): a second surface
+  // laid over the first flickered through it. Its border is a dark line, pulled towards the
+  // camera by VTK's coincident-topology offset so it wins over the surface it lies on. The
+  // outline contours the damage as the active scalars of a copy of the surface's attributes.
+  m_damageLut = vtkSmartPointer<vtkLookupTable>::New();
+  m_damageLut->SetNumberOfTableValues(2);
+  m_damageLut->SetTableRange(0.0, 1.0);
+  m_damageLut->SetTableValue(0, kLiverColour[0], kLiverColour[1], kLiverColour[2]);
+  m_damageLut->SetTableValue(1, 0.93, 0.80, 0.66);
+  m_damageLut->Build();
+  auto damage = vtkSmartPointer<vtkAssignAttribute>::New();
+  damage->SetInputConnection(m_normals->GetOutputPort());
+  damage->Assign("damage", vtkDataSetAttributes::SCALARS, vtkAssignAttribute::POINT_DATA);
+  auto contour = vtkSmartPointer<vtkContourFilter>::New();
+  contour->SetInputConnection(damage->GetOutputPort());
+  contour->SetValue(0, 0.5);
+  contour->ComputeScalarsOff();
+  auto outlineMapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  outlineMapper->SetInputConnection(contour->GetOutputPort());
+  outlineMapper->ScalarVisibilityOff();
+  outlineMapper->SetRelativeCoincidentTopologyLineOffsetParameters(-2.0, -40.0);
+  m_damageOutlineActor = vtkSmartPointer<vtkActor>::New();
+  m_damageOutlineActor->SetMapper(outlineMapper);
+  m_damageOutlineActor->GetProperty()->SetColor(0.12, 0.05, 0.05);
+  m_damageOutlineActor->GetProperty()->SetLineWidth(3.0);
+  m_damageOutlineActor->GetProperty()->LightingOff();
+  m_damageOutlineActor->VisibilityOff();
+  m_renderer->AddActor(m_damageOutlineActor);
+}
+
+void TissueSceneView::updateDamage(const std::vector<std::uint8_t>& damagedSprings) {
+  m_nodeDamage.setZero();
+  const auto springCount = std::min<Eigen::Index>(m_springs.springCount(),
+                                                  static_cast<Eigen::Index>(damagedSprings.size()));
+  for (Eigen::Index s = 0; s < springCount; ++s) {
+    if (damagedSprings[static_cast<std::size_t>(s)] == 0) continue;
+    m_nodeDamage[m_springs.springs(0, s)] = 1.0;
+    m_nodeDamage[m_springs.springs(1, s)] = 1.0;
+  }
+  const bool isEmbedded = m_geometry.surface && m_geometry.embedding;
+  if (isEmbedded) m_geometry.embedding->interpolate(m_nodeDamage, m_vertexDamage);
+  const Eigen::VectorXd& values = isEmbedded ? m_vertexDamage : m_nodeDamage;
+  for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) m_surfaceDamage->SetValue(v, values[v]);
+  m_surfaceDamage->Modified();
 }
 
 void TissueSceneView::buildSprings() {
@@ -233,7 +294,8 @@ void TissueSceneView::buildInstrument() {
   m_renderer->AddActor(m_shadowActor);
 }
 
-void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& pose) {
+void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
+                             const std::vector<std::uint8_t>* damagedSprings) {
   const bool isEmbedded = m_geometry.surface && m_geometry.embedding;
   if (isEmbedded) {
     m_geometry.embedding->apply(x, m_surfaceX);
@@ -248,6 +310,7 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
     for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) m_surfaceStretch->SetValue(v, values[v]);
     m_surfaceStretch->Modified();
   }
+  if (m_isDamageOverlay && damagedSprings != nullptr) updateDamage(*damagedSprings);
   m_surface->Modified();
   if (m_isWireframe) {
     setPoints(m_springLines->GetPoints(), x);
@@ -276,9 +339,33 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
 
 void TissueSceneView::setColourMap(bool isOn) {
   m_isColourMap = isOn;
-  m_surfaceActor->GetMapper()->SetScalarVisibility(isOn);
-  m_surfaceActor->GetProperty()->SetSpecular(isOn ? 0.15 : 0.35);
-  m_scalarBar->SetVisibility(isOn);
+  updateSurfaceColouring();
+}
+
+void TissueSceneView::setDamageOverlay(bool isOn) {
+  m_isDamageOverlay = isOn;
+  if (!isOn) m_surfaceDamage->Fill(0.0);
+  m_damageOutlineActor->SetVisibility(isOn);
+  updateSurfaceColouring();
+}
+
+void TissueSceneView::updateSurfaceColouring() {
+  // The colour map, when on, colours the surface; the damage then is outlined only, so that the
+  // stretch's colours stay readable.
+  vtkMapper* mapper = m_surfaceActor->GetMapper();
+  mapper->SetInterpolateScalarsBeforeMapping(!m_isColourMap && m_isDamageOverlay);
+  if (m_isColourMap) {
+    mapper->SelectColorArray("stretch");
+    mapper->SetLookupTable(m_stretchLut);
+    mapper->SetScalarRange(kStretchRange[0], kStretchRange[1]);
+  } else if (m_isDamageOverlay) {
+    mapper->SelectColorArray("damage");
+    mapper->SetLookupTable(m_damageLut);
+    mapper->SetScalarRange(0.0, 1.0);
+  }
+  mapper->SetScalarVisibility(m_isColourMap || m_isDamageOverlay);
+  m_surfaceActor->GetProperty()->SetSpecular(m_isColourMap ? 0.15 : 0.35);
+  m_scalarBar->SetVisibility(m_isColourMap);
 }
 
 void TissueSceneView::setWireframe(bool isOn) {

@@ -12,7 +12,13 @@
 // Colour map: per tet node, the stretch lambda of its incident spring farthest from rest
 // (lambda < 1 compression, > 1 tension), interpolated to the surface with the embedding's
 // weights; the colour range is fixed (kStretchRange) so images compare across frames.
+//
+// Damage overlay: the tissue the session has stretched past its damage threshold
+// (sim/SessionAssessment.h), per tet node 1 where any of its springs is damaged, interpolated
+// to the surface the same way. Where it reaches one half, the surface is painted pale (with the
+// colour map off) and outlined in a dark line (always, so it reads over the colour map too).
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -27,6 +33,7 @@
 
 class vtkActor;
 class vtkDoubleArray;
+class vtkLookupTable;
 class vtkPolyData;
 class vtkPolyDataNormals;
 class vtkRenderer;
@@ -50,13 +57,17 @@ class TissueSceneView {
 
   vtkRenderer* renderer() const { return m_renderer; }
 
-  /// Moves the surface, springs and instrument to a state (x: 3 by #nodes, m).
-  void update(const Eigen::Matrix3Xd& x, const InstrumentPose& pose);
+  /// Moves the surface, springs and instrument to a state (x: 3 by #nodes, m); with the damage
+  /// overlay on, `damagedSprings` (#springs, 1 damaged; null: none) is what it draws.
+  void update(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
+              const std::vector<std::uint8_t>* damagedSprings = nullptr);
 
   void setColourMap(bool isOn);
   bool isColourMap() const { return m_isColourMap; }
   void setWireframe(bool isOn);
   bool isWireframe() const { return m_isWireframe; }
+  void setDamageOverlay(bool isOn);
+  bool isDamageOverlay() const { return m_isDamageOverlay; }
 
   /// The default camera: a three-quarter view of the organ from above, fitted to the tray.
   void resetCamera();
@@ -65,6 +76,11 @@ class TissueSceneView {
   void buildSurface();
   void buildSprings();
   void buildInstrument();
+  void buildDamageOverlay();
+  /// The damage field on the drawn surface (0 or 1 per node, interpolated), from the springs.
+  void updateDamage(const std::vector<std::uint8_t>& damagedSprings);
+  /// The surface's scalars from the colour map and overlay switches.
+  void updateSurfaceColouring();
   void buildTray(const SceneTray* tray);
 
   const SceneGeometry& m_geometry;
@@ -77,6 +93,11 @@ class TissueSceneView {
   vtkSmartPointer<vtkPolyDataNormals> m_normals;
   vtkSmartPointer<vtkActor> m_surfaceActor;
   vtkSmartPointer<vtkScalarBarActor> m_scalarBar;
+
+  vtkSmartPointer<vtkDoubleArray> m_surfaceDamage;
+  vtkSmartPointer<vtkLookupTable> m_stretchLut;
+  vtkSmartPointer<vtkLookupTable> m_damageLut;
+  vtkSmartPointer<vtkActor> m_damageOutlineActor;
 
   vtkSmartPointer<vtkPolyData> m_springLines;
   vtkSmartPointer<vtkActor> m_springActor;
@@ -91,7 +112,10 @@ class TissueSceneView {
   Eigen::Matrix3Xd m_surfaceX;      ///< scratch: surface vertices (m)
   Eigen::VectorXd m_nodeStretch;    ///< scratch: per tet node
   Eigen::VectorXd m_vertexStretch;  ///< scratch: per drawn vertex
+  Eigen::VectorXd m_nodeDamage;     ///< scratch: per tet node
+  Eigen::VectorXd m_vertexDamage;   ///< scratch: per drawn vertex
   bool m_isColourMap = false;
+  bool m_isDamageOverlay = false;
   bool m_isWireframe = false;
 };
 

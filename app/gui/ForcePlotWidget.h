@@ -2,6 +2,8 @@
 #pragma once
 // The small live plot of the tool force magnitude (N) over the last seconds, drawn with
 // QPainter: it repaints at the frame rate, where a second OpenGL chart would cost a render.
+// The session's force threshold (docs/assessment.md) is a dashed line, always in the scale, so
+// the trainee sees how near it each push comes.
 
 #include <deque>
 #include <utility>
@@ -17,6 +19,9 @@ class ForcePlotWidget : public QWidget {
   /// Adds a sample (simulated time s, force N); keeps the last kWindow_s seconds.
   void addSample(double time_s, double force_N);
   void clear();
+  /// The force threshold drawn (N); 0: none.
+  void setThreshold(double force_N);
+  double threshold() const { return m_threshold_N; }
   QSize sizeHint() const override { return {320, 140}; }
 
  protected:
@@ -25,6 +30,7 @@ class ForcePlotWidget : public QWidget {
  private:
   static constexpr double kWindow_s = 5.0;
   std::deque<std::pair<double, double>> m_samples;
+  double m_threshold_N = 0.0;
 };
 
 }  // namespace tissuesim::app

@@ -21,9 +21,11 @@
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
+#include <QPushButton>
 #include <QStatusBar>
 #include <QStringList>
 
+#include "AssessmentReport.h"
 #include "CommandError.h"
 #include "OffscreenImage.h"
 #include "SessionSteps.h"
@@ -206,6 +208,9 @@ void MainWindow::buildMenus() {
   m_softeningAction->setCheckable(true);
   m_gravityAction = simulation->addAction("Gra&vity", this, [this](bool on) { setGravity(on); });
   m_gravityAction->setCheckable(true);
+  simulation->addSeparator();
+  simulation->addAction(
+      "&End session...", this, [this] { endSession(); }, Qt::Key_E);
 
   QMenu* tools = menuBar()->addMenu("&Tools");
   tools->addAction("&Fit tissue from test data...", this, [this] {
@@ -225,6 +230,9 @@ void MainWindow::buildMenus() {
       },
       Qt::Key_W);
   m_wireframeAction->setCheckable(true);
+  m_damageAction = view->addAction(
+      "Tissue &damage", this, [this](bool on) { setDamageOverlay(on); }, Qt::Key_D);
+  m_damageAction->setCheckable(true);
   view->addAction("Reset &camera", this, [this] {
     if (m_view) m_view->resetCamera();
   });
@@ -281,6 +289,8 @@ bool MainWindow::loadScene(const QString& path) {
       simulation.scene().tray ? &*simulation.scene().tray : nullptr);
   m_view->setColourMap(m_colourMapAction->isChecked());
   m_view->setWireframe(m_wireframeAction->isChecked());
+  m_view->setDamageOverlay(m_damageAction->isChecked());
+  m_forcePlot->setThreshold(simulation.assessment().summary().thresholds.toolForce_N);
   m_renderWindow->AddRenderer(m_view->renderer());
   m_pose = simulation.instrumentPose();
   m_softeningAction->setChecked(simulation.isSoftening());
@@ -521,6 +531,52 @@ void MainWindow::setColourMap(bool isOn) {
   if (m_view) m_view->setColourMap(isOn);
 }
 
+void MainWindow::setDamageOverlay(bool isOn) {
+  m_damageAction->setChecked(isOn);
+  if (m_view) m_view->setDamageOverlay(isOn);
+  renderFrame();
+}
+
+AssessmentSummary MainWindow::endSession() {
+  if (!m_session) return {};
+  AssessmentSummary summary;
+  whilePaused([&] { summary = m_session->simulation().assessment().summary(); });
+  m_endedSession = summary;
+  auto* box =
+      new QMessageBox(QMessageBox::Information, "Session summary",
+                      QString::fromStdString(assessmentText(summary)), QMessageBox::Close, this);
+  box->setObjectName("sessionSummaryDialog");
+  box->setInformativeText("The organ is reset for the next session.");
+  QPushButton* save = box->addButton("Save...", QMessageBox::ActionRole);
+  connect(save, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, "Save session summary",
+                                                      "session-summary.json", "JSON (*.json)");
+    if (!path.isEmpty()) saveSessionSummary(path);
+  });
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();
+  resetSimulation();  // the next session starts on a fresh organ (and a fresh assessment)
+  return summary;
+}
+
+bool MainWindow::saveSessionSummary(const QString& path) {
+  if (!m_endedSession || !m_session) {
+    showError("No session summary", "End a session first (Simulation > End session).");
+    return false;
+  }
+  nlohmann::json json;
+  json["scene"] = m_session->scene().name;
+  json["assessment"] = assessmentJson(*m_endedSession);
+  try {
+    writeWholeFile(path.toStdString(), json.dump(2) + "\n");
+  } catch (const std::exception& error) {
+    showError("Session summary not saved", error.what());
+    return false;
+  }
+  statusBar()->showMessage("saved " + path, 5000);
+  return true;
+}
+
 void MainWindow::publishPose() {
   if (m_playback) return;  // the recording drives the tool
   if (m_session && m_session->liveInstrument() != nullptr)
@@ -736,7 +792,7 @@ void MainWindow::renderFrame() {
   if (!m_loop || !m_view) return;
   const SimulationSnapshot& snapshot = m_loop->snapshot();
   m_latest = &snapshot;
-  m_view->update(snapshot.positions_m, snapshot.instrument);
+  m_view->update(snapshot.positions_m, snapshot.instrument, &snapshot.damagedSprings);
   m_forcePlot->addSample(snapshot.time_s, snapshot.toolForce_N.norm());
   updateStatus(snapshot);
   m_renderWindow->Render();

@@ -76,6 +76,15 @@ class MainWindow : public QMainWindow {
   void setSoftening(bool isOn);
   void setGravity(bool isOn);
   void setColourMap(bool isOn);
+  /// View > Tissue damage: the regions the session stretched past the damage threshold.
+  void setDamageOverlay(bool isOn);
+  /// Simulation > End session: the session's assessment (docs/assessment.md) in a dialog
+  /// (objectName "sessionSummaryDialog") that can save it, then a fresh organ for the next
+  /// session (a reset). Returns the ended session's figures.
+  AssessmentSummary endSession();
+  /// The last ended session's figures as JSON (the scene's name and run's "assessment" object).
+  /// False (after the error dialog) without one, or when the file cannot be written.
+  bool saveSessionSummary(const QString& path);
 
   /// Puts the tool tip under display point (x, y) (pixels, origin bottom-left) at its depth.
   void moveInstrumentToDisplay(int x, int y);
@@ -148,6 +157,8 @@ class MainWindow : public QMainWindow {
   QAction* m_gravityAction = nullptr;
   QAction* m_colourMapAction = nullptr;
   QAction* m_wireframeAction = nullptr;
+  QAction* m_damageAction = nullptr;
+  std::optional<AssessmentSummary> m_endedSession;  ///< the last ended session's figures
 
   QTimer m_frameTimer;
   QElapsedTimer m_clock;

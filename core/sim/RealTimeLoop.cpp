@@ -12,6 +12,7 @@ SimulationSnapshot initialSnapshot(const Simulation& simulation) {
   snapshot.time_s = simulation.time_s();
   snapshot.positions_m = simulation.state().x;
   snapshot.instrument = simulation.instrumentPose();
+  snapshot.damagedSprings = simulation.assessment().damagedSprings();
   snapshot.eventCount = simulation.eventCount();
   snapshot.latestEventKind = simulation.latestEventKind();
   return snapshot;
@@ -73,6 +74,7 @@ void RealTimeLoop::run() {
     snapshot.instrument = m_simulation.instrumentPose();
     snapshot.toolForce_N = outcome.contact.toolForce_N;
     snapshot.maxStretch = outcome.maxStretch;
+    snapshot.damagedSprings = m_simulation.assessment().damagedSprings();  // same size: a copy
     snapshot.eventCount = m_simulation.eventCount();
     snapshot.latestEventKind = m_simulation.latestEventKind();
     m_snapshots.publish();

@@ -15,9 +15,11 @@
 // dropped. Nothing is dropped silently.
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "sim/SessionRecording.h"
 #include "sim/Simulation.h"
@@ -34,6 +36,8 @@ struct SimulationSnapshot {
   InstrumentPose instrument;
   Eigen::Vector3d toolForce_N = Eigen::Vector3d::Zero();
   double maxStretch = 1.0;
+  /// The session's damaged springs (#S, 1 damaged: SessionAssessment::damagedSprings()).
+  std::vector<std::uint8_t> damagedSprings;
   std::size_t eventCount = 0;  ///< instability events so far (the list stays with the physics)
   const char* latestEventKind = nullptr;  ///< Simulation::latestEventKind(): a literal or null
 };

@@ -17,9 +17,11 @@
 #include <QTemporaryDir>
 #include <QWheelEvent>
 #include <QtTest/QtTest>
+#include <nlohmann/json.hpp>
 
 #include "HeadlessDisplay.h"
 #include "SessionSteps.h"
+#include "gui/ForcePlotWidget.h"
 #include "gui/MainWindow.h"
 #include "gui/SoftwareOpenGL.h"
 #include "gui/TissueFitDialog.h"
@@ -355,6 +357,74 @@ class GuiSmokeTest : public QObject {
     QVERIFY(error != nullptr);
     QVERIFY2(error->text().contains("not-numeric.csv:3"), qPrintable(error->text()));
     error->close();
+  }
+
+  void aSessionIsAssessedItsDamageDrawnAndItsSummarySaved() {
+    // A scene with low thresholds: a 4 cm poke passes both.
+    QVERIFY(m_window->loadScene(QString(TISSUESIM_TEST_DATA_DIR) + "/scenes/assessed-liver.json"));
+    auto* plot = m_window->findChild<ForcePlotWidget*>("forcePlot");
+    QVERIFY(plot != nullptr);
+    QCOMPARE(plot->threshold(), 3.0);
+    const auto damaged = [&] {
+      m_window->renderFrame();
+      const std::vector<std::uint8_t>& flags = m_window->latestSnapshot()->damagedSprings;
+      return std::count(flags.begin(), flags.end(), std::uint8_t{1});
+    };
+    QTRY_VERIFY_WITH_TIMEOUT(steps() > 20, 10000);
+    QCOMPARE(damaged(), 0);
+    wheel(28);  // through the 1.7 cm gap and 4 cm into the liver
+    QTRY_VERIFY_WITH_TIMEOUT(damaged() > 0, 20000);
+    wheel(-28);  // out again: the damage stays
+    QTRY_VERIFY_WITH_TIMEOUT(
+        (m_window->renderFrame(), m_window->latestSnapshot()->toolForce_N.norm() == 0.0), 20000);
+    const long damagedAfter = damaged();
+    QVERIFY(damagedAfter > 0);
+
+    // The overlay draws it: the same paused frame with and without it differs where it lies.
+    m_window->setPaused(true);
+    QTemporaryDir folder;
+    m_window->setDamageOverlay(true);
+    QVERIFY(m_window->saveImage(folder.filePath("overlay.png")));
+    m_window->setDamageOverlay(false);
+    QVERIFY(m_window->saveImage(folder.filePath("plain.png")));
+    const QImage overlay(folder.filePath("overlay.png"));
+    const QImage plain(folder.filePath("plain.png"));
+    QCOMPARE(overlay.size(), plain.size());
+    long changed = 0;
+    for (int y = 0; y < overlay.height(); ++y) {
+      for (int x = 0; x < overlay.width(); ++x) changed += overlay.pixel(x, y) != plain.pixel(x, y);
+    }
+    QVERIFY2(changed > 100, qPrintable(QString("%1 pixels changed").arg(changed)));
+    if (const QString shot = qEnvironmentVariable("TISSUESIM_GUI_DAMAGE_SCREENSHOT");
+        !shot.isEmpty()) {
+      m_window->setDamageOverlay(true);
+      QVERIFY(m_window->saveImage(shot));
+    }
+
+    // End session: the summary, a fresh organ and assessment, the summary saved as JSON.
+    const AssessmentSummary summary = m_window->endSession();
+    QCOMPARE(summary.damagedSpringCount, damagedAfter);
+    QVERIFY(summary.peakToolForce_N > 3.0);
+    QVERIFY(summary.aboveForceThreshold_s > 0.0);
+    QVERIFY(summary.toolPathLength_m > 0.1);
+    auto* dialog = m_window->findChild<QMessageBox*>("sessionSummaryDialog");
+    QVERIFY(dialog != nullptr);
+    QVERIFY2(dialog->text().contains("Tissue stretched past 1.14"), qPrintable(dialog->text()));
+    if (const QString shot = qEnvironmentVariable("TISSUESIM_GUI_DAMAGE_SCREENSHOT");
+        !shot.isEmpty()) {
+      QTest::qWait(200);
+      QVERIFY(dialog->grab().save(shot + "-summary.png"));
+    }
+    QCOMPARE(damaged(), 0);
+    const QString saved = folder.filePath("summary.json");
+    QVERIFY(m_window->saveSessionSummary(saved));
+    QFile file(saved);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    const nlohmann::json json = nlohmann::json::parse(file.readAll().toStdString());
+    QCOMPARE(json.at("assessment").at("damaged_springs").get<long>(), damagedAfter);
+    QCOMPARE(json.at("scene").get<std::string>(), std::string("assessed liver"));
+    dialog->close();
+    m_window->setPaused(false);
   }
 
   void cleanupTestCase() { m_window.reset(); }
