@@ -10,11 +10,9 @@
 #include <vtkCellArray.h>
 #include <vtkContourFilter.h>
 #include <vtkCylinderSource.h>
-#include <vtkDiskSource.h>
 #include <vtkDoubleArray.h>
 #include <vtkLight.h>
 #include <vtkLookupTable.h>
-#include <vtkPlaneSource.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -27,13 +25,17 @@
 #include <vtkTextProperty.h>
 #include <vtkTransform.h>
 
+#include "MottledColour.h"
+#include "TrayShadow.h"
 #include "mesh/TetMesh.h"
 #include "springs/NodeStretch.h"
 
 namespace tissuesim {
 namespace {
 
-constexpr double kLiverColour[3] = {0.55, 0.16, 0.14};  // red-brown
+constexpr double kWetFilmStrength = 0.8;
+constexpr double kLampIntensity = 2.2;
+constexpr double kLiverColour[3] = {0.30, 0.035, 0.025};  // red-brown, linear (PBR's colours)
 
 void setPoints(vtkPoints* points, const Eigen::Matrix3Xd& x) {
   for (Eigen::Index i = 0; i < x.cols(); ++i) points->SetPoint(i, x(0, i), x(1, i), x(2, i));
@@ -58,14 +60,22 @@ TissueSceneView::TissueSceneView(const SceneGeometry& geometry, const SpringMesh
       m_springs(springs),
       m_instrument(instrument),
       m_renderer(vtkSmartPointer<vtkRenderer>::New()) {
-  m_renderer->SetBackground(0.93, 0.94, 0.96);
-  m_renderer->SetBackground2(0.55, 0.60, 0.68);
-  m_renderer->GradientBackgroundOn();
+  // A plain, dark room: a gradient background cost llvmpipe an eighth of a frame, which the
+  // organ's physically based shading spends better.
+  m_renderer->SetBackground(0.20, 0.22, 0.25);
+  // One light, at the eye (as a laparoscope's): every further light is paid per fragment, on
+  // the CPU under llvmpipe. Brighter than VTK's default, which physically based shading wants.
+  m_renderer->AutomaticLightCreationOff();
+  auto light = vtkSmartPointer<vtkLight>::New();
+  light->SetLightTypeToHeadlight();
+  light->SetIntensity(kLampIntensity);
+  m_renderer->AddLight(light);
   buildSurface();
   buildDamageOverlay();
   buildSprings();
   buildTray(tray);
   buildInstrument();
+  updateSurfaceColouring();
   update(springs.restPositions_m,
          instrument != nullptr
              ? InstrumentPose{instrument->tipStart_m, instrument->direction, false}
@@ -96,6 +106,11 @@ void TissueSceneView::buildSurface() {
   m_surfaceStretch->Fill(1.0);
   m_surface->GetPointData()->SetScalars(m_surfaceStretch);
   m_nodeStretch.resize(m_springs.nodeCount());
+  // The liver's own colour, varied over its surface as it rests.
+  m_surface->GetPointData()->AddArray(
+      mottledColour(m_geometry.surface && m_geometry.embedding ? m_geometry.surface->vertices_m
+                                                               : m_springs.restPositions_m,
+                    Eigen::Vector3d(kLiverColour[0], kLiverColour[1], kLiverColour[2])));
 
   m_normals = vtkSmartPointer<vtkPolyDataNormals>::New();
   m_normals->SetInputData(m_surface);
@@ -125,11 +140,14 @@ void TissueSceneView::buildSurface() {
   m_surfaceActor->SetMapper(mapper);
   vtkProperty* property = m_surfaceActor->GetProperty();
   property->SetColor(kLiverColour[0], kLiverColour[1], kLiverColour[2]);
-  property->SetSpecular(0.35);
-  property->SetSpecularPower(30.0);
-  property->SetDiffuse(0.8);
-  property->SetAmbient(0.12);
-  property->SetInterpolationToPhong();
+  // Physically based: a rough, dielectric parenchyma under a thin, smooth wet film (VTK's clear
+  // coat, with water's index): the film's sheen follows the light over the whole organ.
+  property->SetInterpolationToPBR();
+  property->SetMetallic(0.0);
+  property->SetRoughness(0.55);
+  property->SetCoatStrength(kWetFilmStrength);
+  property->SetCoatRoughness(0.12);
+  property->SetCoatIOR(1.33);
   m_renderer->AddActor(m_surfaceActor);
 
   m_scalarBar = vtkSmartPointer<vtkScalarBarActor>::New();
@@ -140,8 +158,8 @@ void TissueSceneView::buildSurface() {
   m_scalarBar->SetPosition(0.88, 0.1);
   m_scalarBar->SetWidth(0.08);
   m_scalarBar->SetHeight(0.8);
-  m_scalarBar->GetTitleTextProperty()->SetColor(0.1, 0.1, 0.1);
-  m_scalarBar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
+  m_scalarBar->GetTitleTextProperty()->SetColor(0.9, 0.9, 0.9);  // on the dark room
+  m_scalarBar->GetLabelTextProperty()->SetColor(0.9, 0.9, 0.9);
   m_scalarBar->VisibilityOff();
   m_renderer->AddViewProp(m_scalarBar);
 }
@@ -164,7 +182,7 @@ void TissueSceneView::buildDamageOverlay() {
   m_damageLut->SetNumberOfTableValues(2);
   m_damageLut->SetTableRange(0.0, 1.0);
   m_damageLut->SetTableValue(0, kLiverColour[0], kLiverColour[1], kLiverColour[2]);
-  m_damageLut->SetTableValue(1, 0.93, 0.80, 0.66);
+  m_damageLut->SetTableValue(1, 0.80, 0.55, 0.38);  // linear: a pale, bloodless buff
   m_damageLut->Build();
   auto damage = vtkSmartPointer<vtkAssignAttribute>::New();
   damage->SetInputConnection(m_normals->GetOutputPort());
@@ -228,26 +246,17 @@ void TissueSceneView::buildSprings() {
 
 void TissueSceneView::buildTray(const SceneTray* tray) {
   // The scene's tray, where the organ rests on it; without one, a tray just under the organ's rest
-  // position. Wider than the organ: the eye judges depth against it.
+  // position. Wider than the organ: the eye judges depth against it and the shadows on it.
   const Eigen::Matrix3Xd& rest = m_springs.restPositions_m;
   const Eigen::Vector3d lo = rest.rowwise().minCoeff();
   const Eigen::Vector3d hi = rest.rowwise().maxCoeff();
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
-  const double margin = 0.6 * (hi - lo).maxCoeff();
+  const double size = (hi - lo).maxCoeff() * 2.2;
   const bool isSceneTray = tray != nullptr && tray->up.y() > 1.0 - 1e-9;
-  m_trayHeight_m = isSceneTray ? tray->height_m : lo.y() - 0.002;
-  auto plane = vtkSmartPointer<vtkPlaneSource>::New();
-  plane->SetOrigin(lo.x() - margin, m_trayHeight_m, lo.z() - margin);
-  plane->SetPoint1(hi.x() + margin, m_trayHeight_m, lo.z() - margin);
-  plane->SetPoint2(lo.x() - margin, m_trayHeight_m, hi.z() + margin);
-  plane->SetCenter(centre.x(), m_trayHeight_m, centre.z());
-  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-  mapper->SetInputConnection(plane->GetOutputPort());
-  m_trayActor = vtkSmartPointer<vtkActor>::New();
-  m_trayActor->SetMapper(mapper);
-  m_trayActor->GetProperty()->SetColor(0.78, 0.80, 0.82);  // steel
-  m_trayActor->GetProperty()->SetSpecular(0.2);
-  m_renderer->AddActor(m_trayActor);
+  const double height_m = isSceneTray ? tray->height_m : lo.y() - 0.002;
+  m_tray = std::make_unique<TrayShadow>(
+      height_m, Eigen::Vector2d(centre.x() - 0.5 * size, centre.z() - 0.5 * size), size);
+  m_renderer->AddActor(m_tray->actor());
 }
 
 void TissueSceneView::buildInstrument() {
@@ -272,26 +281,15 @@ void TissueSceneView::buildInstrument() {
     *actor = vtkSmartPointer<vtkActor>::New();
     (*actor)->SetMapper(mapper);
     (*actor)->SetUserTransform(m_toolTransform);
-    (*actor)->GetProperty()->SetColor(0.72, 0.74, 0.78);
-    (*actor)->GetProperty()->SetSpecular(0.8);
-    (*actor)->GetProperty()->SetSpecularPower(60.0);
+    // Stainless steel. Metallic 0.6, not 1: a pure metal shows only what it mirrors, and with
+    // no environment to mirror (image-based lighting tripled llvmpipe's frame) it would be black
+    // but for its highlight.
+    (*actor)->GetProperty()->SetInterpolationToPBR();
+    (*actor)->GetProperty()->SetColor(0.80, 0.80, 0.82);
+    (*actor)->GetProperty()->SetMetallic(0.6);
+    (*actor)->GetProperty()->SetRoughness(0.3);
     m_renderer->AddActor(*actor);
   }
-  // The tip's shadow on the tray (straight down): where the tool is over the organ.
-  auto disk = vtkSmartPointer<vtkDiskSource>::New();
-  disk->SetInnerRadius(0.0);
-  disk->SetOuterRadius(2.5 * radius);
-  disk->SetCircumferentialResolution(32);
-  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-  mapper->SetInputConnection(disk->GetOutputPort());
-  m_shadowActor = vtkSmartPointer<vtkActor>::New();
-  m_shadowActor->SetMapper(mapper);
-  // Opaque, lit like the tray and darker than it: a translucent disc made VTK run its
-  // order-independent transparency passes over the whole window every frame, which in llvmpipe
-  // was 25 of a 60 ms frame at 1280 x 800 for this one small disc.
-  m_shadowActor->GetProperty()->SetColor(0.7 * 0.78, 0.7 * 0.80, 0.7 * 0.82);  // the tray's, x 0.7
-  m_shadowActor->SetOrientation(90.0, 0.0, 0.0);  // the disk's normal (z) onto y
-  m_renderer->AddActor(m_shadowActor);
 }
 
 void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
@@ -312,6 +310,9 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
   }
   if (m_isDamageOverlay && damagedSprings != nullptr) updateDamage(*damagedSprings);
   m_surface->Modified();
+  m_tray->update(m_surfaceX, pose.tip_m, pose.direction,
+                 m_instrument != nullptr ? m_instrument->shaftRadius_m : 0.0,
+                 m_instrument != nullptr ? m_instrument->shaftLength_m : 0.0);
   if (m_isWireframe) {
     setPoints(m_springLines->GetPoints(), x);
     m_springLines->Modified();
@@ -331,7 +332,6 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
       m_toolTransform->RotateWXYZ(180.0, 1.0, 0.0, 0.0);
     }
     m_toolTransform->Modified();
-    m_shadowActor->SetPosition(pose.tip_m.x(), m_trayHeight_m + 0.0005, pose.tip_m.z());
     const double colour = pose.isGrasping ? 0.45 : 0.72;  // jaws closed: darker steel
     m_tipActor->GetProperty()->SetColor(colour, colour + 0.02, colour + 0.06);
   }
@@ -354,6 +354,7 @@ void TissueSceneView::updateSurfaceColouring() {
   // stretch's colours stay readable.
   vtkMapper* mapper = m_surfaceActor->GetMapper();
   mapper->SetInterpolateScalarsBeforeMapping(!m_isColourMap && m_isDamageOverlay);
+  mapper->SetColorModeToMapScalars();
   if (m_isColourMap) {
     mapper->SelectColorArray("stretch");
     mapper->SetLookupTable(m_stretchLut);
@@ -362,9 +363,24 @@ void TissueSceneView::updateSurfaceColouring() {
     mapper->SelectColorArray("damage");
     mapper->SetLookupTable(m_damageLut);
     mapper->SetScalarRange(0.0, 1.0);
+  } else {
+    mapper->SelectColorArray("albedo");
+    mapper->SetColorModeToDirectScalars();
   }
-  mapper->SetScalarVisibility(m_isColourMap || m_isDamageOverlay);
-  m_surfaceActor->GetProperty()->SetSpecular(m_isColourMap ? 0.15 : 0.35);
+  mapper->ScalarVisibilityOn();
+  // The colour map is data: shaded as before PBR (Phong, little specular), so that its colours
+  // are the scalar bar's and no wet glare washes them out.
+  vtkProperty* property = m_surfaceActor->GetProperty();
+  if (m_isColourMap) {
+    // The lamp is 2.2 times VTK's default for the PBR: the Phong weights are divided by it.
+    property->SetInterpolationToPhong();
+    property->SetSpecular(0.15 / kLampIntensity);
+    property->SetSpecularPower(30.0);
+    property->SetDiffuse(0.8 / kLampIntensity);
+    property->SetAmbient(0.12);
+  } else {
+    property->SetInterpolationToPBR();
+  }
   m_scalarBar->SetVisibility(m_isColourMap);
 }
 

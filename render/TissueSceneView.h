@@ -3,7 +3,9 @@
 // The 3D scene a trainee sees, as a VTK renderer: the liver's visual surface (smooth-shaded,
 // its vertices carried by the tet mesh through the barycentric embedding), an optional stretch
 // colour map with a scalar bar, an optional spring wireframe, the instrument (a shaft with a
-// blunt tip), and depth cues: a tray under the organ and the tip's shadow on it.
+// blunt tip), and depth cues: a tray under the organ with the organ's and the tool's soft
+// shadows on it (TrayShadow). The organ and the tool are shaded physically (VTK's PBR): a wet
+// film over the liver, brushed steel.
 //
 // It reads positions (a snapshot of the physics state) and never touches the simulation, so a
 // frame costs the physics nothing. Nothing here depends on Qt: the same view renders in the
@@ -19,6 +21,7 @@
 // colour map off) and outlined in a dark line (always, so it reads over the colour map too).
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -41,6 +44,8 @@ class vtkScalarBarActor;
 class vtkTransform;
 
 namespace tissuesim {
+
+class TrayShadow;
 
 class TissueSceneView {
  public:
@@ -105,9 +110,7 @@ class TissueSceneView {
   vtkSmartPointer<vtkTransform> m_toolTransform;
   vtkSmartPointer<vtkActor> m_shaftActor;
   vtkSmartPointer<vtkActor> m_tipActor;
-  vtkSmartPointer<vtkActor> m_shadowActor;
-  vtkSmartPointer<vtkActor> m_trayActor;
-  double m_trayHeight_m = 0.0;  ///< along the up axis (y)
+  std::unique_ptr<TrayShadow> m_tray;
 
   Eigen::Matrix3Xd m_surfaceX;      ///< scratch: surface vertices (m)
   Eigen::VectorXd m_nodeStretch;    ///< scratch: per tet node
