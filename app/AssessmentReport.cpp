@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "AssessmentReport.h"
+#include "app/AssessmentReport.h"
 
 #include <cstdio>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "AssetPaths.h"
+#include "app/AssetPaths.h"
 
 namespace tissuesim::app {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "BenchCommand.h"
+#include "app/BenchCommand.h"
 
 #include <memory>
 #include <string>
@@ -7,12 +7,12 @@
 
 #include <benchmark/benchmark.h>
 
-#include "AssetPaths.h"
-#include "CommandError.h"
-#include "bench/ContactBenchmarks.h"
-#include "bench/DynamicsBenchmarks.h"
-#include "bench/MaterialBenchmarks.h"
-#include "bench/RenderBenchmarks.h"
+#include "app/AssetPaths.h"
+#include "app/CommandError.h"
+#include "app/bench/ContactBenchmarks.h"
+#include "app/bench/DynamicsBenchmarks.h"
+#include "app/bench/MaterialBenchmarks.h"
+#include "app/bench/RenderBenchmarks.h"
 
 namespace tissuesim::app {
 namespace {

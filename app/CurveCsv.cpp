@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "CurveCsv.h"
+#include "app/CurveCsv.h"
 
 #include <cstdio>
 #include <iostream>
 #include <sstream>
 
-#include "CommandError.h"
-#include "OutputFile.h"
+#include "app/CommandError.h"
+#include "app/OutputFile.h"
 
 namespace tissuesim::app {
 

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "CurvePlot.h"
+#include "app/CurvePlot.h"
 
 #include <stdexcept>
 
 #include <vtkImageData.h>
 
-#include "CommandError.h"
-#include "CurveChart.h"
-#include "HeadlessDisplay.h"
-#include "OffscreenImage.h"
+#include "app/CommandError.h"
+#include "app/HeadlessDisplay.h"
+#include "render/CurveChart.h"
+#include "render/OffscreenImage.h"
 
 namespace tissuesim::app {
 namespace {

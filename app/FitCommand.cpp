@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "FitCommand.h"
+#include "app/FitCommand.h"
 
 #include <chrono>
 #include <cmath>
@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "AssetPaths.h"
-#include "CommandError.h"
-#include "CurvePlot.h"
-#include "ImageSize.h"
-#include "OutputFile.h"
 #include "analysis/TensileTestData.h"
 #include "analysis/TissueFit.h"
+#include "app/AssetPaths.h"
+#include "app/CommandError.h"
+#include "app/CurvePlot.h"
+#include "app/ImageSize.h"
+#include "app/OutputFile.h"
 #include "material/TissueFile.h"
 
 namespace tissuesim::app {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "GuiCommand.h"
+#include "app/GuiCommand.h"
 
 #include <cstdlib>
 #include <memory>
@@ -10,10 +10,10 @@
 #include <QApplication>
 #include <QSurfaceFormat>
 
-#include "AssetPaths.h"
-#include "CommandError.h"
-#include "HeadlessDisplay.h"
-#include "gui/MainWindow.h"
+#include "app/AssetPaths.h"
+#include "app/CommandError.h"
+#include "app/HeadlessDisplay.h"
+#include "app/gui/MainWindow.h"
 
 namespace tissuesim::app {
 

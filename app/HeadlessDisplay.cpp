@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "HeadlessDisplay.h"
+#include "app/HeadlessDisplay.h"
 
 #include <cerrno>
 #include <csignal>
@@ -15,7 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "CommandError.h"
+#include "app/CommandError.h"
 
 namespace tissuesim::app {
 namespace {

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ImageSize.h"
+#include "app/ImageSize.h"
 
 #include <charconv>
 
-#include "CommandError.h"
-#include "OutputFile.h"
+#include "app/CommandError.h"
+#include "app/OutputFile.h"
 
 namespace tissuesim::app {
 

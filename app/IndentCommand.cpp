@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "IndentCommand.h"
+#include "app/IndentCommand.h"
 
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "CommandError.h"
-#include "LoadedTissue.h"
-#include "OutputFile.h"
 #include "analysis/IndentationExperiment.h"
+#include "app/CommandError.h"
+#include "app/LoadedTissue.h"
+#include "app/OutputFile.h"
 #include "fem/FemModel.h"
 
 namespace tissuesim::app {

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "CommandError.h"
 #include "analysis/UniaxialExperiment.h"
+#include "app/CommandError.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/TissueFile.h"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "MeshCommand.h"
+#include "app/MeshCommand.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,14 +7,14 @@
 #include <optional>
 #include <string>
 
-#include "CommandError.h"
-#include "OutputFile.h"
-#include "VtkMeshFiles.h"
+#include "app/CommandError.h"
+#include "app/OutputFile.h"
 #include "mesh/LatticeMesher.h"
 #include "mesh/LengthUnit.h"
 #include "mesh/SurfaceInspection.h"
 #include "mesh/SurfaceReader.h"
 #include "mesh/TetMeshFile.h"
+#include "render/VtkMeshFiles.h"
 
 namespace tissuesim::app {
 namespace {

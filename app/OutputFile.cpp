@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "OutputFile.h"
+#include "app/OutputFile.h"
 
 #include <filesystem>
 #include <fstream>
 #include <system_error>
 
-#include "CommandError.h"
+#include "app/CommandError.h"
 #include "io/WholeFile.h"
 
 namespace tissuesim::app {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ProcessMemory.h"
+#include "app/ProcessMemory.h"
 
 #include <unistd.h>
 

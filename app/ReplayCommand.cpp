@@ -1,19 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ReplayCommand.h"
+#include "app/ReplayCommand.h"
 
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
 
-#include "CommandError.h"
-#include "HeadlessDisplay.h"
-#include "ImageSize.h"
-#include "OffscreenImage.h"
-#include "OutputFile.h"
-#include "SceneSession.h"
-#include "SceneSnapshot.h"
-#include "SessionSteps.h"
+#include "app/CommandError.h"
+#include "app/HeadlessDisplay.h"
+#include "app/ImageSize.h"
+#include "app/OutputFile.h"
+#include "app/SceneSession.h"
+#include "app/SceneSnapshot.h"
+#include "app/SessionSteps.h"
+#include "render/OffscreenImage.h"
 #include "sim/SessionRecording.h"
 
 namespace tissuesim::app {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "RunCommand.h"
+#include "app/RunCommand.h"
 
 #include <chrono>
 #include <cmath>
@@ -10,14 +10,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "AssetPaths.h"
-#include "CommandError.h"
-#include "OutputFile.h"
-#include "SceneSession.h"
-#include "SessionSteps.h"
-#include "TimeSeriesExport.h"
+#include "app/AssetPaths.h"
+#include "app/CommandError.h"
+#include "app/OutputFile.h"
+#include "app/SceneSession.h"
+#include "app/SessionSteps.h"
 #include "material/TissueFile.h"
 #include "mesh/TriangleSurface.h"
+#include "render/TimeSeriesExport.h"
 #include "sim/SceneFile.h"
 #include "sim/SessionRecording.h"
 #include "sim/Simulation.h"

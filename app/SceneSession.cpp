@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SceneSession.h"
+#include "app/SceneSession.h"
 
 #include <cstdio>
 #include <stdexcept>
 #include <utility>
 
-#include "CommandError.h"
+#include "app/CommandError.h"
 #include "material/TissueFile.h"
 #include "sim/SceneFile.h"
 

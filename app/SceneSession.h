@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "CapsuleContact.h"
+#include "collision/CapsuleContact.h"
 #include "sim/InstrumentScript.h"
 #include "sim/RealTimeLoop.h"
 #include "sim/Simulation.h"

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SceneSnapshot.h"
+#include "app/SceneSnapshot.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "OffscreenImage.h"
-#include "TissueSceneView.h"
+#include "render/OffscreenImage.h"
+#include "render/TissueSceneView.h"
 
 namespace tissuesim::app {
 

@@ -6,8 +6,8 @@
 #include <vtkImageData.h>
 #include <vtkSmartPointer.h>
 
-#include "ImageSize.h"
-#include "SceneSession.h"
+#include "app/ImageSize.h"
+#include "app/SceneSession.h"
 
 namespace tissuesim::app {
 

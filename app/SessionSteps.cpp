@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SessionSteps.h"
+#include "app/SessionSteps.h"
 
 #include <chrono>
 #include <cmath>
@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "AssessmentReport.h"
-#include "CommandError.h"
-#include "OutputFile.h"
-#include "TimeSeriesExport.h"
+#include "app/AssessmentReport.h"
+#include "app/CommandError.h"
+#include "app/OutputFile.h"
+#include "render/TimeSeriesExport.h"
 #include "sim/SceneFile.h"
 #include "sim/Simulation.h"
 

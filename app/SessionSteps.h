@@ -8,7 +8,7 @@
 #include <functional>
 #include <string>
 
-#include "SceneSession.h"
+#include "app/SceneSession.h"
 #include "sim/SessionRecording.h"
 
 namespace tissuesim::app {

@@ -1,17 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SnapshotCommand.h"
+#include "app/SnapshotCommand.h"
 
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
 
-#include "AssetPaths.h"
-#include "CommandError.h"
-#include "HeadlessDisplay.h"
-#include "ImageSize.h"
-#include "OffscreenImage.h"
-#include "SceneSnapshot.h"
+#include "app/AssetPaths.h"
+#include "app/CommandError.h"
+#include "app/HeadlessDisplay.h"
+#include "app/ImageSize.h"
+#include "app/SceneSnapshot.h"
+#include "render/OffscreenImage.h"
 
 namespace tissuesim::app {
 namespace {

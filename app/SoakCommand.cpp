@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SoakCommand.h"
+#include "app/SoakCommand.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,11 +12,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "AssetPaths.h"
-#include "CommandError.h"
-#include "OutputFile.h"
-#include "ProcessMemory.h"
-#include "SceneSession.h"
+#include "app/AssetPaths.h"
+#include "app/CommandError.h"
+#include "app/OutputFile.h"
+#include "app/ProcessMemory.h"
+#include "app/SceneSession.h"
 #include "sim/RandomSession.h"
 #include "sim/Simulation.h"
 

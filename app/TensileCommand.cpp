@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "TensileCommand.h"
+#include "app/TensileCommand.h"
 
 #include <chrono>
 #include <cstdio>
@@ -9,15 +9,16 @@
 #include <string>
 #include <vector>
 
-#include "CommandError.h"
-#include "CurveCsv.h"
-#include "CurvePlot.h"
-#include "ImageSize.h"
-#include "LoadedTissue.h"
-#include "OutputFile.h"
 #include "analysis/FemTensileExperiment.h"
 #include "analysis/GoodnessOfFit.h"
+#include "analysis/NetworkCalibration.h"
 #include "analysis/TensileExperiment.h"
+#include "app/CommandError.h"
+#include "app/CurveCsv.h"
+#include "app/CurvePlot.h"
+#include "app/ImageSize.h"
+#include "app/LoadedTissue.h"
+#include "app/OutputFile.h"
 #include "fem/FemModel.h"
 #include "material/TissueFile.h"
 

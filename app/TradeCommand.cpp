@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "TradeCommand.h"
+#include "app/TradeCommand.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,15 +10,15 @@
 #include <string>
 #include <vector>
 
-#include "AssetPaths.h"
-#include "CommandError.h"
-#include "IndentCommand.h"
-#include "LoadedTissue.h"
-#include "OutputFile.h"
+#include "app/AssetPaths.h"
+#include "app/CommandError.h"
+#include "app/IndentCommand.h"
+#include "app/LoadedTissue.h"
+#include "app/OutputFile.h"
+#include "app/trade/TradeGrid.h"
+#include "app/trade/TradeOutput.h"
 #include "fem/FemModel.h"
 #include "sim/SceneFile.h"
-#include "trade/TradeGrid.h"
-#include "trade/TradeOutput.h"
 
 namespace tissuesim::app {
 namespace {

@@ -1,19 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "UniaxialCommand.h"
+#include "app/UniaxialCommand.h"
 
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "CommandError.h"
-#include "CurveCsv.h"
-#include "CurvePlot.h"
-#include "ImageSize.h"
-#include "LoadedTissue.h"
-#include "OutputFile.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialExperiment.h"
+#include "app/CommandError.h"
+#include "app/CurveCsv.h"
+#include "app/CurvePlot.h"
+#include "app/ImageSize.h"
+#include "app/LoadedTissue.h"
+#include "app/OutputFile.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/TissueFile.h"

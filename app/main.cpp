@@ -7,20 +7,20 @@
 
 #include <CLI/CLI.hpp>
 
-#include "AssetPaths.h"
-#include "BenchCommand.h"
-#include "CommandError.h"
-#include "FitCommand.h"
-#include "GuiCommand.h"
-#include "IndentCommand.h"
-#include "MeshCommand.h"
-#include "ReplayCommand.h"
-#include "RunCommand.h"
-#include "SnapshotCommand.h"
-#include "SoakCommand.h"
-#include "TensileCommand.h"
-#include "TradeCommand.h"
-#include "UniaxialCommand.h"
+#include "app/AssetPaths.h"
+#include "app/BenchCommand.h"
+#include "app/CommandError.h"
+#include "app/FitCommand.h"
+#include "app/GuiCommand.h"
+#include "app/IndentCommand.h"
+#include "app/MeshCommand.h"
+#include "app/ReplayCommand.h"
+#include "app/RunCommand.h"
+#include "app/SnapshotCommand.h"
+#include "app/SoakCommand.h"
+#include "app/TensileCommand.h"
+#include "app/TradeCommand.h"
+#include "app/UniaxialCommand.h"
 
 int main(int argc, char** argv) {
   CLI::App app{

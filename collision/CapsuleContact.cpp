@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "CapsuleContact.h"
+#include "collision/CapsuleContact.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "SegmentTriangleDistance.h"
+#include "collision/SegmentTriangleDistance.h"
 #include "mesh/TetLocator.h"
 
 namespace tissuesim {

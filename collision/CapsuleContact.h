@@ -44,11 +44,11 @@
 #include <memory>
 #include <vector>
 
-#include "SurfaceBvh.h"
+#include "collision/SurfaceBvh.h"
+#include "forces/ContactProvider.h"
 #include "mesh/SurfaceEmbedding.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
-#include "sim/ContactProvider.h"
 #include "sim/Simulation.h"
 
 namespace tissuesim {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SegmentTriangleDistance.h"
+#include "collision/SegmentTriangleDistance.h"
 
 #include <algorithm>
 #include <array>

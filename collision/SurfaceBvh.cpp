@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SurfaceBvh.h"
+#include "collision/SurfaceBvh.h"
 
 #include <algorithm>
 #include <array>
@@ -12,7 +12,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
-#include "SegmentTriangleDistance.h"
+#include "collision/SegmentTriangleDistance.h"
 
 namespace tissuesim {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "CurveChart.h"
+#include "render/CurveChart.h"
 
 #include <vtkAxis.h>
 #include <vtkChartLegend.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ImageComparison.h"
+#include "render/ImageComparison.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "MottledColour.h"
+#include "render/MottledColour.h"
 
 #include <algorithm>
 #include <cmath>

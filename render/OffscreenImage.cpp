@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "OffscreenImage.h"
+#include "render/OffscreenImage.h"
 
 #include <fstream>
 #include <stdexcept>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "TimeSeriesExport.h"
+#include "render/TimeSeriesExport.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellType.h>

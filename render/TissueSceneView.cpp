@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "TissueSceneView.h"
+#include "render/TissueSceneView.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,9 +25,9 @@
 #include <vtkTextProperty.h>
 #include <vtkTransform.h>
 
-#include "MottledColour.h"
-#include "TrayShadow.h"
 #include "mesh/TetMesh.h"
+#include "render/MottledColour.h"
+#include "render/TrayShadow.h"
 #include "springs/NodeStretch.h"
 
 namespace tissuesim {

@@ -29,7 +29,7 @@
 #include <vtkSmartPointer.h>
 #include <Eigen/Core>
 
-#include "sim/ContactProvider.h"
+#include "forces/ContactProvider.h"
 #include "sim/SceneFile.h"
 #include "sim/SceneGeometry.h"
 #include "springs/SpringMesh.h"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "TrayShadow.h"
+#include "render/TrayShadow.h"
 
 #include <algorithm>
 #include <cmath>

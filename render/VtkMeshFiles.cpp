@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "VtkMeshFiles.h"
+#include "render/VtkMeshFiles.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellType.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "bench/ContactBenchmarks.h"
+#include "app/bench/ContactBenchmarks.h"
 
 #include <chrono>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "CapsuleContact.h"
+#include "collision/CapsuleContact.h"
 #include "sim/SceneFile.h"
 #include "sim/Simulation.h"
 

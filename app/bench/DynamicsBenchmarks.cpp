@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "bench/DynamicsBenchmarks.h"
+#include "app/bench/DynamicsBenchmarks.h"
 
 #include <map>
 #include <memory>

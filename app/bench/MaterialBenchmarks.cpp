@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "bench/MaterialBenchmarks.h"
+#include "app/bench/MaterialBenchmarks.h"
 
 #include <random>
 #include <vector>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "bench/RenderBenchmarks.h"
+#include "app/bench/RenderBenchmarks.h"
 
 #include <chrono>
 #include <memory>
@@ -7,11 +7,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "HeadlessDisplay.h"
-#include "OffscreenImage.h"
-#include "SceneSession.h"
-#include "TissueSceneView.h"
-#include "bench/ContactBenchmarks.h"
+#include "app/HeadlessDisplay.h"
+#include "app/SceneSession.h"
+#include "app/bench/ContactBenchmarks.h"
+#include "render/OffscreenImage.h"
+#include "render/TissueSceneView.h"
 
 namespace tissuesim::app {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "gui/ForcePlotWidget.h"
+#include "app/gui/ForcePlotWidget.h"
 
 #include <algorithm>
 

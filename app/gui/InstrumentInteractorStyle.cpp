@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "gui/InstrumentInteractorStyle.h"
+#include "app/gui/InstrumentInteractorStyle.h"
 
 #include <vtkObjectFactory.h>
 #include <vtkRenderWindowInteractor.h>

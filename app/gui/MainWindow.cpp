@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "gui/MainWindow.h"
+#include "app/gui/MainWindow.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,18 +25,18 @@
 #include <QStatusBar>
 #include <QStringList>
 
-#include "AssessmentReport.h"
-#include "CommandError.h"
-#include "OffscreenImage.h"
-#include "SessionSteps.h"
 #include "analysis/TensileTestData.h"
 #include "analysis/UniaxialExperiment.h"
-#include "gui/ForcePlotWidget.h"
-#include "gui/InstrumentInteractorStyle.h"
-#include "gui/SoftwareOpenGL.h"
-#include "gui/TissueFitDialog.h"
+#include "app/AssessmentReport.h"
+#include "app/CommandError.h"
+#include "app/SessionSteps.h"
+#include "app/gui/ForcePlotWidget.h"
+#include "app/gui/InstrumentInteractorStyle.h"
+#include "app/gui/SoftwareOpenGL.h"
+#include "app/gui/TissueFitDialog.h"
 #include "io/WholeFile.h"
 #include "material/TissueFile.h"
+#include "render/OffscreenImage.h"
 
 namespace tissuesim::app {
 

@@ -21,10 +21,10 @@
 #include <QMainWindow>
 #include <QTimer>
 
-#include "CurveChart.h"
-#include "SceneSession.h"
-#include "TissueSceneView.h"
 #include "analysis/TissueFit.h"
+#include "app/SceneSession.h"
+#include "render/CurveChart.h"
+#include "render/TissueSceneView.h"
 
 class QAction;
 class QLabel;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "gui/SoftwareOpenGL.h"
+#include "app/gui/SoftwareOpenGL.h"
 
 #include <QOffscreenSurface>
 #include <QOpenGLContext>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "gui/TissueFitDialog.h"
+#include "app/gui/TissueFitDialog.h"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "trade/TradeGrid.h"
+#include "app/trade/TradeGrid.h"
 
 #include <malloc.h>
 
@@ -12,13 +12,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "CapsuleContact.h"
-#include "CommandError.h"
-#include "LoadedTissue.h"
-#include "ProcessMemory.h"
-#include "SceneSession.h"
 #include "analysis/GoodnessOfFit.h"
+#include "analysis/NetworkCalibration.h"
 #include "analysis/TensileExperiment.h"
+#include "app/CommandError.h"
+#include "app/LoadedTissue.h"
+#include "app/ProcessMemory.h"
+#include "app/SceneSession.h"
+#include "collision/CapsuleContact.h"
 #include "fem/FemModel.h"
 #include "mesh/IsolatedCall.h"
 #include "mesh/LatticeMesher.h"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "trade/TradeOutput.h"
+#include "app/trade/TradeOutput.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,11 +12,11 @@
 
 #include <vtkImageData.h>
 
-#include "CommandError.h"
-#include "CurveChart.h"
-#include "HeadlessDisplay.h"
-#include "OffscreenImage.h"
 #include "analysis/TradeFront.h"
+#include "app/CommandError.h"
+#include "app/HeadlessDisplay.h"
+#include "render/CurveChart.h"
+#include "render/OffscreenImage.h"
 
 namespace tissuesim::app {
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "trade/TradeGrid.h"
+#include "app/trade/TradeGrid.h"
 
 namespace tissuesim::app {
 

@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "analysis/NetworkCalibration.h"
 #include "analysis/TensileExperiment.h"
 #include "analysis/UniaxialExperiment.h"
 #include "fem/FemModel.h"

@@ -25,11 +25,11 @@
 
 #include <Eigen/Core>
 
+#include "forces/ContactProvider.h"
 #include "integrators/TimeIntegrator.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "mesh/TetMesh.h"
-#include "sim/ContactProvider.h"
 #include "springs/SpringForceLaw.h"
 
 namespace tissuesim {

@@ -280,16 +280,4 @@ double TensileExperiment::volumeTermCalibration(double initialShearModulus_Pa,
   return springsOnly * (1.0 + numerator / denominator);
 }
 
-double simulatorStiffnessScale(const StrainEnergy& energy, const StiffnessTable& table,
-                               double bulkModulus_Pa) {
-  if (!(bulkModulus_Pa > 0.0)) {
-    return TensileExperiment(energy, table, TensileSpecimen{})
-        .smallStrainCalibration(energy.initialShearModulus());
-  }
-  TensileSpecimen specimen;
-  specimen.cellsAcrossThickness = 1;
-  return TensileExperiment(energy, table, specimen)
-      .volumeTermCalibration(energy.initialShearModulus(), bulkModulus_Pa);
-}
-
 }  // namespace tissuesim

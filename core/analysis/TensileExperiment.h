@@ -100,11 +100,4 @@ class TensileExperiment {
   TensileSpecimen m_specimen;
 };
 
-/// The factor on every spring's V_e that the simulator applies (Simulation, and the indentation
-/// and trade measurements that stand for it): the springs' small-strain calibration on the
-/// paper's specimen, fitted with the volume term in place when bulkModulus_Pa > 0
-/// (volumeTermCalibration on the specimen one cell across: two runs of a small specimen).
-double simulatorStiffnessScale(const StrainEnergy& energy, const StiffnessTable& table,
-                               double bulkModulus_Pa);
-
 }  // namespace tissuesim

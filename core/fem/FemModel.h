@@ -27,6 +27,7 @@
 #include <Eigen/SparseCore>
 
 #include "fem/QuadraticTetMesh.h"
+#include "forces/FemExtraEnergy.h"
 #include "material/StrainEnergy.h"
 
 namespace tissuesim {
@@ -38,20 +39,6 @@ namespace tissuesim {
 double defaultFemBulkModulus(const StrainEnergy& energy);
 inline constexpr double kFemBulkModulusStretch = 1.3;
 inline constexpr double kFemBulkModulusFactor = 200.0;
-
-/// An energy added to the FEM's on the same nodes (a rigid tool's penalty, say).
-class FemExtraEnergy {
- public:
-  virtual ~FemExtraEnergy() = default;
-  /// E at x (J); gradient += dE/dx and hessian += d^2E/dx^2 (3#V DOF numbering) where given.
-  virtual double add(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
-                     std::vector<Eigen::Triplet<double>>* hessian) const = 0;
-
- protected:
-  FemExtraEnergy() = default;
-  FemExtraEnergy(const FemExtraEnergy&) = default;
-  FemExtraEnergy& operator=(const FemExtraEnergy&) = default;
-};
 
 struct FemState {
   bool isAdmissible = true;  ///< false: an element inverted or past the chain's locking

@@ -22,7 +22,7 @@
 
 #include <Eigen/Core>
 
-#include "fem/FemModel.h"
+#include "forces/FemExtraEnergy.h"
 #include "forces/ForceField.h"
 
 namespace tissuesim {

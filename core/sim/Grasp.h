@@ -19,8 +19,8 @@
 
 #include <vector>
 
+#include "forces/ContactProvider.h"
 #include "forces/PenaltyContacts.h"
-#include "sim/ContactProvider.h"
 
 namespace tissuesim {
 

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "sim/ContactProvider.h"
+#include "forces/ContactProvider.h"
 
 namespace tissuesim {
 

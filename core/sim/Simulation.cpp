@@ -7,6 +7,7 @@
 #include <string_view>
 #include <utility>
 
+#include "analysis/NetworkCalibration.h"
 #include "analysis/TensileExperiment.h"
 #include "analysis/UniaxialExperiment.h"
 #include "integrators/ImplicitEulerSolver.h"

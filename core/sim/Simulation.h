@@ -25,9 +25,9 @@
 #include <vector>
 
 #include "fem/TetIsochoricForceField.h"
+#include "forces/ContactProvider.h"
 #include "integrators/TimeIntegrator.h"
 #include "material/StiffnessTable.h"
-#include "sim/ContactProvider.h"
 #include "sim/Grasp.h"
 #include "sim/InstrumentScript.h"
 #include "sim/SceneGeometry.h"

@@ -16,7 +16,7 @@
 
 #include <Eigen/Core>
 
-#include "sim/ContactProvider.h"
+#include "forces/ContactProvider.h"
 
 namespace tissuesim {
 

@@ -19,12 +19,12 @@
 #include <QtTest/QtTest>
 #include <nlohmann/json.hpp>
 
-#include "HeadlessDisplay.h"
-#include "SessionSteps.h"
-#include "gui/ForcePlotWidget.h"
-#include "gui/MainWindow.h"
-#include "gui/SoftwareOpenGL.h"
-#include "gui/TissueFitDialog.h"
+#include "app/HeadlessDisplay.h"
+#include "app/SessionSteps.h"
+#include "app/gui/ForcePlotWidget.h"
+#include "app/gui/MainWindow.h"
+#include "app/gui/SoftwareOpenGL.h"
+#include "app/gui/TissueFitDialog.h"
 #include "material/TissueFile.h"
 
 namespace tissuesim::app {

@@ -20,15 +20,15 @@
 #include <vtkRenderer.h>
 #include <CLI/CLI.hpp>
 
-#include "CommandError.h"
-#include "HeadlessDisplay.h"
-#include "ImageComparison.h"
-#include "OffscreenImage.h"
-#include "ReplayCommand.h"
-#include "RunCommand.h"
-#include "SceneSession.h"
-#include "SceneSnapshot.h"
-#include "TissueSceneView.h"
+#include "app/CommandError.h"
+#include "app/HeadlessDisplay.h"
+#include "app/ReplayCommand.h"
+#include "app/RunCommand.h"
+#include "app/SceneSession.h"
+#include "app/SceneSnapshot.h"
+#include "render/ImageComparison.h"
+#include "render/OffscreenImage.h"
+#include "render/TissueSceneView.h"
 
 namespace tissuesim::app {
 namespace {

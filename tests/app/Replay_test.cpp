@@ -11,8 +11,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "ReplayCommand.h"
-#include "RunCommand.h"
+#include "app/ReplayCommand.h"
+#include "app/RunCommand.h"
 
 namespace tissuesim::app {
 namespace {

@@ -4,7 +4,7 @@
 // the FEM reference's rows stay off the cost axis (the FEM on the lattice is on it, without a
 // tensile fit), and the Markdown lists the front in increasing cost.
 
-#include "trade/TradeOutput.h"
+#include "app/trade/TradeOutput.h"
 
 #include <algorithm>
 #include <cmath>

@@ -14,11 +14,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "AdmittedTissueCorners.h"
-#include "CapsuleContact.h"
+#include "collision/CapsuleContact.h"
 #include "sim/InstrumentScript.h"
 #include "sim/SceneFile.h"
 #include "sim/Simulation.h"
+#include "support/AdmittedTissueCorners.h"
 
 namespace tissuesim {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "CapsuleContact.h"
+#include "collision/CapsuleContact.h"
 
 #include <gtest/gtest.h>
 

@@ -10,8 +10,8 @@
 #include <limits>
 #include <string>
 
-#include "CapsuleContact.h"
-#include "SegmentTriangleDistance.h"
+#include "collision/CapsuleContact.h"
+#include "collision/SegmentTriangleDistance.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim {

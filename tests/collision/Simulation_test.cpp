@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "CapsuleContact.h"
+#include "collision/CapsuleContact.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/RealTimeLoop.h"

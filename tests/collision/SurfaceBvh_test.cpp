@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SurfaceBvh.h"
+#include "collision/SurfaceBvh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 // and stresses, each loading branch rising and each unloading one falling, or a TestDataError.
 #include <cmath>
 
-#include "FuzzInput.h"
 #include "analysis/TensileTestData.h"
+#include "fuzz/FuzzInput.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tissuesim;

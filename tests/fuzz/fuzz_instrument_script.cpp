@@ -2,7 +2,7 @@
 // The instrument script's parser: any bytes give a script or its one-line error.
 #include <stdexcept>
 
-#include "FuzzInput.h"
+#include "fuzz/FuzzInput.h"
 #include "sim/InstrumentScript.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The session recording's reader: any bytes give a recording or its one-line error.
-#include "FuzzInput.h"
+#include "fuzz/FuzzInput.h"
 #include "sim/SessionRecording.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The scene file's parser: any bytes give a scene or a SceneFileError.
-#include "FuzzInput.h"
+#include "fuzz/FuzzInput.h"
 #include "sim/SceneFile.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -5,7 +5,7 @@
 // back to the caller is only ever one of the two.
 #include <array>
 
-#include "FuzzInput.h"
+#include "fuzz/FuzzInput.h"
 #include "mesh/SurfaceReader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

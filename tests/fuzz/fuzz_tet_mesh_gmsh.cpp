@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The Gmsh .msh reader (versions 1, 2.2 and 4.1, ASCII): any bytes give a mesh or a
 // MeshFileError.
-#include "FuzzInput.h"
+#include "fuzz/FuzzInput.h"
 #include "mesh/TetMeshFile.h"
 #include "mesh/TriangleSurface.h"
 

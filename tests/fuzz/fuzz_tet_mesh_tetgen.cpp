@@ -3,7 +3,7 @@
 // any bytes give a mesh or a MeshFileError.
 #include <algorithm>
 
-#include "FuzzInput.h"
+#include "fuzz/FuzzInput.h"
 #include "mesh/TetMeshFile.h"
 #include "mesh/TriangleSurface.h"
 

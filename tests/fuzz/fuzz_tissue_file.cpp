@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string_view>
 
-#include "FuzzInput.h"
+#include "fuzz/FuzzInput.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/TissueFile.h"

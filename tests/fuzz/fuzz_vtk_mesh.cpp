@@ -4,8 +4,8 @@
 // and as a tet mesh, give a mesh whose indices are in range or a MeshFileError.
 #include <array>
 
-#include "FuzzInput.h"
-#include "VtkMeshFiles.h"
+#include "fuzz/FuzzInput.h"
+#include "render/VtkMeshFiles.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tissuesim;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "SurfacePolyData.h"
+#include "render/SurfacePolyData.h"
 
 #include <stdexcept>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The ParaView export: what is written reads back as the state that was written.
-#include "TimeSeriesExport.h"
+#include "render/TimeSeriesExport.h"
 
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "VtkMeshFiles.h"
+#include "render/VtkMeshFiles.h"
 #include "sim/SceneFile.h"
 #include "sim/Simulation.h"
 #include "springs/NodeStretch.h"

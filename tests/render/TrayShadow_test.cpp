@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "TrayShadow.h"
+#include "render/TrayShadow.h"
 
 #include <gtest/gtest.h>
 
 #include <vtkUnsignedCharArray.h>
 
-#include "MottledColour.h"
+#include "render/MottledColour.h"
 
 namespace tissuesim {
 namespace {

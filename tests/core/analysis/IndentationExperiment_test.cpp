@@ -10,9 +10,9 @@
 
 #include <gtest/gtest.h>
 
-#include "TestSystems.h"
 #include "fem/FemModel.h"
 #include "forces/CapsulePenalty.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

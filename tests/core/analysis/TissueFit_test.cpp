@@ -6,9 +6,9 @@
 #include <cmath>
 #include <random>
 
-#include "TestTissues.h"
 #include "analysis/TensileTestData.h"
 #include "material/TissueFile.h"
+#include "support/TestTissues.h"
 
 namespace tissuesim {
 namespace {

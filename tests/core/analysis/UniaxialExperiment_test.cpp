@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "TestTissues.h"
 #include "analysis/GoodnessOfFit.h"
+#include "support/TestTissues.h"
 
 namespace tissuesim {
 namespace {

@@ -9,13 +9,13 @@
 
 #include <gtest/gtest.h>
 
-#include "TestSystems.h"
 #include "analysis/FemTensileExperiment.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/UniaxialModel.h"
 #include "fem/FemStaticSolver.h"
 #include "fem/IsochoricMaterialPoint.h"
 #include "mesh/BlockMesher.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

@@ -12,10 +12,10 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "TestSystems.h"
 #include "fem/IsochoricMaterialPoint.h"
 #include "mesh/BlockMesher.h"
 #include "numerics/NodeBlockMatrix.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

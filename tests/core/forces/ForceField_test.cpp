@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "TestSystems.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

@@ -9,12 +9,12 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 
-#include "TestSystems.h"
 #include "integrators/ImplicitEulerSolver.h"
 #include "integrators/QuasiNewtonSolver.h"
 #include "integrators/SymplecticEulerSolver.h"
 #include "parallel/ForkJoinPool.h"
 #include "parallel/NodeRanges.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

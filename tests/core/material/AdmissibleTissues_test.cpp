@@ -8,11 +8,11 @@
 
 #include <gtest/gtest.h>
 
-#include "AdmittedTissueCorners.h"
 #include "material/StiffnessTable.h"
 #include "material/StrainEnergy.h"
 #include "material/TissueFile.h"
 #include "springs/SpringForceLaw.h"
+#include "support/AdmittedTissueCorners.h"
 
 namespace tissuesim {
 namespace {

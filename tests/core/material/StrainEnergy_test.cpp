@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "TestTissues.h"
+#include "support/TestTissues.h"
 
 namespace tissuesim {
 namespace {

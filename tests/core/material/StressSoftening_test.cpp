@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "TestTissues.h"
 #include "material/StrainEnergy.h"
+#include "support/TestTissues.h"
 
 namespace tissuesim {
 namespace {

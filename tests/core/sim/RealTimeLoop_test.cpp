@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sim/ContactProvider.h"
+#include "forces/ContactProvider.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim {

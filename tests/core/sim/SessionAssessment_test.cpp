@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "TestSystems.h"
 #include "mesh/BlockMesher.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "TestSystems.h"
 #include "integrators/ImplicitEulerSolver.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 
-#include "TestSystems.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "TestSystems.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

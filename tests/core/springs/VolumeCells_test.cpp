@@ -7,10 +7,10 @@
 #include <random>
 #include <set>
 
-#include "TestSystems.h"
 #include "mesh/BlockMesher.h"
 #include "springs/SpringMesh.h"
 #include "springs/VolumeForceField.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

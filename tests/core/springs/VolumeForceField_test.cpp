@@ -8,9 +8,9 @@
 #include <map>
 #include <utility>
 
-#include "TestSystems.h"
 #include "mesh/BlockMesher.h"
 #include "parallel/NodeRanges.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

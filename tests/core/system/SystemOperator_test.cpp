@@ -14,9 +14,9 @@
 
 #include <gtest/gtest.h>
 
-#include "TestSystems.h"
 #include "integrators/ImplicitEulerSolver.h"
 #include "parallel/ForkJoinPool.h"
+#include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {

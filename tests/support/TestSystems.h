@@ -7,11 +7,11 @@
 #include <memory>
 #include <random>
 
-#include "TestTissues.h"
 #include "material/StiffnessTable.h"
 #include "mesh/BlockMesher.h"
 #include "springs/SpringForceLaw.h"
 #include "springs/SpringMesh.h"
+#include "support/TestTissues.h"
 #include "system/MechanicalSystem.h"
 
 namespace tissuesim::test {
