@@ -28,6 +28,7 @@
 #include "mesh/TetMesh.h"
 #include "render/MottledColour.h"
 #include "render/TrayShadow.h"
+#include "sim/SessionAssessment.h"
 #include "springs/NodeStretch.h"
 
 namespace tissuesim {
@@ -204,20 +205,13 @@ void TissueSceneView::buildDamageOverlay() {
   m_renderer->AddActor(m_damageOutlineActor);
 }
 
-void TissueSceneView::updateDamage(const std::vector<std::uint8_t>& damagedSprings) {
-  m_nodeDamage.setZero();
-  const auto springCount = std::min<Eigen::Index>(m_springs.springCount(),
-                                                  static_cast<Eigen::Index>(damagedSprings.size()));
-  for (Eigen::Index s = 0; s < springCount; ++s) {
-    if (damagedSprings[static_cast<std::size_t>(s)] == 0) continue;
-    m_nodeDamage[m_springs.springs(0, s)] = 1.0;
-    m_nodeDamage[m_springs.springs(1, s)] = 1.0;
-  }
+void TissueSceneView::setSurfaceValues(const Eigen::VectorXd& nodeValues,
+                                       vtkDoubleArray* surfaceValues) {
   const bool isEmbedded = m_geometry.surface && m_geometry.embedding;
-  if (isEmbedded) m_geometry.embedding->interpolate(m_nodeDamage, m_vertexDamage);
-  const Eigen::VectorXd& values = isEmbedded ? m_vertexDamage : m_nodeDamage;
-  for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) m_surfaceDamage->SetValue(v, values[v]);
-  m_surfaceDamage->Modified();
+  if (isEmbedded) m_geometry.embedding->interpolate(nodeValues, m_vertexValues);
+  const Eigen::VectorXd& values = isEmbedded ? m_vertexValues : nodeValues;
+  for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) surfaceValues->SetValue(v, values[v]);
+  surfaceValues->Modified();
 }
 
 void TissueSceneView::buildSprings() {
@@ -303,12 +297,12 @@ void TissueSceneView::update(const Eigen::Matrix3Xd& x, const InstrumentPose& po
   setPoints(m_surface->GetPoints(), m_surfaceX);
   if (m_isColourMap) {
     nodeStretch(m_springs, x, m_nodeStretch);
-    if (isEmbedded) m_geometry.embedding->interpolate(m_nodeStretch, m_vertexStretch);
-    const Eigen::VectorXd& values = isEmbedded ? m_vertexStretch : m_nodeStretch;
-    for (Eigen::Index v = 0; v < m_surfaceX.cols(); ++v) m_surfaceStretch->SetValue(v, values[v]);
-    m_surfaceStretch->Modified();
+    setSurfaceValues(m_nodeStretch, m_surfaceStretch);
   }
-  if (m_isDamageOverlay && damagedSprings != nullptr) updateDamage(*damagedSprings);
+  if (m_isDamageOverlay && damagedSprings != nullptr) {
+    damagedNodes(m_springs, *damagedSprings, m_nodeDamage);
+    setSurfaceValues(m_nodeDamage, m_surfaceDamage);
+  }
   m_surface->Modified();
   m_tray->update(m_surfaceX, pose.tip_m, pose.direction,
                  m_instrument != nullptr ? m_instrument->shaftRadius_m : 0.0,

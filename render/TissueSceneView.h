@@ -82,8 +82,9 @@ class TissueSceneView {
   void buildSprings();
   void buildInstrument();
   void buildDamageOverlay();
-  /// The damage field on the drawn surface (0 or 1 per node, interpolated), from the springs.
-  void updateDamage(const std::vector<std::uint8_t>& damagedSprings);
+  /// Per-node values (#V) onto a per-vertex array of the drawn surface, through the embedding's
+  /// weights (the tet mesh's boundary without one: the values as they are).
+  void setSurfaceValues(const Eigen::VectorXd& nodeValues, vtkDoubleArray* surfaceValues);
   /// The surface's scalars from the colour map and overlay switches.
   void updateSurfaceColouring();
   void buildTray(const SceneTray* tray);
@@ -112,11 +113,10 @@ class TissueSceneView {
   vtkSmartPointer<vtkActor> m_tipActor;
   std::unique_ptr<TrayShadow> m_tray;
 
-  Eigen::Matrix3Xd m_surfaceX;      ///< scratch: surface vertices (m)
-  Eigen::VectorXd m_nodeStretch;    ///< scratch: per tet node
-  Eigen::VectorXd m_vertexStretch;  ///< scratch: per drawn vertex
-  Eigen::VectorXd m_nodeDamage;     ///< scratch: per tet node
-  Eigen::VectorXd m_vertexDamage;   ///< scratch: per drawn vertex
+  Eigen::Matrix3Xd m_surfaceX;     ///< scratch: surface vertices (m)
+  Eigen::VectorXd m_nodeStretch;   ///< scratch: per tet node
+  Eigen::VectorXd m_nodeDamage;    ///< scratch: per tet node
+  Eigen::VectorXd m_vertexValues;  ///< scratch: per drawn vertex
   bool m_isColourMap = false;
   bool m_isDamageOverlay = false;
   bool m_isWireframe = false;

@@ -149,12 +149,15 @@ AssessmentSummary SessionAssessment::summary() const {
   return summary;
 }
 
-void SessionAssessment::nodeDamage(Eigen::VectorXd& damage) const {
-  damage.setZero(m_mesh.nodeCount());
-  for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
-    if (m_isDamaged[static_cast<std::size_t>(s)] == 0) continue;
-    damage[m_mesh.springs(0, s)] = 1.0;
-    damage[m_mesh.springs(1, s)] = 1.0;
+void damagedNodes(const SpringMesh& mesh, const std::vector<std::uint8_t>& damagedSprings,
+                  Eigen::VectorXd& damage) {
+  damage.setZero(mesh.nodeCount());
+  const auto springs =
+      std::min<Eigen::Index>(mesh.springCount(), static_cast<Eigen::Index>(damagedSprings.size()));
+  for (Eigen::Index s = 0; s < springs; ++s) {
+    if (damagedSprings[static_cast<std::size_t>(s)] == 0) continue;
+    damage[mesh.springs(0, s)] = 1.0;
+    damage[mesh.springs(1, s)] = 1.0;
   }
 }
 

@@ -79,8 +79,6 @@ class SessionAssessment {
   AssessmentSummary summary() const;
   /// #S: 1 where the spring is damaged, else 0 (what the damage overlay draws).
   const std::vector<std::uint8_t>& damagedSprings() const { return m_isDamaged; }
-  /// Per node (#V, overwritten): 1 where any spring at the node is damaged, else 0.
-  void nodeDamage(Eigen::VectorXd& damage) const;
 
  private:
   Eigen::Index partStart(int part) const { return m_mesh.springCount() * part / kParts; }
@@ -105,5 +103,10 @@ class SessionAssessment {
   double m_damagedVolume_m3 = 0.0;
   Eigen::Vector3d m_lastTip_m = Eigen::Vector3d::Zero();
 };
+
+/// Per node (damage: #V, overwritten): 1 where any spring of `mesh` at the node is damaged in
+/// `damagedSprings` (#S, SessionAssessment::damagedSprings()), else 0.
+void damagedNodes(const SpringMesh& mesh, const std::vector<std::uint8_t>& damagedSprings,
+                  Eigen::VectorXd& damage);
 
 }  // namespace tissuesim

@@ -8,7 +8,6 @@
 #include <utility>
 
 #include "analysis/NetworkCalibration.h"
-#include "analysis/TensileExperiment.h"
 #include "analysis/UniaxialExperiment.h"
 #include "integrators/ImplicitEulerSolver.h"
 #include "integrators/IntegratorChoice.h"

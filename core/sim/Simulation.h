@@ -118,10 +118,8 @@ class Simulation {
   const char* latestEventKind() const { return m_latestEventKind; }
   /// The instrument pose used by the last step (the scene's start pose before any).
   InstrumentPose instrumentPose() const { return m_pose; }
-  /// The session so far (since the start, the last reset or restartAssessment()).
+  /// The session so far (since the start or the last reset).
   const SessionAssessment& assessment() const { return *m_assessment; }
-  /// A new session for the assessment alone (the organ stays as it is).
-  void restartAssessment() { m_assessment->restart(m_pose.tip_m); }
   /// Nodes the grasper holds now (empty without an instrument or with open jaws).
   std::vector<int> heldNodes() const { return m_grasp ? m_grasp->heldNodes() : std::vector<int>{}; }
 
