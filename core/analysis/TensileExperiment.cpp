@@ -11,6 +11,7 @@
 #include "integrators/QuasiNewtonSolver.h"
 #include "integrators/SymplecticEulerSolver.h"
 #include "mesh/BlockMesher.h"
+#include "springs/SmallStrainCalibration.h"
 #include "springs/SpringMesh.h"
 
 namespace tissuesim {
@@ -195,31 +196,15 @@ std::vector<CurveBranch> TensileExperiment::run(const TensileOptions& options,
 
 double TensileExperiment::smallStrainCalibration(double initialShearModulus_Pa,
                                                  double bulkModulus_Pa) const {
-  TensileOptions options;
-  options.isSoftening = false;
-  options.bulkModulus_Pa = bulkModulus_Pa;
-  const double strain = 1e-4;
-  const double target_Pa = 3.0 * initialShearModulus_Pa;
-  const auto modulus = [&](double scale) {
-    options.volumeScale = scale;
-    return run(options, {{1.0 + strain}, 2}).front().stress_Pa.back() / strain;
-  };
-  double scale = target_Pa / modulus(1.0);
-  if (bulkModulus_Pa <= 0.0) return scale;
-  // E(c) rises monotonically and smoothly with c: secant steps on E(c) = 3 mu0 from the springs'
-  // estimate and one fixed-point step c 3 mu0 / E(c) beyond it.
-  double previous = scale;
-  double previousError = modulus(previous) - target_Pa;
-  scale = previous * target_Pa / (previousError + target_Pa);
-  for (int iteration = 0; iteration < 30; ++iteration) {
-    const double error = modulus(scale) - target_Pa;
-    if (std::abs(error) < 1e-6 * target_Pa || error == previousError) break;
-    const double next = scale - error * (scale - previous) / (error - previousError);
-    previous = scale;
-    previousError = error;
-    scale = next > 0.0 ? next : 0.5 * scale;
-  }
-  return scale;
+  const TissueParameters& parameters = m_energy.parameters();
+  const SpringMesh mesh =
+      buildSpringMesh(makeTensileSpecimenMesh(m_specimen), parameters.density_kg_m3);
+  UniaxialGrips grips;
+  grips.isFixed = tensileGripDofs(mesh.restPositions_m, m_specimen.size_m, grips.movingNodes);
+  grips.length_m = m_specimen.size_m.x();
+  grips.section_m2 = m_specimen.size_m.y() * m_specimen.size_m.z();
+  const SpringForceLaw law(SpringLaw::Eesm, m_table, parameters, 0.0, false);
+  return smallStrainStiffnessScale(mesh, law, bulkModulus_Pa, grips, 3.0 * initialShearModulus_Pa);
 }
 
 double TensileExperiment::volumeTermCalibration(double initialShearModulus_Pa,

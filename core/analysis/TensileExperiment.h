@@ -73,10 +73,9 @@ class TensileExperiment {
                                TensilePointStats* stats = nullptr) const;
 
   /// The stiffness correction for the network's missing Poisson effect: the factor c on every
-  /// V_e that gives the specimen (springs, and the volume term of bulkModulus_Pa when > 0) the
-  /// continuum's small-strain modulus 3 mu0, measured by one small stretch of this mesh.
-  /// Springs alone are linear in c, so one stretch gives it; with the volume term (which c does
-  /// not scale) the modulus E(c) is not, and E(c) = 3 mu0 is solved by secant steps to 1e-6.
+  /// V_e that gives this specimen in its grips (springs under the eesm law, and the volume term
+  /// of bulkModulus_Pa when > 0) the continuum's small-strain modulus 3 mu0: the pure function
+  /// springs/SmallStrainCalibration on the linearised network at rest.
   double smallStrainCalibration(double initialShearModulus_Pa, double bulkModulus_Pa = 0.0) const;
 
   /// The calibration with the volume term of bulkModulus_Pa in place (> 0): the springs' own

@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "system/MechanicalSystem.h"
 
-#include <algorithm>
-#include <cstdint>
-
 #include "parallel/NodeRanges.h"
+#include "springs/StiffnessCouplings.h"
 
 namespace tissuesim {
 
@@ -31,29 +29,8 @@ void MechanicalSystem::prepareProducts(const ForceField::PartBounds& bounds) {
 }
 
 NodeBlockMatrix MechanicalSystem::makeMatrix() const {
-  const Eigen::Matrix2Xi& springs = mesh().springs;
-  if (m_volume == nullptr) return NodeBlockMatrix(mesh().nodeCount(), springs);
-  const auto key = [](int a, int b) {
-    return static_cast<std::uint64_t>(std::min(a, b)) << 32 |
-           static_cast<std::uint64_t>(std::max(a, b));
-  };
-  std::vector<std::uint64_t> springKeys;
-  springKeys.reserve(static_cast<std::size_t>(springs.cols()));
-  for (Eigen::Index s = 0; s < springs.cols(); ++s)
-    springKeys.push_back(key(springs(0, s), springs(1, s)));
-  std::sort(springKeys.begin(), springKeys.end());
-  const Eigen::Matrix2Xi cellPairs = m_volume->cells().nodePairs();
-  std::vector<Eigen::Index> extra;
-  for (Eigen::Index p = 0; p < cellPairs.cols(); ++p) {
-    if (!std::binary_search(springKeys.begin(), springKeys.end(),
-                            key(cellPairs(0, p), cellPairs(1, p))))
-      extra.push_back(p);
-  }
-  Eigen::Matrix2Xi edges(2, springs.cols() + static_cast<Eigen::Index>(extra.size()));
-  edges.leftCols(springs.cols()) = springs;
-  for (std::size_t k = 0; k < extra.size(); ++k)
-    edges.col(springs.cols() + static_cast<Eigen::Index>(k)) = cellPairs.col(extra[k]);
-  return NodeBlockMatrix(mesh().nodeCount(), edges);
+  return NodeBlockMatrix(mesh().nodeCount(),
+                         stiffnessCouplings(mesh(), m_volume ? &m_volume->cells() : nullptr));
 }
 
 MechanicalState MechanicalSystem::restState() const {
