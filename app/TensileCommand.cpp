@@ -58,7 +58,40 @@ Eigen::Vector3d parseSize(const std::string& text) {
 SpringLaw parseLaw(const std::string& name) {
   if (const std::optional<SpringLaw> law = springLawNamed(name)) return *law;
   throw CommandError("unknown --model '" + name +
-                     "'; expected one of eesm, eesm-paper, smm (spring laws) or fem");
+                     "'; expected one of eesm, eesm-paper, smm (spring laws), tets or fem");
+}
+
+/// The bulk modulus a continuum model (fem, tets) runs with: the one given, else the FEM's.
+double continuumBulkModulus(const TensileCommandOptions& options, const LoadedTissue& tissue) {
+  return options.bulkModulus_kPa > 0.0 ? options.bulkModulus_kPa * 1000.0
+                                       : defaultFemBulkModulus(tissue.energy);
+}
+
+/// A hyperelastic model's loading branches against sedf's virgin curve at the same stretches
+/// (it has no softening, so sedf's softened branches are not what it stands for), on stderr.
+void printVirginFit(const char* model, const std::vector<CurveBranch>& curve,
+                    const StrainEnergy& energy, const std::vector<double>& lambdaMax) {
+  std::fprintf(stderr, "%-11s %-28s %12s\n", "model", "branch", "R^2 virgin");
+  for (std::size_t b = 0; b < curve.size(); b += 2) {
+    std::vector<double> virgin;
+    for (const double lambda : curve[b].stretch) virgin.push_back(energy.stress(lambda));
+    char branch[64];
+    std::snprintf(branch, sizeof branch, "cycle %d (lambda_max %.3f)", curve[b].cycle,
+                  lambdaMax[static_cast<std::size_t>(curve[b].cycle - 1)]);
+    std::fprintf(stderr, "%-11s %-28s %11.4f%%\n", model, branch,
+                 100.0 * coefficientOfDetermination(virgin, curve[b].stress_Pa));
+  }
+}
+
+void writeCurveAndPlot(const TensileCommandOptions& options, const LoadedTissue& tissue,
+                       const char* model, std::vector<CurveBranch> curve,
+                       const std::vector<CurveBranch>& reference) {
+  writeCurveCsv(options.outputPath, curve);
+  if (!options.plotPath.empty()) {
+    std::vector<std::pair<std::string, std::vector<CurveBranch>>> plotted;
+    plotted.emplace_back(model, std::move(curve));
+    writeCurvePlot(options.plotPath, tissue.parameters.name + ": tensile test", plotted, reference);
+  }
 }
 
 /// The FEM reference (fem/FemModel.h) through the same specimen and protocol: hyperelastic, so
@@ -66,9 +99,7 @@ SpringLaw parseLaw(const std::string& name) {
 void runFemTensile(const TensileCommandOptions& options, const LoadedTissue& tissue,
                    const UniaxialProtocol& protocol, const std::vector<CurveBranch>& reference) {
   const TensileSpecimen specimen{parseSize(options.size), options.resolution};
-  const double bulkModulus_Pa = options.bulkModulus_kPa > 0.0
-                                    ? options.bulkModulus_kPa * 1000.0
-                                    : defaultFemBulkModulus(tissue.energy);
+  const double bulkModulus_Pa = continuumBulkModulus(options, tissue);
   std::fprintf(stderr,
                "tensile: %.4g x %.4g x %.4g mm, %d cells across the thickness, FEM (quadratic "
                "tets, mean dilatation), bulk modulus %.4g kPa, no softening\n",
@@ -84,34 +115,52 @@ void runFemTensile(const TensileCommandOptions& options, const LoadedTissue& tis
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // Against sedf's virgin curve at the same stretches: the FEM has no softening, so sedf's
-  // reloading and unloading branches (softened) are not what it stands for.
-  std::fprintf(stderr, "%-11s %-28s %12s\n", "model", "branch", "R^2 virgin");
-  for (std::size_t b = 0; b < curve.size(); b += 2) {
-    std::vector<double> virgin;
-    for (const double lambda : curve[b].stretch) virgin.push_back(tissue.energy.stress(lambda));
-    char branch[64];
-    std::snprintf(branch, sizeof branch, "cycle %d (lambda_max %.3f)", curve[b].cycle,
-                  options.lambdaMax[static_cast<std::size_t>(curve[b].cycle - 1)]);
-    std::fprintf(stderr, "%-11s %-28s %11.4f%%\n", "fem", branch,
-                 100.0 * coefficientOfDetermination(virgin, curve[b].stress_Pa));
-  }
+  printVirginFit("fem", curve, tissue.energy, options.lambdaMax);
   std::fprintf(stderr,
                "fem         %d nodes, %d quadratic tets; max |net force| %.2g N (worst %d "
                "iterations), %d unconverged points; volume ratio %.5f to %.5f; %.2f s\n",
                stats.nodes, stats.elements, stats.worstResidual_N, stats.worstIterations,
                stats.unconvergedPoints, stats.minVolumeRatio, stats.maxVolumeRatio, seconds);
-  writeCurveCsv(options.outputPath, curve);
-  if (!options.plotPath.empty()) {
-    std::vector<std::pair<std::string, std::vector<CurveBranch>>> plotted;
-    plotted.emplace_back("fem", std::move(curve));
-    writeCurvePlot(options.plotPath, tissue.parameters.name + ": tensile test", plotted, reference);
+  writeCurveAndPlot(options, tissue, "fem", std::move(curve), reference);
+}
+
+/// The lattice FEM (a scene's effects.model fem: the isochoric energy in each of the lattice's
+/// linear tets, the volume term per cube its volumetric part) through the springs' specimen.
+void runTetsTensile(const TensileCommandOptions& options, const LoadedTissue& tissue,
+                    const UniaxialProtocol& protocol, const std::vector<CurveBranch>& reference) {
+  const TensileSpecimen specimen{parseSize(options.size), options.resolution};
+  TensileOptions run;
+  run.model = LatticeModel::IsochoricTets;
+  run.bulkModulus_Pa = continuumBulkModulus(options, tissue);
+  std::fprintf(stderr,
+               "tensile: %.4g x %.4g x %.4g mm, %d cells across the thickness, FEM on the "
+               "lattice (linear tets, the volume term per cube), bulk modulus %.4g kPa, no "
+               "softening\n",
+               specimen.size_m.x() * 1e3, specimen.size_m.y() * 1e3, specimen.size_m.z() * 1e3,
+               specimen.cellsAcrossThickness, run.bulkModulus_Pa / 1000.0);
+  TensilePointStats stats;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<CurveBranch> curve;
+  try {
+    curve = TensileExperiment(tissue.energy, tissue.table, specimen).run(run, protocol, &stats);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
   }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  printVirginFit("tets", curve, tissue.energy, options.lambdaMax);
+  std::fprintf(stderr,
+               "tets        %d nodes, %d tets; max |net force| %.2g N, %.2g per N of grip force "
+               "(worst %d iterations), %d unconverged points; %.2f s\n",
+               stats.nodes, stats.tets, stats.worstResidual_N, stats.worstRelativeResidual,
+               stats.worstIterations, stats.unconvergedPoints, seconds);
+  writeCurveAndPlot(options, tissue, "tets", std::move(curve), reference);
 }
 
 void runTensile(const TensileCommandOptions& options) {
   const bool isFem = options.modelName == "fem";
-  const SpringLaw law = isFem ? SpringLaw::Eesm : parseLaw(options.modelName);
+  const bool isTets = options.modelName == "tets";
+  const SpringLaw law = isFem || isTets ? SpringLaw::Eesm : parseLaw(options.modelName);
   if (options.calibration != "simulator" && options.calibration != "small-strain" &&
       options.calibration != "with-volume" && options.calibration != "none") {
     throw CommandError("unknown --calibration '" + options.calibration +
@@ -136,11 +185,17 @@ void runTensile(const TensileCommandOptions& options) {
   const UniaxialProtocol protocol{options.lambdaMax, options.points};
   tissue.validate(protocol);
   const std::vector<CurveBranch> reference = tissue.continuum.run(UniaxialModel::Sedf, protocol);
-  if (isFem) {
-    if (options.isComparing)
-      throw CommandError("--compare is for the spring laws, not --model fem");
-    if (integrator != "static") throw CommandError("--model fem runs static equilibria only");
-    runFemTensile(options, tissue, protocol, reference);
+  if (isFem || isTets) {
+    const std::string model = "--model " + options.modelName;
+    if (options.isComparing) throw CommandError("--compare is for the spring laws, not " + model);
+    if (integrator != "static") throw CommandError(model + " runs static equilibria only");
+    if (options.calibration != "simulator")
+      throw CommandError("--calibration is for the spring laws, not " + model);
+    if (isFem) {
+      runFemTensile(options, tissue, protocol, reference);
+    } else {
+      runTetsTensile(options, tissue, protocol, reference);
+    }
     return;
   }
 
@@ -221,8 +276,10 @@ void registerTensileCommand(CLI::App& app) {
   command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")->required();
   command
       ->add_option("--model", options->modelName,
-                   "Spring law (eesm, eesm-paper, smm) or fem: the finite-element reference "
-                   "(quadratic tets, mean dilatation; hyperelastic, no softening)")
+                   "Spring law (eesm, eesm-paper, smm); tets: the FEM on the springs' lattice "
+                   "(linear tets, the volume term per cube; a scene's effects.model fem); or fem: "
+                   "the finite-element reference (quadratic tets, mean dilatation). tets and fem "
+                   "are hyperelastic, with no softening")
       ->capture_default_str();
   command
       ->add_option("--lambda-max", options->lambdaMax,
@@ -252,8 +309,9 @@ void registerTensileCommand(CLI::App& app) {
       ->capture_default_str();
   command
       ->add_option("--bulk-modulus-kpa", options->bulkModulus_kPa,
-                   "Volume term's bulk modulus in kPa (0: off); with --model fem, the FEM's "
-                   "(0: its default, 200 times the tissue's stiffest tangent up to lambda 1.3)")
+                   "Volume term's bulk modulus in kPa (0: off); with --model tets or fem, the "
+                   "model's (0: the FEM's default, 200 times the tissue's stiffest tangent up to "
+                   "lambda 1.3)")
       ->capture_default_str();
   command->add_flag("--no-softening", options->isSofteningOff, "Turn the Mullins effect off");
   command->add_flag("--compare", options->isComparing,

@@ -70,7 +70,8 @@ struct TradeMeasurement {
   double surfaceRms_mm = 0.0;
   double surfaceMax_mm = 0.0;
   int failedSteps = 0;  ///< at the pace: refused or non-finite steps
-  // The tensile test (spring rows): the lowest loading and unloading R^2 over the cycles.
+  // The tensile test (the lattice rows): the lowest loading and unloading R^2 over the cycles
+  // (the tets: loading against the virgin curve, no unloading).
   double tensileLoadingR2 = 0.0;
   double tensileUnloadingR2 = 0.0;
   std::string failure;  ///< what stopped the row, when something did

@@ -44,9 +44,12 @@ std::string quoted(const std::string& text) {
 std::string depthLabel(double depth_m) { return format("%g", depth_m * 1e3); }
 
 bool isFem(const TradeMap& map, std::size_t row) { return map.rows[row].femRefinement > 0; }
-/// Whether the row has a tensile R^2: the spring rows (the tensile test is the springs').
-bool hasTensile(const TradeMap& map, std::size_t row) {
-  return !isFem(map, row) && map.rows[row].model == "springs";
+/// Whether the row has a tensile R^2: the lattice's rows, springs and tets (the FEM
+/// reference's own is `tensile --model fem`).
+bool hasTensile(const TradeMap& map, std::size_t row) { return !isFem(map, row); }
+/// Whether it has an unloading R^2 too: the springs' (the tets have no softening).
+bool hasUnloadingTensile(const TradeMap& map, std::size_t row) {
+  return hasTensile(map, row) && map.rows[row].model == "springs";
 }
 
 /// The machine, in a line: its processor and thread count.
@@ -164,7 +167,7 @@ std::string tradeCsv(const TradeMap& map) {
          {format("%.2f", worstError(map, r)), format("%.4f", m.surfaceRms_mm),
           format("%.4f", m.surfaceMax_mm),
           hasTensile(map, r) ? format("%.6f", m.tensileLoadingR2) : "",
-          hasTensile(map, r) ? format("%.6f", m.tensileUnloadingR2) : "",
+          hasUnloadingTensile(map, r) ? format("%.6f", m.tensileUnloadingR2) : "",
           std::to_string(m.failedSteps), std::string(isOnFront ? "1" : "0"), quoted(m.failure)}) {
       fields.push_back(std::move(field));
     }
@@ -243,9 +246,11 @@ std::string tradeMarkdown(const TradeMap& map) {
        << joined(forceErrors(m.paceForce_N, map.reference.force_N), "%+.0f")
        << (m.failedSteps > 0 ? " (" + std::to_string(m.failedSteps) + " steps failed)" : "")
        << " | " << surface << " | "
-       << (hasTensile(map, r) ? format("%.2f", 100.0 * m.tensileLoadingR2) + " / " +
-                                    format("%.2f", 100.0 * m.tensileUnloadingR2)
-                              : std::string("-"))
+       << (hasTensile(map, r)
+               ? format("%.2f", 100.0 * m.tensileLoadingR2) + " / " +
+                     (hasUnloadingTensile(map, r) ? format("%.2f", 100.0 * m.tensileUnloadingR2)
+                                                  : std::string("- (virgin; no softening)"))
+               : std::string("-"))
        << " |\n";
   }
   md << "\nForce errors at " << joined(depths_mm, "%g")

@@ -25,6 +25,7 @@
 
 #include <Eigen/Core>
 
+#include "analysis/LatticeModel.h"
 #include "forces/ContactProvider.h"
 #include "integrators/TimeIntegrator.h"
 #include "material/StiffnessTable.h"
@@ -59,10 +60,6 @@ struct IndentationCurve {
   std::vector<Eigen::Vector3d> surfaceDisplacement_m;
   int failedSteps = 0;  ///< at a pace: steps refused or not finite (their state not advanced)
 };
-
-/// What carries the lattice's elasticity: its springs, or the tissue's isochoric energy in each
-/// tet with the volume term per cube as its volumetric part (fem/TetIsochoricForceField.h).
-enum class LatticeModel { Springs, IsochoricTets };
 
 /// The network's knobs: its lattice's cube edge, its model, its spring law and its volume term.
 struct IndentationNetwork {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "fem/TetIsochoricForceField.h"
 #include "integrators/ImplicitEulerSolver.h"
 #include "integrators/QuasiNewtonSolver.h"
 #include "integrators/SymplecticEulerSolver.h"
@@ -100,16 +101,29 @@ std::vector<CurveBranch> TensileExperiment::run(const TensileOptions& options,
                                                 TensilePointStats* stats) const {
   UniaxialExperiment(m_energy, m_table).validate(protocol);
   const TissueParameters& parameters = m_energy.parameters();
+  const bool isTets = options.model == LatticeModel::IsochoricTets;
+  if (isTets && !(options.bulkModulus_Pa > 0.0)) {
+    throw std::invalid_argument(
+        "the isochoric tets need the volume term for their volumetric part (a bulk modulus > 0)");
+  }
   Specimen specimen = buildSpecimen(m_specimen, parameters.density_kg_m3);
-  specimen.mesh.volume_m3 *= options.volumeScale;
+  // With the tets, the springs stay for the mesh's structure and carry nothing (as a scene's
+  // effects.model fem has them).
+  specimen.mesh.volume_m3 *= isTets ? 0.0 : options.volumeScale;
   const SpringForceLaw law(options.law, m_table, parameters, options.linearModulus_Pa,
-                           options.isSoftening);
+                           options.isSoftening && !isTets);
   SpringForceField springs(specimen.mesh, law);
   std::unique_ptr<VolumeForceField> volume;
   if (options.bulkModulus_Pa > 0.0) {
     volume = std::make_unique<VolumeForceField>(specimen.mesh, options.bulkModulus_Pa);
   }
   MechanicalSystem system(springs, volume.get());
+  std::unique_ptr<TetIsochoricForceField> tets;
+  if (isTets) {
+    tets = std::make_unique<TetIsochoricForceField>(specimen.mesh.restPositions_m,
+                                                    specimen.mesh.tets, m_energy);
+    system.addField(*tets);
+  }
   const std::vector<char> grips =
       tensileGripDofs(specimen.mesh.restPositions_m, m_specimen.size_m, specimen.movingNodes);
   for (std::size_t d = 0; d < grips.size(); ++d) {
@@ -143,6 +157,7 @@ std::vector<CurveBranch> TensileExperiment::run(const TensileOptions& options,
   double lastReaction_N = 0.0;
   TensilePointStats localStats;
   localStats.springs = static_cast<int>(specimen.mesh.springCount());
+  localStats.tets = static_cast<int>(specimen.mesh.tets.cols());
   localStats.nodes = static_cast<int>(specimen.mesh.nodeCount());
 
   std::vector<CurveBranch> branches = protocolStretches(protocol);
@@ -180,10 +195,15 @@ std::vector<CurveBranch> TensileExperiment::run(const TensileOptions& options,
       localStats.unconvergedPoints += report.converged ? 0 : 1;
       if (!integrator) springs.commitStretchHistory(state.x);
 
-      // Reaction at the moving grip: minus the springs' (and volume term's) pull on its nodes.
+      // Reaction at the moving grip: minus the springs' (and volume term's, and tets') pull on
+      // its nodes.
       internal.setZero();
       springs.addForces(state.x, internal);
       if (volume) volume->addForces(state.x, internal, nullptr);
+      if (tets) {
+        ForceReport ignored;
+        tets->addForces(state.x, internal, ForcePass{}, ignored);
+      }
       double reaction = 0.0;
       for (const int node : specimen.movingNodes) reaction -= internal(0, node);
       branch.stress_Pa.push_back(reaction / specimen.section_m2);

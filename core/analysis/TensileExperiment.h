@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/LatticeModel.h"
 #include "analysis/UniaxialExperiment.h"
 #include "mesh/TetMesh.h"
 #include "springs/SpringForceLaw.h"
@@ -41,6 +42,9 @@ std::vector<char> tensileGripDofs(const Eigen::Matrix3Xd& rest, const Eigen::Vec
                                   std::vector<int>& moving);
 
 struct TensileOptions {
+  /// The isochoric tets take the springs' place (volumeScale and law then play no part, and
+  /// they need the volume term, bulkModulus_Pa > 0); they have no softening.
+  LatticeModel model = LatticeModel::Springs;
   SpringLaw law = SpringLaw::Eesm;
   bool isSoftening = true;
   double linearModulus_Pa = 0.0;  ///< smm only
@@ -59,6 +63,7 @@ struct TensilePointStats {
   double worstRelativeResidual = 0.0;
   int unconvergedPoints = 0;
   int springs = 0;
+  int tets = 0;
   int nodes = 0;
 };
 

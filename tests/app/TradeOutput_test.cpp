@@ -80,7 +80,8 @@ TradeMap sampleMap() {
   tetsMeasurement.cost.stepMedian_ms = 1.5;
   tetsMeasurement.staticForce_N = {0.15, 0.6};
   tetsMeasurement.paceForce_N = {0.15, 0.6};  // 50 %: beaten by "a name"
-  tetsMeasurement.tensileLoadingR2 = 0.5;     // not measured: never shown
+  tetsMeasurement.tensileLoadingR2 = 0.5;     // against the virgin curve
+  tetsMeasurement.tensileUnloadingR2 = 0.25;  // no softening: never shown
   map.rows.push_back(tets);
   map.measurements.push_back(tetsMeasurement);
   map.cellEdges_m.push_back(0.01);
@@ -133,25 +134,31 @@ TEST(TradeOutput, TheAxesLeaveOutFailedAndFemRows) {
   EXPECT_NEAR(worstError(map, 6), 2.5, 1e-9);  // its static error
 }
 
-TEST(TradeOutput, TheLatticeFemRowHasNoTensileFit) {
-  // The tensile test is the springs': the tets' row leaves its fields empty and shows "-".
+TEST(TradeOutput, TheLatticeFemRowHasItsLoadingFitAndNoUnloadingOne) {
+  // The tets have no softening: their row shows its loading R^2 (against the virgin curve) and
+  // leaves the unloading one empty; the FEM reference's row has neither.
   const TradeMap map = sampleMap();
   std::istringstream csv(tradeCsv(map));
   std::string line;
   ASSERT_TRUE(std::getline(csv, line));
   const std::vector<std::string> header = fieldsOf(line);
   const std::size_t loading = columnOf(header, "tensile_r2_loading");
+  const std::size_t unloading = columnOf(header, "tensile_r2_unloading");
   ASSERT_GT(loading, 0u);
-  std::vector<std::string> shown;
-  while (std::getline(csv, line)) shown.push_back(fieldsOf(line)[loading]);
+  std::vector<std::vector<std::string>> shown;
+  while (std::getline(csv, line)) shown.push_back(fieldsOf(line));
   ASSERT_EQ(shown.size(), 7u);
-  EXPECT_EQ(shown[0], "0.000000");  // a spring row's, measured (0 in this sample)
-  EXPECT_EQ(shown[5], "");
+  EXPECT_EQ(shown[0][loading], "0.000000");  // a spring row's, measured (0 in this sample)
+  EXPECT_EQ(shown[0][unloading], "0.000000");
+  EXPECT_EQ(shown[5][loading], "0.500000");
+  EXPECT_EQ(shown[5][unloading], "");
+  EXPECT_EQ(shown[6][loading], "");
+  EXPECT_EQ(shown[6][unloading], "");
   const std::string md = tradeMarkdown(map);
   const std::size_t row = md.find("| fem on the lattice | 1000 |");
   ASSERT_NE(row, std::string::npos) << md;
   const std::string text = md.substr(row, md.find('\n', row) - row);
-  EXPECT_EQ(text.substr(text.size() - 5), "| - |") << text;
+  EXPECT_NE(text.find("| 50.00 / - (virgin; no softening) |"), std::string::npos) << text;
 }
 
 TEST(TradeOutput, TheMarkdownListsTheFrontInIncreasingCost) {
