@@ -8,23 +8,62 @@
 
 namespace tissuesim {
 
-void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWeight) {
+void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWeight,
+                                const Eigen::Matrix3Xd& x) {
   const bool isSame = m_preparedFor == &system && m_preparedWeight == inertiaWeight &&
                       m_preparedRevision == system.constraintRevision();
-  if (isSame) return;
+  if (isSame && !m_isRefreshWanted) return;
   const SpringMesh& mesh = system.mesh();
   const Eigen::Index dofs = 3 * mesh.nodeCount();
-  NodeBlockMatrix h0 = system.makeMatrix();
-  const double restSlope = system.springs().law().evaluate(1.0, 1.0).slope;  // P'(1) (Pa)
-  for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
-    const double k = mesh.volume_m3[s] * restSlope / (mesh.restLength_m[s] * mesh.restLength_m[s]);
-    h0.addEdgeStiffness(mesh.springs(0, s), mesh.springs(1, s), k * Eigen::Matrix3d::Identity());
+  if (!isSame) {
+    m_h0 = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
+    m_isAnalysed = false;
   }
+  NodeBlockMatrix& h0 = *m_h0;
+  if (m_isRefreshWanted) {
+    // The fields' stiffness at x (the PSD projection), the contacts left to the Woodbury terms.
+    m_force.resize(3, mesh.nodeCount());
+    ForcePass pass;
+    pass.stiffness = StiffnessSlot::Current;
+    pass.fixedDofs = &system.fixedDofs();
+    ForceReport ignored;
+    h0.setZero();
+    for (const ForceField* field : system.fields()) {
+      if (field == &system.contacts) continue;
+      field->addForces(x, m_force, pass, ignored);
+      field->addStiffness(h0);
+    }
+  } else {
+    h0.setZero();
+    const double restSlope = system.springs().law().evaluate(1.0, 1.0).slope;  // P'(1) (Pa)
+    for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+      const double k =
+          mesh.volume_m3[s] * restSlope / (mesh.restLength_m[s] * mesh.restLength_m[s]);
+      h0.addEdgeStiffness(mesh.springs(0, s), mesh.springs(1, s), k * Eigen::Matrix3d::Identity());
+    }
+    if (const VolumeForceField* volume = system.volume()) {
+      // The volume term's stiffness at rest, (kappa / V0) g g^T per cell: kappa is tens of
+      // times the springs' modulus, far more than L-BFGS's few pairs can learn. Its current
+      // stiffness slot is the steps' scratch, as for every pass that asks for one.
+      Eigen::Matrix3Xd restForces = Eigen::Matrix3Xd::Zero(3, mesh.nodeCount());
+      ForcePass pass;
+      pass.stiffness = StiffnessSlot::Current;
+      ForceReport ignored;
+      volume->addForces(mesh.restPositions_m, restForces, pass, ignored);
+      volume->addStiffness(h0);
+    }
+  }
+  m_isRefreshWanted = false;
   for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
     h0.addToDiagonal(static_cast<int>(i), inertiaWeight * mesh.nodeMass_kg[i]);
   }
   h0.applyFixedDofs(system.fixedDofs());
-  m_initialHessian.compute(h0.matrix());
+  if (!m_isAnalysed) {
+    m_initialHessian.analyzePattern(h0.matrix());
+    m_isAnalysed = true;
+  }
+  m_initialHessian.factorize(h0.matrix());
+  if (isSame) return;
 
   const auto history = static_cast<Eigen::Index>(std::max(1, m_settings.historySize));
   for (Eigen::VectorXd* v : {&m_x, &m_xHat, &m_r, &m_newX, &m_newR, &m_q, &m_z}) v->resize(dofs);
@@ -99,7 +138,7 @@ double QuasiNewtonSolver::residual(const MechanicalSystem& system, const Eigen::
 StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& state, double dt) {
   StepReport report;
   const double damping = 1.0 + m_settings.massDamping_1_s * dt;
-  prepare(system, damping / (dt * dt));
+  prepare(system, damping / (dt * dt), state.x);
   const Eigen::Index dofs = m_x.size();
   const Eigen::Map<const Eigen::VectorXd> x0(state.x.data(), dofs);
   const Eigen::Map<const Eigen::VectorXd> v0(state.v.data(), dofs);
@@ -124,9 +163,14 @@ StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& st
   constexpr double kForcingTerm = 0.5;
   const double requiredResidual = kForcingTerm * report.residual_N;
   const int hardLimit = 5 * std::max(2, m_settings.maxIterations);
+  // And, as Newton's steps do, a few more past the budget while the residual is one that would
+  // count as an event (IntegratorSettings::extraIterations).
+  const int extraLimit = m_settings.maxIterations + m_settings.extraIterations;
   while (report.residual_N > m_settings.forceTolerance_N && std::isfinite(report.residual_N) &&
          (report.iterations < m_settings.maxIterations ||
-          (report.residual_N > requiredResidual && report.iterations < hardLimit))) {
+          (report.residual_N > requiredResidual && report.iterations < hardLimit) ||
+          (report.residual_N > m_settings.extraIterationResidual_N &&
+           report.iterations < extraLimit))) {
     ++report.iterations;
     // Two-loop recursion: z = H^-1 r with H0^-1 at the bottom.
     m_q = m_r;
@@ -166,6 +210,10 @@ StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& st
     report.forces = trialForces;
   }
   report.converged = report.residual_N <= m_settings.forceTolerance_N;
+  // A step that could not halve its predictor's residual even past the budget: H0 misses the
+  // stiffness the tissue has gained (or still carries what it has lost). The next step starts
+  // from H0 refactorised at this step's end.
+  m_isRefreshWanted = !report.converged && report.residual_N > requiredResidual;
   if (!m_x.allFinite() || !std::isfinite(report.residual_N)) {
     report.isFinite = false;
     report.reason = "non-finite force or position in a quasi-Newton step; state rolled back";

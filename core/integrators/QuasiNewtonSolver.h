@@ -12,12 +12,13 @@
 //
 //   g(x) = 1/2 (x - x_hat)^T W M (x - x_hat) + E(x),   grad g = r(x) = W M (x - x_hat) - f(x),
 //
-// with L-BFGS whose initial Hessian is the constant H0 = W M + L (x) I3, L the graph Laplacian
-// weighted by each spring's stiffness at rest, V_e P'(1) / L0^2. H0 is factorised once (per
-// time step size and constraint set), so an iteration costs one force evaluation, two
-// triangular solves and O(m) vector operations, with no matrix assembly. The iteration count
-// per step is the speed/accuracy knob (IntegratorSettings::maxIterations); as it grows the
-// result converges to implicit Euler's.
+// with L-BFGS whose initial Hessian is H0 = W M + L (x) I3 + K_volume, L the graph Laplacian
+// weighted by each spring's stiffness at rest, V_e P'(1) / L0^2, and K_volume the volume term's
+// stiffness at rest (kappa is tens of times the springs' modulus: left to L-BFGS, the poke
+// diverged). H0 is factorised once (per time step size and constraint set), so an iteration
+// costs one force evaluation, two triangular solves and O(m) vector operations, with no matrix
+// assembly. The iteration count per step is the speed/accuracy knob
+// (IntegratorSettings::maxIterations); as it grows the result converges to implicit Euler's.
 //
 // Contacts: an instrument contact is far stiffer (10^4 N/m) than anything in H0, and L-BFGS
 // with a few pairs cannot learn it: the poke diverged. Each step's contacts are rank-one terms
@@ -26,12 +27,21 @@
 // at the cost of one solve per contact per step (a handful) and a #C by #C factorisation.
 // A step that has not halved the residual of its predictor is diverging or about to (H0 misses
 // the stiffness the springs have gained); it iterates past the budget (up to five times it)
-// until it has (the report's iteration count shows it).
+// until it has (the report's iteration count shows it). One that has not even then refreshes
+// H0: the next step factorises W M plus the fields' stiffness (PSD-projected) at its start, and
+// keeps it until another step needs the same (a few times a poke; Eigen's factorisation
+// allocates, so a refreshing step is the one step that does). A poke 4 cm into the weightless
+// liver diverged (forces of kilonewtons) with H0 at rest; with the refresh it follows implicit
+// Euler. A step also takes up to IntegratorSettings::extraIterations more while its residual
+// is one that would count as an event, as Newton's do.
+
+#include <memory>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
 #include "integrators/TimeIntegrator.h"
+#include "numerics/NodeBlockMatrix.h"
 
 namespace tissuesim {
 
@@ -42,7 +52,9 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   const char* name() const override { return "quasi-newton"; }
 
  private:
-  void prepare(const MechanicalSystem& system, double inertiaWeight);
+  /// H0 for this weight and the system's constraints (refactorised from the fields' stiffness
+  /// at x when the last step asked for it).
+  void prepare(const MechanicalSystem& system, double inertiaWeight, const Eigen::Matrix3Xd& x);
   /// U, V and the factorised capacitance I + U^T V for the system's contacts.
   void prepareContacts(const MechanicalSystem& system);
   /// z = (H0 + U U^T)^-1 q.
@@ -54,7 +66,10 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   const MechanicalSystem* m_preparedFor = nullptr;
   double m_preparedWeight = -1.0;
   int m_preparedRevision = -1;
+  std::unique_ptr<NodeBlockMatrix> m_h0;  ///< H0 assembled (its pattern: the system's)
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_initialHessian;
+  bool m_isAnalysed = false;       ///< H0's pattern analysed
+  bool m_isRefreshWanted = false;  ///< the next step refactorises H0 at its start
   Eigen::VectorXd m_x, m_xHat, m_r, m_newX, m_newR, m_q, m_z, m_alpha, m_rhoHistory;
   Eigen::MatrixXd m_s, m_y;  ///< 3#V by m history of steps and residual changes
   Eigen::Matrix3Xd m_force;

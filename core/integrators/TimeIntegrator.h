@@ -36,8 +36,8 @@ struct IntegratorSettings {
   // Implicit.
   int maxIterations = 20;          ///< Newton (or quasi-Newton) iterations per step
   double forceTolerance_N = 1e-6;  ///< converged when max |r| is below this
-  /// Implicit (Newton): up to this many iterations past maxIterations while max |r| stays above
-  /// extraIterationResidual_N (N).
+  /// Implicit (Newton and quasi-Newton): up to this many iterations past maxIterations while
+  /// max |r| stays above extraIterationResidual_N (N).
   int extraIterations = 0;
   double extraIterationResidual_N = 1e-3;
   int historySize = 5;            ///< quasi-Newton: L-BFGS pairs kept
