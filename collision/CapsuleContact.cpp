@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "collision/SegmentTriangleDistance.h"
 #include "mesh/TetLocator.h"
@@ -70,6 +71,7 @@ void CapsuleContact::buildBvh(const Eigen::MatrixX3d& restVertices) {
   m_vertices = restVertices;
   m_bvh = std::make_unique<SurfaceBvh>(m_vertices, m_faces.transpose());
   m_touched.reserve(static_cast<std::size_t>(m_faces.cols()));
+  m_features.reserve(static_cast<std::size_t>(m_faces.cols()));
 }
 
 CapsuleContact::~CapsuleContact() = default;
@@ -126,6 +128,7 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
   // ahead of it); beside the shaft it is radial (the shaft holds the walls of the dent apart).
   // Taking the direction from the capsule rather than from the triangle's normal keeps a face
   // that the shaft has passed through being pushed back out instead of along the shaft.
+  m_features.clear();
   for (const int f : m_touched) {
     const Eigen::Vector3d a = m_vertices.row(m_faces(0, f)).transpose();
     const Eigen::Vector3d b = m_vertices.row(m_faces(1, f)).transpose();
@@ -134,6 +137,7 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
     if (faceNormal.squaredNorm() == 0.0) continue;  // degenerate: no face to push
     const SegmentTriangleClosest closest = closestSegmentTriangle(axisStart, axisEnd, a, b, c);
     if (closest.distance >= radius + margin) continue;
+    if (!isFirstAtFeature(f, closest.weights)) continue;
     Eigen::Vector3d away = closest.onTriangle - closest.onSegment;
     Eigen::Vector3d onAxis = closest.onSegment;
     if (closest.distance > 1e-6 * radius) {
@@ -164,6 +168,22 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
     contact.damping_N_s_m = m_settings.damping_N_s_m;
     contacts.add(contact);
   }
+}
+
+bool CapsuleContact::isFirstAtFeature(Eigen::Index f, const Eigen::Vector3d& weights) {
+  std::array<int, 3> corners{};
+  int count = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (weights[k] != 0.0) corners[static_cast<std::size_t>(count++)] = m_faces(k, f);
+  }
+  if (count == 3) return true;  // inside the face: its own
+  const int low = count == 1 ? corners[0] : std::min(corners[0], corners[1]);
+  const int high = count == 1 ? corners[0] : std::max(corners[0], corners[1]);
+  const std::uint64_t key = static_cast<std::uint64_t>(static_cast<std::uint32_t>(low)) << 32 |
+                            static_cast<std::uint32_t>(high);
+  if (std::find(m_features.begin(), m_features.end(), key) != m_features.end()) return false;
+  m_features.push_back(key);
+  return true;
 }
 
 std::unique_ptr<CapsuleContact> makeInstrumentContact(const Simulation& simulation) {

@@ -17,16 +17,19 @@
 // Response: one penalty contact (PenaltyContacts.h) per such triangle, frozen for the step: the
 // triangle's point p nearest the capsule's axis (c on the axis; exact segment-triangle closest
 // points) must stay at least r from c along u = (p - c) / |p - c|, the way the capsule's surface
-// faces there, with stiffness k. At the tip that is the face's inward normal (the tip carries the
-// face ahead of it); beside the shaft it is radial (the shaft holds the dent's walls apart).
-// Taking the direction from the capsule, not from the face's normal, matters once the tool is
-// deep: with the face normal, a face the shaft had passed was pushed along the shaft and the
-// surface closed over the tool. A face the axis runs through is pushed ahead of the tip when it
-// lies across the tool, radially off the axis when it lies along it.
-// The integrators evaluate the contacts at their trial states; the implicit ones carry k in the
-// Newton matrix, so it can be stiff: 10^4 N/m per face (a 1.7 N push over one face penetrates
-// 0.17 mm). It used to be an explicit force, capped near 1,000 N/m by stability; at 300 N/m the
-// 2.5 mm tip sank 4.8 mm below the surface. The explicit integrator applies the contacts as
+// faces there, with stiffness k. Where p lies on an edge or at a corner, the faces that share
+// it find the same point: it is one contact, the first face's. Counted once per face, a corner
+// pushed back with its valence times k, and which faces shared the point changed from one step
+// to the next: a probe held deep never settled (every step started newtons out of balance). At the
+// tip that is the face's inward normal (the tip carries the face ahead of it); beside the shaft it
+// is radial (the shaft holds the dent's walls apart). Taking the direction from the capsule, not
+// from the face's normal, matters once the tool is deep: with the face normal, a face the shaft had
+// passed was pushed along the shaft and the surface closed over the tool. A face the axis runs
+// through is pushed ahead of the tip when it lies across the tool, radially off the axis when it
+// lies along it. The integrators evaluate the contacts at their trial states; the implicit ones
+// carry k in the Newton matrix, so it can be stiff: 10^4 N/m per face (a 1.7 N push over one face
+// penetrates 0.17 mm). It used to be an explicit force, capped near 1,000 N/m by stability; at 300
+// N/m the 2.5 mm tip sank 4.8 mm below the surface. The explicit integrator applies the contacts as
 // impulses, each stepped by backward Euler (with damping c, which symplectic Euler lacks).
 // Tunnelling: the tool moves 0.5 mm a step at 0.5 m/s, a fifth of its radius, so a triangle is
 // always caught before it could pass the tip.
@@ -41,6 +44,7 @@
 // s(x) is the triangle's own point over its three corners.
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -97,7 +101,14 @@ class CapsuleContact final : public ContactProvider {
   std::vector<FaceCarrier> m_carriers;
   Eigen::MatrixX3d m_vertices;  ///< #local by 3 scratch for refits
   std::unique_ptr<SurfaceBvh> m_bvh;
+  /// Whether face f's nearest point, at barycentric `weights`, is the first this pass at its
+  /// place on the surface: inside the face always; on an edge or at a corner, the first face
+  /// there (the edge or corner joins it to the step's list).
+  bool isFirstAtFeature(Eigen::Index f, const Eigen::Vector3d& weights);
+
   std::vector<int> m_touched;  ///< scratch: the touched triangles
+  /// scratch: the edges (corner pairs) and corners (a corner twice) that hold a contact
+  std::vector<std::uint64_t> m_features;
 };
 
 /// The instrument's contact for a simulation's scene (which must have an instrument): on the drawn

@@ -73,5 +73,23 @@ TEST_F(CapsuleContactTest, RefitFollowsTheDeformedSurface) {
   EXPECT_GT(press({0.02, 0.02, 0.014}, &forces, &lowered).contactNodes, 0);
 }
 
+TEST_F(CapsuleContactTest, APointOfTheSurfaceIsPushedOnceWhateverTheFacesThatShareIt) {
+  // The tip 0.01 mm into the top face over a node (shared by several faces), over the middle of
+  // an edge (two faces) and over a face's inside: the same point contact each time, k delta,
+  // one pushing contact. Counted once per face that shares the point, a node pushed back with
+  // its valence times k; at a deep hold, which faces shared it changed from step to step and
+  // the contact never settled.
+  constexpr double kDepth = 1e-5;
+  const double stiffness = 300.0;                                             // m_contact's
+  for (const Eigen::Vector3d& at : {Eigen::Vector3d(0.02, 0.02, 0.0),         // a node
+                                    Eigen::Vector3d(0.0225, 0.02, 0.0),       // an edge's middle
+                                    Eigen::Vector3d(0.0212, 0.0228, 0.0)}) {  // inside a face
+    const ContactResult result = press({at.x(), at.y(), 0.02 - kDepth});
+    EXPECT_EQ(result.contactNodes, 1) << at.transpose();
+    EXPECT_NEAR(result.toolForce_N.z(), stiffness * kDepth, 1e-9 * stiffness * kDepth)
+        << at.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace tissuesim

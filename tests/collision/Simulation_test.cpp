@@ -434,6 +434,44 @@ TEST(Simulation, QuasiNewtonPokesTheWeightlessLiverAsImplicitEulerDoes) {
   }
 }
 
+TEST(Simulation, AProbeHeldSevenCentimetresDeepComesToRest) {
+  // The bundled poke taken to 7 cm (17 N) and held there. Each step takes its contacts from the
+  // tissue where the last one left it; when a surface point the probe pushes was counted once
+  // for every face that shared it, which faces did changed from step to step, the force ran
+  // 16.4, 16.6, 16.4 N and round again, and every step took five Newton iterations (about four
+  // times the step's cost) for as long as the probe stayed. Held, it must come to rest.
+  SceneDescription bundled = pokeScene();
+  Simulation simulation(bundled);
+  const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
+  const SceneInstrument& tool = *bundled.instrument;
+  const InstrumentPose start{tool.tipStart_m, tool.direction};
+  InstrumentPose deep = start;
+  deep.tip_m += 0.07 * tool.direction;
+  const InstrumentScript hold({{0.0, start}, {1.75, deep}, {3.0, deep}});
+  simulation.setContactProvider(contact.get());
+  simulation.setInstrumentSource(&hold);
+  const int pressSteps = static_cast<int>(std::lround(1.75 / simulation.timeStep_s()));
+  const int settleSteps = static_cast<int>(std::lround(0.3 / simulation.timeStep_s()));
+  for (int n = 0; n < pressSteps + settleSteps; ++n) ASSERT_TRUE(simulation.step().isGood);
+  double iterations = 0.0;
+  double largestChange_N = 0.0;
+  double lastForce_N = -1.0;
+  constexpr int kHeldSteps = 200;
+  for (int n = 0; n < kHeldSteps; ++n) {
+    const StepOutcome outcome = simulation.step();
+    ASSERT_TRUE(outcome.isGood);
+    const double force_N = outcome.contact.toolForce_N.norm();
+    EXPECT_GT(force_N, 10.0) << "the probe is deep";
+    if (lastForce_N >= 0.0)
+      largestChange_N = std::max(largestChange_N, std::abs(force_N - lastForce_N));
+    lastForce_N = force_N;
+    iterations += outcome.integrator.iterations;
+  }
+  EXPECT_LT(iterations / kHeldSteps, 1.5) << "Newton iterations a step, held";
+  EXPECT_LT(largestChange_N, 0.05) << "the force from one step to the next, held";
+  EXPECT_EQ(simulation.eventCount(), 0u);
+}
+
 TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
   // Straight down into the upper surface, from 1 cm above it, `depth` past it at `speed`, and
   // straight back out; then 2 s with the tool gone. The liver must return to its rest shape
@@ -443,9 +481,11 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
   // tets inverted.
   // Where it comes to rest is not quite where it started: the poke softened the springs it
   // stretched past their history (the Mullins effect), and softer springs sag further under the
-  // organ's weight. That permanent set is the model's residual strain on unloading, held under
-  // 3.5 mm (docs/scene-file.md, "The volume term", has it measured); with softening off the
-  // fast poke comes back to within 0.5 mm of the start: the elastic recovery is whole.
+  // organ's weight: held under 4 mm (docs/scene-file.md, "The volume term", has it measured;
+  // the largest, 3.6 mm, after the slow poke in the middle, beside the hold, which drives the
+  // tissue there past locking, a stretch of 2 and 600 N on the tool). The Mullins effect's own
+  // set, weightless, is tested below. With softening off the fast poke comes back to within
+  // 0.5 mm of the start: the elastic recovery is whole.
   struct Case {
     double xMin, xMax;  // where on the upper surface (m)
     double depth_m, speed_m_s;
@@ -484,7 +524,7 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
     EXPECT_GT(peak, 1.0) << "node " << target << ": the poke went deep";
     EXPECT_LT((after2s - atRest).colwise().norm().maxCoeff(), 5e-4)
         << "node " << target << " at " << c.speed_m_s << " m/s";
-    EXPECT_LT((atRest - settled).colwise().norm().maxCoeff(), c.isSoftening ? 3.5e-3 : 5e-4)
+    EXPECT_LT((atRest - settled).colwise().norm().maxCoeff(), c.isSoftening ? 4e-3 : 5e-4)
         << "node " << target << ": the permanent set, softening " << c.isSoftening;
     EXPECT_EQ(VolumeForceField::inspect(simulation.springMesh(), after2s).invertedTetCount, 0)
         << "node " << target;
