@@ -61,6 +61,20 @@ SpringLaw parseLaw(const std::string& name) {
                      "'; expected one of eesm, eesm-paper, smm (spring laws), tets or fem");
 }
 
+/// Runs `experiment` (which returns a curve), timing it into `seconds`; what it refuses
+/// (std::invalid_argument) becomes the command's one-line error.
+template <typename Experiment>
+std::vector<CurveBranch> timedCurve(const Experiment& experiment, double& seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    std::vector<CurveBranch> curve = experiment();
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return curve;
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
+  }
+}
+
 /// The bulk modulus a continuum model (fem, tets) runs with: the one given, else the FEM's.
 double continuumBulkModulus(const TensileCommandOptions& options, const LoadedTissue& tissue) {
   return options.bulkModulus_kPa > 0.0 ? options.bulkModulus_kPa * 1000.0
@@ -106,15 +120,10 @@ void runFemTensile(const TensileCommandOptions& options, const LoadedTissue& tis
                specimen.size_m.x() * 1e3, specimen.size_m.y() * 1e3, specimen.size_m.z() * 1e3,
                specimen.cellsAcrossThickness, bulkModulus_Pa / 1000.0);
   FemTensileStats stats;
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<CurveBranch> curve;
-  try {
-    curve = runFemTensileTest(tissue.energy, specimen, bulkModulus_Pa, protocol, &stats);
-  } catch (const std::invalid_argument& error) {
-    throw CommandError(error.what());
-  }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  double seconds = 0.0;
+  std::vector<CurveBranch> curve = timedCurve(
+      [&] { return runFemTensileTest(tissue.energy, specimen, bulkModulus_Pa, protocol, &stats); },
+      seconds);
   printVirginFit("fem", curve, tissue.energy, options.lambdaMax);
   std::fprintf(stderr,
                "fem         %d nodes, %d quadratic tets; max |net force| %.2g N (worst %d "
@@ -139,15 +148,12 @@ void runTetsTensile(const TensileCommandOptions& options, const LoadedTissue& ti
                specimen.size_m.x() * 1e3, specimen.size_m.y() * 1e3, specimen.size_m.z() * 1e3,
                specimen.cellsAcrossThickness, run.bulkModulus_Pa / 1000.0);
   TensilePointStats stats;
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<CurveBranch> curve;
-  try {
-    curve = TensileExperiment(tissue.energy, tissue.table, specimen).run(run, protocol, &stats);
-  } catch (const std::invalid_argument& error) {
-    throw CommandError(error.what());
-  }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  double seconds = 0.0;
+  std::vector<CurveBranch> curve = timedCurve(
+      [&] {
+        return TensileExperiment(tissue.energy, tissue.table, specimen).run(run, protocol, &stats);
+      },
+      seconds);
   printVirginFit("tets", curve, tissue.energy, options.lambdaMax);
   std::fprintf(stderr,
                "tets        %d nodes, %d tets; max |net force| %.2g N, %.2g per N of grip force "
@@ -232,15 +238,9 @@ void runTensile(const TensileCommandOptions& options) {
     run.integrator = options.integrator;
     run.linearModulus_Pa = UniaxialExperiment::fitLinearModulus(reference);
     TensilePointStats stats;
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<CurveBranch> curve;
-    try {
-      curve = test.run(run, protocol, &stats);
-    } catch (const std::invalid_argument& error) {
-      throw CommandError(error.what());
-    }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double seconds = 0.0;
+    std::vector<CurveBranch> curve =
+        timedCurve([&] { return test.run(run, protocol, &stats); }, seconds);
     const char* name = springLawName(each);
     for (std::size_t b = 0; b + 1 < curve.size(); b += 2) {
       char branch[64];
