@@ -11,6 +11,32 @@
 
 namespace tissuesim {
 
+std::array<Eigen::Matrix3d, 16> tetVolumeHessian(const Eigen::Matrix3Xd& x,
+                                                 const Eigen::Vector4i& tet) {
+  const auto cross = [](const Eigen::Vector3d& v) {
+    Eigen::Matrix3d m;
+    m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+    return m;
+  };
+  const Eigen::Vector3d origin = x.col(tet[0]);
+  std::array<Eigen::Matrix3d, 16> h;
+  for (Eigen::Matrix3d& block : h) block.setZero();
+  const auto at = [&](int i, int j) -> Eigen::Matrix3d& {
+    return h[static_cast<std::size_t>(4 * i + j)];
+  };
+  // g_i = (x_p - x_0) x (x_q - x_0) / 6 for (i, p, q) cyclic in 1, 2, 3; g_0 = -(g_1 + g_2 + g_3).
+  // d(u x w)/du = -[w]x and d(u x w)/dw = [u]x.
+  for (int i = 1; i <= 3; ++i) {
+    const int p = i % 3 + 1;
+    const int q = p % 3 + 1;
+    at(i, p) = -cross(x.col(tet[q]) - origin) / 6.0;
+    at(i, q) = cross(x.col(tet[p]) - origin) / 6.0;
+    at(i, 0) = -(at(i, p) + at(i, q));
+  }
+  for (int j = 0; j < 4; ++j) at(0, j) = -(at(1, j) + at(2, j) + at(3, j));
+  return h;
+}
+
 VolumeForceField::VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa)
     : m_mesh(mesh),
       m_bulkModulus_Pa(bulkModulus_Pa),
@@ -33,6 +59,16 @@ void VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
     slot = &m_slots[static_cast<std::size_t>(m_current ^ 1)];
   report.volume = addForces(x, f, slot);
   if (pass.nodeStiffness != nullptr) addNodeStiffnessBound(*pass.nodeStiffness);
+  if (slot == nullptr) return;
+  // The exact Hessian's second part needs the pass's pressures and positions: kept for the
+  // assembled matrix, when the pass asks for the exact Hessian (the direct solves; CG asks for
+  // the PSD part, and the step loop never comes here).
+  const auto index = static_cast<std::size_t>(slot == &m_slots[0] ? 0 : 1);
+  m_isSlotExact[index] = !pass.isProjected;
+  if (!pass.isProjected) {
+    m_slotPressure_Pa[index] = m_pressure_Pa;
+    m_slotPositions_m[index] = x;
+  }
 }
 
 void VolumeForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
@@ -80,6 +116,24 @@ void VolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
         matrix.addBlock(
             m_cells.nodes(i, c), m_cells.nodes(j, c),
             g[kVolumeBlockRows - 1] * g.segment<3>(3 * i) * g.segment<3>(3 * j).transpose());
+      }
+    }
+  }
+  const auto current = static_cast<std::size_t>(m_current);
+  if (!m_isSlotExact[current]) return;
+  // p d^2V/dx^2 per tet of each cell, p = kappa (J - 1) the cell's pressure.
+  const Eigen::Matrix3Xd& x = m_slotPositions_m[current];
+  const Eigen::VectorXd& pressure = m_slotPressure_Pa[current];
+  for (Eigen::Index c = 0; c < m_cells.cellCount(); ++c) {
+    for (int k = m_cells.tetStart[static_cast<std::size_t>(c)];
+         k < m_cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k) {
+      const int t = m_cells.tets[static_cast<std::size_t>(k)];
+      const std::array<Eigen::Matrix3d, 16> h = tetVolumeHessian(x, m_mesh.tets.col(t));
+      for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+          matrix.addBlock(m_mesh.tets(i, t), m_mesh.tets(j, t),
+                          pressure[c] * h[static_cast<std::size_t>(4 * i + j)]);
+        }
       }
     }
   }

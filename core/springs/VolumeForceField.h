@@ -39,6 +39,11 @@
 
 namespace tissuesim {
 
+/// d^2V/dx_i dx_j (m) of the signed volume of tet (x_0 .. x_3) = x.col(tet[0 .. 3]), block (i, j)
+/// at 4 i + j: symmetric as a whole, each diagonal block zero.
+std::array<Eigen::Matrix3d, 16> tetVolumeHessian(const Eigen::Matrix3Xd& x,
+                                                 const Eigen::Vector4i& tet);
+
 class VolumeForceField final : public ForceField {
  public:
   static constexpr int kParts = 4;
@@ -71,8 +76,11 @@ class VolumeForceField final : public ForceField {
   const CellIncidence& incidence() const { return m_incidence; }
   const SpringMesh& mesh() const { return m_mesh; }
 
-  // ForceField: the Gauss-Newton K = sum_c k g g^T, PSD whether or not the pass asks for the
-  // projection (the exact Hessian's other part, kappa (J - 1) d^2V/dx^2, is left out).
+  // ForceField: the Gauss-Newton K = sum_c k g g^T, PSD, in the products and diagonal blocks
+  // (CG's, which asks for the PSD part). The assembled matrix adds the exact Hessian's other
+  // part, p d^2V/dx^2 with p = kappa (J - 1), when the pass asked for the exact Hessian: the
+  // direct solves of the experiments, where at the FEM's kappa p is as large as the tissue's
+  // stress and Newton without it converged only linearly.
   const char* name() const override { return "volume"; }
   /// sum_c E_c at x (J).
   double energy(const Eigen::Matrix3Xd& x) const override;
@@ -100,6 +108,11 @@ class VolumeForceField final : public ForceField {
   mutable int m_current = 0;
   // The last pass's blocks when the caller keeps none, and its pressures kappa (J - 1) (Pa).
   mutable VolumeBlocks m_ownBlocks;
+  // Per slot: whether its pass asked for the exact Hessian, and then its pressures and
+  // positions (what addStiffness() needs for p d^2V/dx^2).
+  mutable std::array<bool, 2> m_isSlotExact{false, false};
+  mutable std::array<Eigen::VectorXd, 2> m_slotPressure_Pa;
+  mutable std::array<Eigen::Matrix3Xd, 2> m_slotPositions_m;
   mutable const VolumeBlocks* m_lastBlocks = nullptr;
   mutable Eigen::VectorXd m_pressure_Pa;
   std::unique_ptr<VolumeStiffnessProduct> m_product;  ///< prepareProducts()'s

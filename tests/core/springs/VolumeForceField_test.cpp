@@ -9,7 +9,9 @@
 #include <utility>
 
 #include "mesh/BlockMesher.h"
+#include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
+#include "springs/StiffnessCouplings.h"
 #include "support/TestSystems.h"
 
 namespace tissuesim {
@@ -87,6 +89,51 @@ TEST(VolumeForceField, ForceIsMinusTheEnergyGradientAndBlocksHoldTheVolumeGradie
     }
     EXPECT_DOUBLE_EQ(blocks(kVolumeBlockRows - 1, c), kappa / (h * h * h));
   }
+}
+
+TEST(VolumeForceField, TheAssembledExactHessianIsMinusTheForcesDerivative) {
+  // Asked for the exact Hessian, the assembled matrix is -df/dx (central differences of the
+  // forces) at a state whose cells are far from their rest volume; asked for the PSD part, it
+  // is the Gauss-Newton sum_c k g g^T alone, which misses p d^2V/dx^2 there.
+  const double h = 0.01;
+  const SpringMesh mesh = buildSpringMesh(makeBlockMesh({2 * h, h, h}, {2, 1, 1}), 1000.0);
+  const double kappa = 5e4;
+  const VolumeForceField field(mesh, kappa);
+  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  x.row(0) *= 1.2;
+  x(2, 7) -= 0.003;
+  x(1, 3) += 0.002;
+  const auto assembled = [&](bool isProjected) {
+    NodeBlockMatrix matrix(mesh.nodeCount(), stiffnessCouplings(mesh, &field.cells()));
+    matrix.setZero();
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+    ForcePass pass;
+    pass.stiffness = StiffnessSlot::Current;
+    pass.isProjected = isProjected;
+    ForceReport report;
+    field.addForces(x, f, pass, report);
+    field.addStiffness(matrix);
+    return Eigen::MatrixXd(matrix.matrix());
+  };
+  const Eigen::MatrixXd exact = assembled(false);
+  const Eigen::MatrixXd gaussNewton = assembled(true);
+  Eigen::MatrixXd differences(x.size(), x.size());
+  const double step = 1e-7;
+  for (Eigen::Index d = 0; d < x.size(); ++d) {
+    Eigen::Matrix3Xd up = x, down = x;
+    up.data()[d] += step;
+    down.data()[d] -= step;
+    Eigen::Matrix3Xd fUp = Eigen::Matrix3Xd::Zero(3, x.cols());
+    Eigen::Matrix3Xd fDown = Eigen::Matrix3Xd::Zero(3, x.cols());
+    field.addForces(up, fUp, nullptr);
+    field.addForces(down, fDown, nullptr);
+    const Eigen::Matrix3Xd change = fUp - fDown;
+    differences.col(d) = -Eigen::Map<const Eigen::VectorXd>(change.data(), x.size()) / (2 * step);
+  }
+  const double scale = differences.cwiseAbs().maxCoeff();
+  EXPECT_LT((exact - differences).cwiseAbs().maxCoeff(), 1e-6 * scale);
+  EXPECT_LT((exact - exact.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
+  EXPECT_GT((gaussNewton - differences).cwiseAbs().maxCoeff(), 1e-2 * scale);
 }
 
 TEST(VolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
