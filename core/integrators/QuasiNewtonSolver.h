@@ -30,10 +30,10 @@
 // until it has (the report's iteration count shows it). One that has not even then refreshes
 // H0: the next step factorises W M plus the fields' stiffness (PSD-projected) at its start, and
 // keeps it until another step needs the same (a few times a poke; Eigen's factorisation
-// allocates, so a refreshing step is the one step that does). A poke 4 cm into the weightless
-// liver diverged (forces of kilonewtons) with H0 at rest; with the refresh it follows implicit
-// Euler. A step also takes up to IntegratorSettings::extraIterations more while its residual
-// is one that would count as an event, as Newton's do.
+// allocates, so a refreshing step is the one step that does). With H0 at rest a deep poke of
+// the liver diverged; with the refresh it follows implicit Euler. A step also takes up to
+// IntegratorSettings::extraIterations more while its residual is one that would count as an
+// event, as Newton's do.
 
 #include <memory>
 
