@@ -81,25 +81,23 @@ double continuumBulkModulus(const TensileCommandOptions& options, const LoadedTi
                                        : defaultFemBulkModulus(tissue.energy);
 }
 
-/// A hyperelastic model's loading branches against sedf's virgin curve at the same stretches
-/// (it has no softening, so sedf's softened branches are not what it stands for), on stderr.
-void printVirginFit(const char* model, const std::vector<CurveBranch>& curve,
-                    const StrainEnergy& energy, const std::vector<double>& lambdaMax) {
+/// A hyperelastic model's run reported: its loading branches against sedf's virgin curve at the
+/// same stretches (it has no softening, so sedf's softened branches are not what it stands for)
+/// and `summary` (its solve's figures) on stderr, then the curve's CSV and plot.
+void reportHyperelasticRun(const TensileCommandOptions& options, const LoadedTissue& tissue,
+                           const char* model, std::vector<CurveBranch> curve,
+                           const std::vector<CurveBranch>& reference, const char* summary) {
   std::fprintf(stderr, "%-11s %-28s %12s\n", "model", "branch", "R^2 virgin");
   for (std::size_t b = 0; b < curve.size(); b += 2) {
     std::vector<double> virgin;
-    for (const double lambda : curve[b].stretch) virgin.push_back(energy.stress(lambda));
+    for (const double lambda : curve[b].stretch) virgin.push_back(tissue.energy.stress(lambda));
     char branch[64];
     std::snprintf(branch, sizeof branch, "cycle %d (lambda_max %.3f)", curve[b].cycle,
-                  lambdaMax[static_cast<std::size_t>(curve[b].cycle - 1)]);
+                  options.lambdaMax[static_cast<std::size_t>(curve[b].cycle - 1)]);
     std::fprintf(stderr, "%-11s %-28s %11.4f%%\n", model, branch,
                  100.0 * coefficientOfDetermination(virgin, curve[b].stress_Pa));
   }
-}
-
-void writeCurveAndPlot(const TensileCommandOptions& options, const LoadedTissue& tissue,
-                       const char* model, std::vector<CurveBranch> curve,
-                       const std::vector<CurveBranch>& reference) {
+  std::fprintf(stderr, "%-11s %s\n", model, summary);
   writeCurveCsv(options.outputPath, curve);
   if (!options.plotPath.empty()) {
     std::vector<std::pair<std::string, std::vector<CurveBranch>>> plotted;
@@ -124,13 +122,13 @@ void runFemTensile(const TensileCommandOptions& options, const LoadedTissue& tis
   std::vector<CurveBranch> curve = timedCurve(
       [&] { return runFemTensileTest(tissue.energy, specimen, bulkModulus_Pa, protocol, &stats); },
       seconds);
-  printVirginFit("fem", curve, tissue.energy, options.lambdaMax);
-  std::fprintf(stderr,
-               "fem         %d nodes, %d quadratic tets; max |net force| %.2g N (worst %d "
-               "iterations), %d unconverged points; volume ratio %.5f to %.5f; %.2f s\n",
-               stats.nodes, stats.elements, stats.worstResidual_N, stats.worstIterations,
-               stats.unconvergedPoints, stats.minVolumeRatio, stats.maxVolumeRatio, seconds);
-  writeCurveAndPlot(options, tissue, "fem", std::move(curve), reference);
+  char summary[256];
+  std::snprintf(summary, sizeof summary,
+                "%d nodes, %d quadratic tets; max |net force| %.2g N (worst %d iterations), %d "
+                "unconverged points; volume ratio %.5f to %.5f; %.2f s",
+                stats.nodes, stats.elements, stats.worstResidual_N, stats.worstIterations,
+                stats.unconvergedPoints, stats.minVolumeRatio, stats.maxVolumeRatio, seconds);
+  reportHyperelasticRun(options, tissue, "fem", std::move(curve), reference, summary);
 }
 
 /// The lattice FEM (a scene's effects.model fem: the isochoric energy in each of the lattice's
@@ -154,13 +152,13 @@ void runTetsTensile(const TensileCommandOptions& options, const LoadedTissue& ti
         return TensileExperiment(tissue.energy, tissue.table, specimen).run(run, protocol, &stats);
       },
       seconds);
-  printVirginFit("tets", curve, tissue.energy, options.lambdaMax);
-  std::fprintf(stderr,
-               "tets        %d nodes, %d tets; max |net force| %.2g N, %.2g per N of grip force "
-               "(worst %d iterations), %d unconverged points; %.2f s\n",
-               stats.nodes, stats.tets, stats.worstResidual_N, stats.worstRelativeResidual,
-               stats.worstIterations, stats.unconvergedPoints, seconds);
-  writeCurveAndPlot(options, tissue, "tets", std::move(curve), reference);
+  char summary[256];
+  std::snprintf(summary, sizeof summary,
+                "%d nodes, %d tets; max |net force| %.2g N, %.2g per N of grip force (worst %d "
+                "iterations), %d unconverged points; %.2f s",
+                stats.nodes, stats.tets, stats.worstResidual_N, stats.worstRelativeResidual,
+                stats.worstIterations, stats.unconvergedPoints, seconds);
+  reportHyperelasticRun(options, tissue, "tets", std::move(curve), reference, summary);
 }
 
 void runTensile(const TensileCommandOptions& options) {

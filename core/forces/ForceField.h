@@ -81,4 +81,12 @@ class ForceField {
   ForceField& operator=(const ForceField&) = default;
 };
 
+/// matrix += `field`'s K at x (its PSD projection when `isProjected`): one force pass into the
+/// field's current slot (the passes' scratch, as any pass that asks for stiffness), then its
+/// assembly. `forces` (3 by #V) is the pass's scratch; `fixedDofs` as ForcePass's. For set-up and
+/// rare refactorisations: a step's solves read K through the products.
+void addStiffnessAt(const ForceField& field, const Eigen::Matrix3Xd& x, bool isProjected,
+                    NodeBlockMatrix& matrix, Eigen::Matrix3Xd& forces,
+                    const std::vector<char>* fixedDofs = nullptr);
+
 }  // namespace tissuesim

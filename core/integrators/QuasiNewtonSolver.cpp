@@ -20,21 +20,15 @@ void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWe
     m_isAnalysed = false;
   }
   NodeBlockMatrix& h0 = *m_h0;
+  h0.setZero();
   if (m_isRefreshWanted) {
     // The fields' stiffness at x (the PSD projection), the contacts left to the Woodbury terms.
     m_force.resize(3, mesh.nodeCount());
-    ForcePass pass;
-    pass.stiffness = StiffnessSlot::Current;
-    pass.fixedDofs = &system.fixedDofs();
-    ForceReport ignored;
-    h0.setZero();
     for (const ForceField* field : system.fields()) {
-      if (field == &system.contacts) continue;
-      field->addForces(x, m_force, pass, ignored);
-      field->addStiffness(h0);
+      if (field != &system.contacts)
+        addStiffnessAt(*field, x, true, h0, m_force, &system.fixedDofs());
     }
   } else {
-    h0.setZero();
     const double restSlope = system.springs().law().evaluate(1.0, 1.0).slope;  // P'(1) (Pa)
     for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
       const double k =
@@ -43,14 +37,9 @@ void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWe
     }
     if (const VolumeForceField* volume = system.volume()) {
       // The volume term's stiffness at rest, (kappa / V0) g g^T per cell: kappa is tens of
-      // times the springs' modulus, far more than L-BFGS's few pairs can learn. Its current
-      // stiffness slot is the steps' scratch, as for every pass that asks for one.
+      // times the springs' modulus, far more than L-BFGS's few pairs can learn.
       Eigen::Matrix3Xd restForces = Eigen::Matrix3Xd::Zero(3, mesh.nodeCount());
-      ForcePass pass;
-      pass.stiffness = StiffnessSlot::Current;
-      ForceReport ignored;
-      volume->addForces(mesh.restPositions_m, restForces, pass, ignored);
-      volume->addStiffness(h0);
+      addStiffnessAt(*volume, mesh.restPositions_m, true, h0, restForces);
     }
   }
   m_isRefreshWanted = false;

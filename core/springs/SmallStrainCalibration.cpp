@@ -19,14 +19,9 @@ namespace {
 Eigen::SparseMatrix<double> restStiffness(const ForceField& field, const SpringMesh& mesh,
                                           const Eigen::Matrix2Xi& couplings) {
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, mesh.nodeCount());
-  ForcePass pass;
-  pass.stiffness = StiffnessSlot::Current;
-  pass.isProjected = false;
-  ForceReport report;
-  field.addForces(mesh.restPositions_m, forces, pass, report);
   NodeBlockMatrix matrix(mesh.nodeCount(), couplings);
   matrix.setZero();
-  field.addStiffness(matrix);
+  addStiffnessAt(field, mesh.restPositions_m, false, matrix, forces);
   return matrix.matrix();
 }
 
