@@ -14,6 +14,7 @@
 #include "app/GuiCommand.h"
 #include "app/IndentCommand.h"
 #include "app/MeshCommand.h"
+#include "app/OrganPokeCommand.h"
 #include "app/ReplayCommand.h"
 #include "app/RunCommand.h"
 #include "app/SnapshotCommand.h"
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
   tissuesim::app::registerTensileCommand(app);
   tissuesim::app::registerFitCommand(app);
   tissuesim::app::registerIndentCommand(app);
+  tissuesim::app::registerOrganPokeCommand(app);
   tissuesim::app::registerTradeCommand(app);
   tissuesim::app::registerMeshCommand(app);
   tissuesim::app::registerRunCommand(app);

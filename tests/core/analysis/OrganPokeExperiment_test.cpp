@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: Apache-2.0
+// The organ poke's FEM reference: the probe's axis finds the surface, a block poked as an organ
+// gives the indentation test's force, and what cannot be poked is refused.
+
+#include "analysis/OrganPokeExperiment.h"
+
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "fem/FemModel.h"
+#include "mesh/BlockMesher.h"
+#include "support/TestSystems.h"
+
+namespace tissuesim {
+namespace {
+
+TEST(OrganPoke, TheProbesAxisFindsTheFirstFaceItCrosses) {
+  const TetMesh block = makeBlockMesh({0.02, 0.02, 0.01}, {2, 2, 1});
+  const Eigen::Matrix3Xi faces = boundaryFaces(block);
+  Eigen::Vector3d crossing;
+  // From above, down: the top face (not the bottom one behind it).
+  ASSERT_TRUE(firstCrossing(block.nodes_m, faces, {0.007, 0.013, 0.05}, -Eigen::Vector3d::UnitZ(),
+                            crossing));
+  EXPECT_LT((crossing - Eigen::Vector3d(0.007, 0.013, 0.01)).norm(), 1e-15);
+  // From inside, up: the top face again; beside the block or pointing away: nothing.
+  ASSERT_TRUE(firstCrossing(block.nodes_m, faces, {0.003, 0.004, 0.002}, Eigen::Vector3d::UnitZ(),
+                            crossing));
+  EXPECT_NEAR(crossing.z(), 0.01, 1e-15);
+  EXPECT_FALSE(
+      firstCrossing(block.nodes_m, faces, {0.03, 0.01, 0.05}, -Eigen::Vector3d::UnitZ(), crossing));
+  EXPECT_FALSE(
+      firstCrossing(block.nodes_m, faces, {0.01, 0.01, 0.05}, Eigen::Vector3d::UnitZ(), crossing));
+}
+
+/// The indentation test's small block (10 x 10 x 5 mm, bottom held, probe at the top centre) as
+/// an organ: a uniform grid of 1.25 mm cells, the bottom in the fixed box.
+OrganPokeSetup smallBlockPoke() {
+  OrganPokeSetup setup;
+  setup.tipStart_m = {0.005, 0.005, 0.008};
+  setup.direction = -Eigen::Vector3d::UnitZ();
+  setup.fixedBox_m =
+      Eigen::AlignedBox3d(Eigen::Vector3d(-1.0, -1.0, -1.0), Eigen::Vector3d(1.0, 1.0, 1e-9));
+  setup.depths_m = {0.00025, 0.0005};
+  return setup;
+}
+
+TEST(OrganPoke, ABlockPokedAsAnOrganGivesTheIndentationTestsForce) {
+  // The same continuum discretised twice at the probe's scale (1.25 mm cells under it): the
+  // whole block on a uniform grid, poked through the organ's surface, against the indentation
+  // test's quarter block with symmetry planes on its grid graded from 1.25 mm.
+  const StrainEnergy& energy = test::LiverMaterial::instance().energy;
+  const double kappa = defaultFemBulkModulus(energy);
+  const TetMesh block = makeBlockMesh({0.01, 0.01, 0.005}, {8, 8, 4});
+  const IndentationCurve organ = pokeOrganFem(energy, block, smallBlockPoke(), kappa);
+  IndentationSetup indentation;
+  indentation.size_m = {0.01, 0.01, 0.005};
+  indentation.depths_m = {0.00025, 0.0005};
+  const IndentationCurve reference = indentFem(energy, indentation, 2, kappa);
+  ASSERT_EQ(organ.force_N.size(), 2u);
+  EXPECT_EQ(organ.unconvergedPoints, 0);
+  for (std::size_t d = 0; d < 2; ++d) {
+    ASSERT_GT(reference.force_N[d], 0.0);
+    EXPECT_NEAR(organ.force_N[d] / reference.force_N[d], 1.0, 0.05) << d;
+  }
+  EXPECT_GT(organ.force_N[1], 2.0 * organ.force_N[0]);  // stiffening with depth
+}
+
+TEST(OrganPoke, WhatCannotBePokedIsRefused) {
+  const StrainEnergy& energy = test::LiverMaterial::instance().energy;
+  const double kappa = defaultFemBulkModulus(energy);
+  const TetMesh block = makeBlockMesh({0.01, 0.01, 0.005}, {2, 2, 1});
+  OrganPokeSetup beside = smallBlockPoke();
+  beside.tipStart_m.x() = 0.02;
+  EXPECT_THROW(pokeOrganFem(energy, block, beside, kappa), std::invalid_argument);
+  OrganPokeSetup unheld = smallBlockPoke();
+  unheld.fixedBox_m =
+      Eigen::AlignedBox3d(Eigen::Vector3d(1.0, 1.0, 1.0), Eigen::Vector3d(2.0, 2.0, 2.0));
+  EXPECT_THROW(pokeOrganFem(energy, block, unheld, kappa), std::invalid_argument);
+  OrganPokeSetup backwards = smallBlockPoke();
+  backwards.depths_m = {0.0005, 0.00025};
+  EXPECT_THROW(pokeOrganFem(energy, block, backwards, kappa), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tissuesim
