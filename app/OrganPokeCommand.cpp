@@ -24,7 +24,7 @@ namespace {
 struct OrganPokeOptions {
   std::string scenePath;
   std::string femMeshPath;
-  std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0, 10.0, 15.0, 20.0};
+  std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0, 10.0};
   std::vector<int>
       springs;  ///< the simulator on the surface lattice-meshed to these; none: the scene's mesh
   double speed_mm_s = 2.0;
