@@ -16,7 +16,6 @@
 #include "fem/FemModel.h"
 #include "material/TissueFile.h"
 #include "mesh/TetMeshFile.h"
-#include "sim/SceneFile.h"
 
 namespace tissuesim::app {
 namespace {
@@ -33,14 +32,6 @@ struct OrganPokeOptions {
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
 constexpr double kMaxDepth_mm = 30.0;
-
-SceneDescription readScene(const std::string& path) {
-  try {
-    return loadSceneFile(path);
-  } catch (const SceneFileError& error) {
-    throw CommandError(error.what());
-  }
-}
 
 /// The simulator's force along the probe's axis at each depth below where the axis meets the
 /// drawn surface (or the tet mesh's boundary), the probe driven at `speed_m_s` from its start;

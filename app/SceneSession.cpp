@@ -11,8 +11,6 @@
 
 namespace tissuesim::app {
 
-namespace {
-
 SceneDescription readScene(const std::string& scenePath) {
   try {
     return loadSceneFile(scenePath);
@@ -20,8 +18,6 @@ SceneDescription readScene(const std::string& scenePath) {
     throw CommandError(error.what());
   }
 }
-
-}  // namespace
 
 SceneSession::SceneSession(const std::string& scenePath, const std::string& scriptPath,
                            InstrumentDriver driver)

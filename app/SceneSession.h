@@ -18,6 +18,9 @@ namespace tissuesim::app {
 
 enum class InstrumentDriver { Script, Live };
 
+/// The scene file read and checked. @throws CommandError with the file's one-line reason.
+SceneDescription readScene(const std::string& scenePath);
+
 class SceneSession {
  public:
   /// Loads the scene. With a Script driver an empty scriptPath means the default poke

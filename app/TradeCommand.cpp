@@ -15,6 +15,7 @@
 #include "app/IndentCommand.h"
 #include "app/LoadedTissue.h"
 #include "app/OutputFile.h"
+#include "app/SceneSession.h"
 #include "app/trade/TradeGrid.h"
 #include "app/trade/TradeOutput.h"
 #include "fem/FemModel.h"
@@ -103,12 +104,7 @@ void runTrade(const TradeOptions& options) {
   const std::string pngPath = (folder / "tradeoff.png").string();
   for (const std::string& path : {csvPath, mdPath, pngPath}) checkOutputWritable(path, "--output");
 
-  SceneDescription bundled;
-  try {
-    bundled = loadSceneFile(options.scenePath);
-  } catch (const SceneFileError& failure) {
-    throw CommandError(failure.what());
-  }
+  const SceneDescription bundled = readScene(options.scenePath);
   const LoadedTissue tissue(bundled.tissue.string());
   map.settings.tetBulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
   map.tissueName = tissue.parameters.name;
