@@ -10,7 +10,8 @@
 #   ./tissuesim.sh bench      the Google Benchmark suite (tissuesim bench)
 #   ./tissuesim.sh measure [DIR]  every figure of docs/performance.md into DIR (build/measurements):
 #                             the map (TRADE_ARGS=--quick: two minutes), the benchmarks
-#                             (BENCH_FILTER=REGEX), the bundled poke's report
+#                             (BENCH_FILTER=REGEX), the bundled poke's report, the liver poke
+#                             against the continuum
 #   ./tissuesim.sh fuzz       every parser under libFuzzer with ASan+UBSan (clang, build-fuzz/),
 #                             FUZZ_SECONDS each (default 12), FUZZ_TARGETS to choose some
 #
@@ -136,8 +137,9 @@ case "${1:-}" in
     build/app/tissuesim bench "$@"
     ;;
   measure)
-    # Every figure of docs/performance.md: the speed/accuracy map, the benchmarks and the
-    # bundled poke's report, into one folder. TRADE_ARGS=--quick for the two-minute map.
+    # Every figure of docs/performance.md: the speed/accuracy map, the benchmarks, the
+    # bundled poke's report and the liver poke against the continuum, into one folder.
+    # TRADE_ARGS=--quick for the two-minute map.
     install_packages
     BUILD_ONLY=tissuesim build build
     out=${2:-build/measurements}
@@ -149,6 +151,8 @@ case "${1:-}" in
       ${BENCH_FILTER:+--benchmark_filter=$BENCH_FILTER}
     say "the bundled poke into $out/liver-poke-report.json"
     build/app/tissuesim run --scene assets/scenes/liver-poke.json --report "$out/liver-poke-report.json"
+    say "the liver poke against the continuum into $out/organ-poke.csv"
+    build/app/tissuesim organ-poke --springs 1000,5300,20000 --output "$out/organ-poke.csv"
     say "measurements in $out (the machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
     ;;
   *)
