@@ -2,6 +2,7 @@
 #include "app/OrganPokeCommand.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -24,8 +25,9 @@ struct OrganPokeOptions {
   std::string scenePath;
   std::string femMeshPath;
   std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0, 10.0};
-  std::vector<int>
-      springs;  ///< the simulator on the surface lattice-meshed to these; none: the scene's mesh
+  /// The simulator on the drawn surface lattice-meshed to about these many springs; none: on
+  /// the scene's own mesh.
+  std::vector<int> springs;
   double speed_mm_s = 2.0;
   std::string outputPath;
 };
@@ -60,7 +62,15 @@ std::vector<double> simulatorForces(const SceneDescription& scene,
                                            travel_m, travel_m / speed_m_s));
   std::vector<double> forces;
   double lastDepth = -approach_m, lastForce = 0.0;
-  while (forces.size() < depths_m.size()) {
+  // A refused step leaves the time, and so the probe, where it was: count attempts, not steps.
+  const long attemptLimit =
+      2 * static_cast<long>(std::ceil(travel_m / speed_m_s / simulation.timeStep_s()));
+  for (long attempt = 0; forces.size() < depths_m.size(); ++attempt) {
+    if (attempt > attemptLimit) {
+      throw CommandError("the simulator of " + scene.source.string() + " did not reach " +
+                         std::to_string(1e3 * depths_m[forces.size()]) + " mm (" +
+                         std::to_string(simulation.eventCount()) + " instability events)");
+    }
     const StepOutcome outcome = simulation.step();
     const double depth = (simulation.instrumentPose().tip_m - entry).dot(tool.direction);
     const double force = -outcome.contact.toolForce_N.dot(tool.direction);
