@@ -12,11 +12,12 @@
 #include "analysis/OrganPokeExperiment.h"
 #include "app/AssetPaths.h"
 #include "app/CommandError.h"
+#include "app/LoadedTissue.h"
 #include "app/OutputFile.h"
 #include "app/SceneSession.h"
 #include "fem/FemModel.h"
-#include "material/TissueFile.h"
 #include "mesh/TetMeshFile.h"
+#include "mesh/TriangleSurface.h"
 
 namespace tissuesim::app {
 namespace {
@@ -120,13 +121,8 @@ void runOrganPoke(const OrganPokeOptions& options) {
   } catch (const MeshFileError& error) {
     throw CommandError(error.what());
   }
-  std::unique_ptr<StrainEnergy> energyOwner;
-  try {
-    energyOwner = std::make_unique<StrainEnergy>(loadTissueFile(scene.tissue));
-  } catch (const TissueFileError& error) {
-    throw CommandError(error.what());
-  }
-  const StrainEnergy& energy = *energyOwner;
+  const LoadedTissue tissue(scene.tissue.string());
+  const StrainEnergy& energy = tissue.energy;
   OrganPokeSetup setup;
   setup.tipStart_m = scene.instrument->tipStart_m;
   setup.direction = scene.instrument->direction;

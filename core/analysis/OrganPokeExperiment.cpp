@@ -13,6 +13,7 @@
 #include "fem/FemStaticSolver.h"
 #include "fem/QuadraticTetMesh.h"
 #include "forces/CapsulePenalty.h"
+#include "mesh/TriangleSurface.h"
 
 namespace tissuesim {
 namespace {
@@ -20,9 +21,9 @@ namespace {
 /// The probe's shaft beyond the tip's hemisphere (m): longer than any organ is deep.
 constexpr double kShaftLength_m = 0.3;
 
-/// Each quadratic boundary node's share of the surface (m^2): the linear boundary's faces, each
-/// cut into four at its edges' midpoints, a third of each piece to each of its corners.
-std::map<int, double> surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quadratic) {
+/// Each quadratic boundary node's share of the surface (m^2; 0 off the surface): the linear
+/// boundary's faces, each cut into four at its edges' midpoints.
+Eigen::VectorXd surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quadratic) {
   std::map<std::pair<int, int>, int> midpointOf;
   for (Eigen::Index t = 0; t < quadratic.tetCount(); ++t) {
     for (int e = 0; e < 6; ++e) {
@@ -34,22 +35,16 @@ std::map<int, double> surfaceShares(const TetMesh& organ, const QuadraticTetMesh
   const auto midpoint = [&](int a, int b) {
     return midpointOf.at({std::min(a, b), std::max(a, b)});
   };
-  std::map<int, double> shares;
   const Eigen::Matrix3Xi faces = boundaryFaces(organ);
+  Eigen::Matrix3Xi pieces(3, 4 * faces.cols());
   for (Eigen::Index f = 0; f < faces.cols(); ++f) {
     const int a = faces(0, f), b = faces(1, f), c = faces(2, f);
     const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-    for (const std::array<int, 3>& piece :
-         {std::array<int, 3>{a, ab, ca}, std::array<int, 3>{ab, b, bc},
-          std::array<int, 3>{ca, bc, c}, std::array<int, 3>{ab, bc, ca}}) {
-      const Eigen::Vector3d p0 = quadratic.nodes_m.col(piece[0]);
-      const double area =
-          0.5 *
-          (quadratic.nodes_m.col(piece[1]) - p0).cross(quadratic.nodes_m.col(piece[2]) - p0).norm();
-      for (const int node : piece) shares[node] += area / 3.0;
-    }
+    pieces.middleCols<4>(4 * f) << a, ab, ca, ab,  //
+        ab, b, bc, bc,                             //
+        ca, bc, c, ca;
   }
-  return shares;
+  return vertexAreas(quadratic.nodes_m, pieces);
 }
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
@@ -57,32 +52,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 }  // namespace
-
-bool firstCrossing(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& faces,
-                   const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
-                   Eigen::Vector3d& crossing_m) {
-  // Moeller-Trumbore, the nearest crossing ahead of `from`.
-  double nearest = std::numeric_limits<double>::infinity();
-  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
-    const Eigen::Vector3d a = vertices.col(faces(0, f));
-    const Eigen::Vector3d ab = vertices.col(faces(1, f)) - a;
-    const Eigen::Vector3d ac = vertices.col(faces(2, f)) - a;
-    const Eigen::Vector3d p = direction.cross(ac);
-    const double determinant = ab.dot(p);
-    if (std::abs(determinant) < 1e-30) continue;  // the ray runs along the face's plane
-    const Eigen::Vector3d s = from - a;
-    const double u = s.dot(p) / determinant;
-    if (u < 0.0 || u > 1.0) continue;
-    const Eigen::Vector3d q = s.cross(ab);
-    const double v = direction.dot(q) / determinant;
-    if (v < 0.0 || u + v > 1.0) continue;
-    const double distance = ac.dot(q) / determinant;
-    if (distance >= 0.0 && distance < nearest) nearest = distance;
-  }
-  if (!std::isfinite(nearest)) return false;
-  crossing_m = from + nearest * direction;
-  return true;
-}
 
 IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
                               const OrganPokeSetup& setup, double bulkModulus_Pa,
@@ -110,9 +79,12 @@ IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
   if (fixedCount == 0) throw std::invalid_argument("no node of the organ lies in the fixed box");
 
   std::vector<CapsulePenalty::Point> points;
-  for (const auto& [node, share] : surfaceShares(organ, mesh)) {
-    if ((mesh.nodes_m.col(node) - entry).norm() > setup.contactReach_m) continue;
-    points.push_back({{node, node, node}, {1.0, 0.0, 0.0}, share * setup.pressureStiffness_Pa_m});
+  const Eigen::VectorXd shares = surfaceShares(organ, mesh);
+  for (int node = 0; node < static_cast<int>(shares.size()); ++node) {
+    if (!(shares[node] > 0.0) || (mesh.nodes_m.col(node) - entry).norm() > setup.contactReach_m)
+      continue;
+    points.push_back(
+        {{node, node, node}, {1.0, 0.0, 0.0}, shares[node] * setup.pressureStiffness_Pa_m});
   }
   CapsulePenalty probe(std::move(points));
   probe.radius_m = setup.probeRadius_m;

@@ -36,12 +36,6 @@ struct OrganPokeSetup {
   double contactReach_m = 0.015;
 };
 
-/// Where the ray from `from` along unit `direction` first crosses the faces (3 by #F into
-/// `vertices`, 3 by #V, m), or no value when it misses them all.
-bool firstCrossing(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& faces,
-                   const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
-                   Eigen::Vector3d& crossing_m);
-
 /// The FEM reference of the poke on `organ` (linear tets, positively oriented, its boundary the
 /// organ's surface). The curve's force is along the probe's axis, at the setup's depths below
 /// the entry point. @throws std::invalid_argument when the probe's axis misses the organ, no

@@ -2,6 +2,7 @@
 #include "mesh/TriangleSurface.h"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace tissuesim {
@@ -43,6 +44,32 @@ Eigen::VectorXd vertexAreas(const Eigen::Matrix3Xd& vertices, const Eigen::Matri
     for (int k = 0; k < 3; ++k) area[triangles(k, t)] += third;
   }
   return area;
+}
+
+bool firstCrossing(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles,
+                   const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
+                   Eigen::Vector3d& crossing_m) {
+  // Moeller-Trumbore, the nearest crossing ahead of `from`.
+  double nearest = std::numeric_limits<double>::infinity();
+  for (Eigen::Index f = 0; f < triangles.cols(); ++f) {
+    const Eigen::Vector3d a = vertices.col(triangles(0, f));
+    const Eigen::Vector3d ab = vertices.col(triangles(1, f)) - a;
+    const Eigen::Vector3d ac = vertices.col(triangles(2, f)) - a;
+    const Eigen::Vector3d p = direction.cross(ac);
+    const double determinant = ab.dot(p);
+    if (std::abs(determinant) < 1e-30) continue;  // the ray runs along the face's plane
+    const Eigen::Vector3d s = from - a;
+    const double u = s.dot(p) / determinant;
+    if (u < 0.0 || u > 1.0) continue;
+    const Eigen::Vector3d q = s.cross(ab);
+    const double v = direction.dot(q) / determinant;
+    if (v < 0.0 || u + v > 1.0) continue;
+    const double distance = ac.dot(q) / determinant;
+    if (distance >= 0.0 && distance < nearest) nearest = distance;
+  }
+  if (!std::isfinite(nearest)) return false;
+  crossing_m = from + nearest * direction;
+  return true;
 }
 
 Eigen::Matrix3Xd vertexNormals(const TriangleSurface& surface) {

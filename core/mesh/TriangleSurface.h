@@ -38,6 +38,12 @@ double windingNumber(const TriangleSurface& surface, const Eigen::Vector3d& p);
 /// #V). Vertices (3 by #V) and triangles (3 by #F) apart, for a tet mesh's boundary faces too.
 Eigen::VectorXd vertexAreas(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles);
 
+/// Where the ray from `from` along unit `direction` first crosses the triangles (3 by #F into
+/// `vertices`, 3 by #V, m), into crossing_m; false when it misses them all.
+bool firstCrossing(const Eigen::Matrix3Xd& vertices, const Eigen::Matrix3Xi& triangles,
+                   const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
+                   Eigen::Vector3d& crossing_m);
+
 /// Area-weighted vertex normals (3 by #V, unit; outward for an outward surface; zero for a
 /// vertex no triangle uses).
 Eigen::Matrix3Xd vertexNormals(const TriangleSurface& surface);

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "mesh/TetMesh.h"
-#include "mesh/BlockMesher.h"
 
 #include <stdexcept>
 
 #include <gtest/gtest.h>
+
+#include "mesh/BlockMesher.h"
+#include "mesh/TriangleSurface.h"
 
 namespace tissuesim {
 namespace {
@@ -79,6 +81,24 @@ TEST(TetMesh, BoundaryFacesAreTheClosedOutwardSurface) {
               6.0;
   }
   EXPECT_NEAR(volume, 0.02 * 0.01 * 0.03, 1e-15);
+}
+
+TEST(TriangleSurface, ARayFindsTheFirstTriangleItCrosses) {
+  const TetMesh block = makeBlockMesh({0.02, 0.02, 0.01}, {2, 2, 1});
+  const Eigen::Matrix3Xi faces = boundaryFaces(block);
+  Eigen::Vector3d crossing;
+  // From above, down: the top face (not the bottom one behind it).
+  ASSERT_TRUE(firstCrossing(block.nodes_m, faces, {0.007, 0.013, 0.05}, -Eigen::Vector3d::UnitZ(),
+                            crossing));
+  EXPECT_LT((crossing - Eigen::Vector3d(0.007, 0.013, 0.01)).norm(), 1e-15);
+  // From inside, up: the top face again; beside the block or pointing away: nothing.
+  ASSERT_TRUE(firstCrossing(block.nodes_m, faces, {0.003, 0.004, 0.002}, Eigen::Vector3d::UnitZ(),
+                            crossing));
+  EXPECT_NEAR(crossing.z(), 0.01, 1e-15);
+  EXPECT_FALSE(
+      firstCrossing(block.nodes_m, faces, {0.03, 0.01, 0.05}, -Eigen::Vector3d::UnitZ(), crossing));
+  EXPECT_FALSE(
+      firstCrossing(block.nodes_m, faces, {0.01, 0.01, 0.05}, Eigen::Vector3d::UnitZ(), crossing));
 }
 
 }  // namespace
