@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "app/OrganPokeCommand.h"
 
-#include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,12 +11,13 @@
 #include "analysis/OrganPokeExperiment.h"
 #include "app/AssetPaths.h"
 #include "app/CommandError.h"
+#include "app/FemForceCache.h"
 #include "app/LoadedTissue.h"
+#include "app/OrganPoke.h"
 #include "app/OutputFile.h"
 #include "app/SceneSession.h"
 #include "fem/FemModel.h"
 #include "mesh/TetMeshFile.h"
-#include "mesh/TriangleSurface.h"
 
 namespace tissuesim::app {
 namespace {
@@ -25,67 +25,72 @@ namespace {
 struct OrganPokeOptions {
   std::string scenePath;
   std::string femMeshPath;
-  std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0, 10.0};
+  std::vector<double> depths_mm = kOrganPokeDepths_mm;
   /// The simulator on the drawn surface lattice-meshed to about these many springs; none: on
   /// the scene's own mesh.
   std::vector<int> springs;
   double speed_mm_s = 2.0;
   std::string outputPath;
+  /// The FEM's forces read from here when it holds them for these inputs, else written here.
+  std::string femCachePath;
 };
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
 constexpr double kMaxDepth_mm = 30.0;
 
-/// The simulator's force along the probe's axis at each depth below where the axis meets the
-/// drawn surface (or the tet mesh's boundary), the probe driven at `speed_m_s` from its start;
-/// interpolated between the steps either side of each depth.
-std::vector<double> simulatorForces(const SceneDescription& scene,
-                                    const std::vector<double>& depths_m, double speed_m_s,
-                                    double& seconds, long& events) {
-  const auto start = std::chrono::steady_clock::now();
-  SceneSession session(scene, "", InstrumentDriver::Script);
-  Simulation& simulation = session.simulation();
-  const SceneInstrument& tool = *scene.instrument;
-  const SceneGeometry& geometry = simulation.geometry();
-  Eigen::Vector3d entry;
-  const bool meets = geometry.surface
-                         ? firstCrossing(geometry.surface->vertices_m, geometry.surface->triangles,
-                                         tool.tipStart_m, tool.direction, entry)
-                         : firstCrossing(geometry.mesh.nodes_m, boundaryFaces(geometry.mesh),
-                                         tool.tipStart_m, tool.direction, entry);
-  if (!meets) {
-    throw CommandError("the instrument's axis in " + scene.source.string() +
-                       " does not meet the organ's surface");
+/// The FEM reference's forces at `depths_m`: from --fem-cache when it holds them for these
+/// inputs, else solved (minutes) and kept there.
+std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescription& scene,
+                              const std::vector<double>& depths_m) {
+  TetMesh organ;
+  try {
+    organ = readTetMesh(options.femMeshPath);
+  } catch (const MeshFileError& error) {
+    throw CommandError(error.what());
   }
-  const double approach_m = (entry - tool.tipStart_m).dot(tool.direction);
-  const double travel_m = approach_m + depths_m.back() + simulation.timeStep_s() * speed_m_s;
-  session.useScript(InstrumentScript::poke(InstrumentPose{tool.tipStart_m, tool.direction, false},
-                                           travel_m, travel_m / speed_m_s));
-  std::vector<double> forces;
-  double lastDepth = -approach_m, lastForce = 0.0;
-  // A refused step leaves the time, and so the probe, where it was: count attempts, not steps.
-  const long attemptLimit =
-      2 * static_cast<long>(std::ceil(travel_m / speed_m_s / simulation.timeStep_s()));
-  for (long attempt = 0; forces.size() < depths_m.size(); ++attempt) {
-    if (attempt > attemptLimit) {
-      throw CommandError("the simulator of " + scene.source.string() + " did not reach " +
-                         std::to_string(1e3 * depths_m[forces.size()]) + " mm (" +
-                         std::to_string(simulation.eventCount()) + " instability events)");
+  const LoadedTissue tissue(scene.tissue.string());
+  const OrganPokeSetup setup = organPokeSetup(scene, depths_m);
+  const double bulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
+  const std::uint64_t key = femReferenceKey(scene, options.femMeshPath, setup, bulkModulus_Pa);
+  if (!options.femCachePath.empty()) {
+    std::string why;
+    std::optional<std::vector<double>> kept =
+        readFemForceCache(options.femCachePath, key, options.depths_mm, why);
+    if (kept) {
+      std::fprintf(stderr, "fem: the forces from %s\n", options.femCachePath.c_str());
+      return *kept;
     }
-    const StepOutcome outcome = simulation.step();
-    const double depth = (simulation.instrumentPose().tip_m - entry).dot(tool.direction);
-    const double force = -outcome.contact.toolForce_N.dot(tool.direction);
-    while (forces.size() < depths_m.size() && depth >= depths_m[forces.size()]) {
-      const double target = depths_m[forces.size()];
-      forces.push_back(lastForce +
-                       (force - lastForce) * (target - lastDepth) / (depth - lastDepth));
-    }
-    lastDepth = depth;
-    lastForce = force;
+    std::fprintf(stderr, "fem: not from %s: %s\n", options.femCachePath.c_str(), why.c_str());
   }
-  events = static_cast<long>(simulation.eventCount());
-  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return forces;
+  std::fprintf(stderr,
+               "organ-poke: %s, weightless, a %.1f mm probe along its axis; the FEM on %s\n",
+               scene.name.c_str(), 1e3 * setup.probeRadius_m, options.femMeshPath.c_str());
+  IndentationCurve fem;
+  try {
+    fem = pokeOrganFem(tissue.energy, organ, setup, bulkModulus_Pa,
+                       [](double depth_m, double force_N) {
+                         std::fprintf(stderr, "fem: %.1f mm, %.4f N\n", 1e3 * depth_m, force_N);
+                       });
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(options.femMeshPath + ": " + error.what());
+  }
+  std::fprintf(stderr,
+               "fem: %d nodes, %d quadratic tets, %.1f s; %d of its solves stopped unconverged, "
+               "the largest net force left on a node %.2g N\n",
+               fem.nodes, fem.elements, fem.seconds, fem.unconvergedPoints, fem.worstResidual_N);
+  if (!options.femCachePath.empty()) {
+    // A millionth of the deepest force left unbalanced moves no kept digit that matters; more,
+    // and the forces are no reference to keep.
+    const double kept_N = 1e-6 * std::abs(fem.force_N.back());
+    if (fem.worstResidual_N <= kept_N) {
+      writeFemForceCache(options.femCachePath, key, options.depths_mm, fem.force_N);
+      std::fprintf(stderr, "fem: the forces kept in %s\n", options.femCachePath.c_str());
+    } else {
+      std::fprintf(stderr, "fem: not kept in %s: a solve left more than %.2g N unbalanced\n",
+                   options.femCachePath.c_str(), kept_N);
+    }
+  }
+  return fem.force_N;
 }
 
 void runOrganPoke(const OrganPokeOptions& options) {
@@ -103,46 +108,11 @@ void runOrganPoke(const OrganPokeOptions& options) {
   if (!(options.speed_mm_s > 0.0) || options.speed_mm_s > 1000.0)
     throw CommandError("--speed-mm-s must be in (0, 1000]");
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
+  if (!options.femCachePath.empty()) checkOutputWritable(options.femCachePath, "--fem-cache");
 
-  SceneDescription scene = readScene(options.scenePath);
-  if (!scene.instrument)
-    throw CommandError("the scene " + scene.source.string() + " has no instrument to poke with");
-  if (!scene.fixed.box_m) {
-    throw CommandError("the scene " + scene.source.string() +
-                       " holds listed nodes; the organ poke needs its fixed region as a box");
-  }
   // Weightless and on nothing but its fixed region: the continuum reference's conditions.
-  scene.gravity_m_s2.setZero();
-  scene.tray.reset();
-
-  TetMesh organ;
-  try {
-    organ = readTetMesh(options.femMeshPath);
-  } catch (const MeshFileError& error) {
-    throw CommandError(error.what());
-  }
-  const LoadedTissue tissue(scene.tissue.string());
-  const StrainEnergy& energy = tissue.energy;
-  OrganPokeSetup setup;
-  setup.tipStart_m = scene.instrument->tipStart_m;
-  setup.direction = scene.instrument->direction;
-  setup.probeRadius_m = scene.instrument->shaftRadius_m;
-  setup.fixedBox_m = *scene.fixed.box_m;
-  setup.depths_m = depths_m;
-  std::fprintf(stderr,
-               "organ-poke: %s, weightless, a %.1f mm probe from its start; the FEM on %s\n",
-               scene.name.c_str(), 1e3 * setup.probeRadius_m, options.femMeshPath.c_str());
-  IndentationCurve fem;
-  try {
-    fem = pokeOrganFem(energy, organ, setup, defaultFemBulkModulus(energy),
-                       [](double depth_m, double force_N) {
-                         std::fprintf(stderr, "fem: %.1f mm, %.4f N\n", 1e3 * depth_m, force_N);
-                       });
-  } catch (const std::invalid_argument& error) {
-    throw CommandError(options.femMeshPath + ": " + error.what());
-  }
-  std::fprintf(stderr, "fem: %d nodes, %d quadratic tets, %.1f s%s\n", fem.nodes, fem.elements,
-               fem.seconds, fem.unconvergedPoints > 0 ? " (some solves stopped unconverged)" : "");
+  const SceneDescription scene = weightlessPokeScene(readScene(options.scenePath));
+  const std::vector<double> femForce_N = femForces(options, scene, depths_m);
   // The simulator as the scene sets it up, on its own mesh or on the surface meshed anew.
   struct Row {
     std::string mesh;
@@ -158,19 +128,17 @@ void runOrganPoke(const OrganPokeOptions& options) {
   }
   std::string csv = "simulator_mesh,depth_mm,fem_force_n,simulator_force_n,error_vs_fem_percent\n";
   for (const Row& row : rows) {
-    double seconds = 0.0;
-    long events = 0;
-    const std::vector<double> simulator =
-        simulatorForces(row.scene, depths_m, options.speed_mm_s / 1000.0, seconds, events);
+    const SimulatorPoke poke = pokeSimulator(row.scene, depths_m, options.speed_mm_s / 1000.0);
+    const std::vector<double>& simulator = poke.force_N;
     std::fprintf(stderr, "simulator (%s): %.1f s, %ld instability events, the probe at %g mm/s\n",
-                 row.mesh.c_str(), seconds, events, options.speed_mm_s);
+                 row.mesh.c_str(), poke.seconds, poke.events, options.speed_mm_s);
     for (std::size_t d = 0; d < depths_m.size(); ++d) {
-      const double error = 100.0 * (simulator[d] / fem.force_N[d] - 1.0);
+      const double error = 100.0 * (simulator[d] / femForce_N[d] - 1.0);
       std::fprintf(stderr, "%5.1f mm: fem %.4f N, simulator %.4f N (%+.0f %%)\n",
-                   options.depths_mm[d], fem.force_N[d], simulator[d], error);
+                   options.depths_mm[d], femForce_N[d], simulator[d], error);
       char line[200];
       std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%.6g,%.3f\n", row.mesh.c_str(),
-                    options.depths_mm[d], fem.force_N[d], simulator[d], error);
+                    options.depths_mm[d], femForce_N[d], simulator[d], error);
       csv += line;
     }
   }
@@ -210,6 +178,9 @@ void registerOrganPokeCommand(CLI::App& app) {
   command->add_option("--speed-mm-s", options->speed_mm_s, "The simulator's probe speed")
       ->capture_default_str();
   command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
+  command->add_option("--fem-cache", options->femCachePath,
+                      "The FEM's forces: read from this file when it holds them for the same "
+                      "scene, tissue, FEM mesh and depths, else solved and written to it");
   command->callback([options] { runOrganPoke(*options); });
 }
 

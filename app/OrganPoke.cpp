@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "app/OrganPoke.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "app/CommandError.h"
+#include "app/FemForceCache.h"
+#include "app/SceneSession.h"
+#include "mesh/TriangleSurface.h"
+#include "sim/SessionRecording.h"
+
+namespace tissuesim::app {
+namespace {
+
+/// Where the simulator's probe starts: this far above the point where its axis meets the
+/// surface (m).
+constexpr double kApproach_m = 0.001;
+
+}  // namespace
+
+SceneDescription weightlessPokeScene(SceneDescription scene) {
+  if (!scene.instrument)
+    throw CommandError("the scene " + scene.source.string() + " has no instrument to poke with");
+  if (!scene.fixed.box_m) {
+    throw CommandError("the scene " + scene.source.string() +
+                       " holds listed nodes; the organ poke needs its fixed region as a box");
+  }
+  scene.gravity_m_s2.setZero();
+  scene.tray.reset();
+  return scene;
+}
+
+OrganPokeSetup organPokeSetup(const SceneDescription& scene, const std::vector<double>& depths_m) {
+  OrganPokeSetup setup;
+  setup.tipStart_m = scene.instrument->tipStart_m;
+  setup.direction = scene.instrument->direction;
+  setup.probeRadius_m = scene.instrument->shaftRadius_m;
+  setup.fixedBox_m = *scene.fixed.box_m;
+  setup.depths_m = depths_m;
+  return setup;
+}
+
+std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& femMeshPath,
+                              const OrganPokeSetup& setup, double bulkModulus_Pa) {
+  FemReferenceKey key;
+  try {
+    key.addText(std::to_string(fileHash(scene.tissue)));
+    key.addText(std::to_string(fileHash(femMeshPath)));
+  } catch (const RecordingError& error) {
+    throw CommandError(error.what());
+  }
+  for (const Eigen::Vector3d& v :
+       {setup.tipStart_m, setup.direction, setup.fixedBox_m.min(), setup.fixedBox_m.max()})
+    for (int i = 0; i < 3; ++i) key.addNumber(v[i]);
+  for (const double value : {setup.probeRadius_m, setup.depthStep_m, setup.pressureStiffness_Pa_m,
+                             setup.contactReach_m, bulkModulus_Pa})
+    key.addNumber(value);
+  return key.value();
+}
+
+SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<double>& depths_m,
+                            double speed_m_s) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneSession session(scene, "", InstrumentDriver::Script);
+  Simulation& simulation = session.simulation();
+  const SceneInstrument& tool = *scene.instrument;
+  const SceneGeometry& geometry = simulation.geometry();
+  Eigen::Vector3d entry;
+  const bool meets = geometry.surface
+                         ? firstCrossing(geometry.surface->vertices_m, geometry.surface->triangles,
+                                         tool.tipStart_m, tool.direction, entry)
+                         : firstCrossing(geometry.mesh.nodes_m, boundaryFaces(geometry.mesh),
+                                         tool.tipStart_m, tool.direction, entry);
+  if (!meets) {
+    throw CommandError("the instrument's axis in " + scene.source.string() +
+                       " does not meet the organ's surface");
+  }
+  const double travel_m = kApproach_m + depths_m.back() + simulation.timeStep_s() * speed_m_s;
+  session.useScript(InstrumentScript::poke(
+      InstrumentPose{entry - kApproach_m * tool.direction, tool.direction, false}, travel_m,
+      travel_m / speed_m_s));
+  SimulatorPoke poke;
+  double lastDepth = -kApproach_m, lastForce = 0.0;
+  // A refused step leaves the time, and so the probe, where it was: count attempts, not steps.
+  const long attemptLimit =
+      2 * static_cast<long>(std::ceil(travel_m / speed_m_s / simulation.timeStep_s()));
+  for (long attempt = 0; poke.force_N.size() < depths_m.size(); ++attempt) {
+    if (attempt > attemptLimit) {
+      throw CommandError("the simulator of " + scene.source.string() + " did not reach " +
+                         std::to_string(1e3 * depths_m[poke.force_N.size()]) + " mm (" +
+                         std::to_string(simulation.eventCount()) + " instability events)");
+    }
+    const StepOutcome outcome = simulation.step();
+    const double depth = (simulation.instrumentPose().tip_m - entry).dot(tool.direction);
+    const double force = -outcome.contact.toolForce_N.dot(tool.direction);
+    while (poke.force_N.size() < depths_m.size() && depth >= depths_m[poke.force_N.size()]) {
+      const double target = depths_m[poke.force_N.size()];
+      poke.force_N.push_back(lastForce +
+                             (force - lastForce) * (target - lastDepth) / (depth - lastDepth));
+    }
+    lastDepth = depth;
+    lastForce = force;
+  }
+  poke.events = static_cast<long>(simulation.eventCount());
+  poke.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return poke;
+}
+
+}  // namespace tissuesim::app

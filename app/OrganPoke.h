@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The liver poke against the continuum (`tissuesim organ-poke`, and the map's liver columns in
+// `tissuesim trade`): a scene's organ, weightless and held by its fixed region alone, poked along
+// its instrument's axis. This file holds the simulator's side and what both sides share; the
+// FEM's is analysis/OrganPokeExperiment.h.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "analysis/OrganPokeExperiment.h"
+#include "sim/SceneFile.h"
+
+namespace tissuesim::app {
+
+/// The depths below the surface (mm) organ-poke measures by default, those of the bundled
+/// liver's kept reference (assets/meshes/liver-fem-poke.csv) that `trade` reads.
+inline const std::vector<double> kOrganPokeDepths_mm{1.0, 2.0, 3.0, 4.0, 5.0, 10.0};
+
+/// `scene` weightless (no gravity, no tray), the continuum reference's conditions.
+/// @throws CommandError when it has no instrument or holds listed nodes rather than a box.
+SceneDescription weightlessPokeScene(SceneDescription scene);
+
+/// The FEM's setup for the weightless `scene`'s poke to `depths_m`.
+OrganPokeSetup organPokeSetup(const SceneDescription& scene, const std::vector<double>& depths_m);
+
+/// What the FEM reference's forces depend on (FemForceCache.h): the tissue file, the FEM mesh
+/// file, the probe, the fixed box, the bulk modulus and the solver's settings.
+/// @throws CommandError when a file cannot be read.
+std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& femMeshPath,
+                              const OrganPokeSetup& setup, double bulkModulus_Pa);
+
+struct SimulatorPoke {
+  std::vector<double> force_N;  ///< along the axis, at each depth
+  double seconds = 0.0;         ///< wall time, start-up included
+  long events = 0;              ///< instability events
+};
+
+/// The simulator's force along the probe's axis at each depth below where the axis meets the
+/// drawn surface (or the tet mesh's boundary), the probe driven at `speed_m_s` from 1 mm above
+/// that point (the weightless organ rests until touched); interpolated between the steps either
+/// side of each depth. @throws CommandError when the axis misses the organ or the simulator does
+/// not reach the depths.
+SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<double>& depths_m,
+                            double speed_m_s);
+
+}  // namespace tissuesim::app
