@@ -7,13 +7,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/AssetPaths.h"
 #include "app/CommandError.h"
+#include "app/FemForceCache.h"
 #include "app/IndentCommand.h"
 #include "app/LoadedTissue.h"
+#include "app/OrganPoke.h"
 #include "app/OutputFile.h"
 #include "app/SceneSession.h"
 #include "app/trade/TradeGrid.h"
@@ -30,6 +33,8 @@ struct TradeOptions {
   std::string scenePath;
   std::vector<int> springs;
   std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0};
+  std::string organReferencePath;
+  std::string femMeshPath;
 };
 
 /// One line a task on stderr: a bar of the share done, the count, what runs now.
@@ -76,6 +81,37 @@ TradeSettings settingsFor(const TradeOptions& options) {
   return settings;
 }
 
+/// The liver poke's FEM reference for `bundled` from the kept forces at `options`'
+/// organReferencePath (organ-poke --fem-cache); its depths into the map's settings. Without one
+/// (another scene or tissue, no such file) the map has no liver poke, and its note says why.
+void loadOrganReference(const TradeOptions& options, const SceneDescription& bundled,
+                        const LoadedTissue& tissue, TradeMap& map) {
+  if (options.isQuick) {
+    // The liver poke would take the quick map past its two minutes.
+    map.organNote = "the full map measures it (without --quick)";
+    return;
+  }
+  std::vector<double> depths_m;
+  for (const double depth : kOrganPokeDepths_mm) depths_m.push_back(depth / 1000.0);
+  try {
+    const SceneDescription weightless = weightlessPokeScene(bundled);
+    const std::uint64_t key =
+        femReferenceKey(weightless, options.femMeshPath, organPokeSetup(weightless, depths_m),
+                        defaultFemBulkModulus(tissue.energy));
+    std::string why;
+    const std::optional<std::vector<double>> forces =
+        readFemForceCache(options.organReferencePath, key, kOrganPokeDepths_mm, why);
+    if (!forces) {
+      map.organNote = options.organReferencePath + " has no reference for this scene: " + why;
+      return;
+    }
+    map.organReference_N = *forces;
+    map.settings.organDepths_m = depths_m;
+  } catch (const CommandError& error) {
+    map.organNote = error.what();
+  }
+}
+
 /// An FEM row: a coarser reference, its error against the finest and its time per load step.
 void measureFemRow(const LoadedTissue& tissue, const TradeMap& map, const TradeRow& row,
                    TradeMeasurement& m) {
@@ -110,6 +146,9 @@ void runTrade(const TradeOptions& options) {
   map.tissueName = tissue.parameters.name;
   map.sceneName = bundled.name;
   map.rows = tradeRows(bundled, map.settings);
+  loadOrganReference(options, bundled, tissue, map);
+  if (!map.organNote.empty())
+    std::fprintf(stderr, "trade: no liver poke: %s\n", map.organNote.c_str());
   TradeErrors errors(tissue, bundled, map.settings);
 
   int springRows = 0;
@@ -141,6 +180,13 @@ void runTrade(const TradeOptions& options) {
       m.failure = std::string("block: ") + failure.what();
     }
     map.cellEdges_m.push_back(errors.cellEdge(row.targetSprings));
+    // The liver poke for the spring rows (the tets' FEM takes minutes a row there).
+    if (map.settings.organDepths_m.empty() || row.model != "springs") continue;
+    try {
+      errors.measureOrgan(row, m);
+    } catch (const CommandError& failure) {
+      m.organFailure = failure.what();
+    }
   }
   std::vector<std::vector<TradeCost>> costs(map.rows.size());
   for (int round = 1; round <= rounds; ++round) {
@@ -174,15 +220,16 @@ void registerTradeCommand(CLI::App& app) {
       "The speed/accuracy map: the bundled scene at several resolutions, spring laws, volume "
       "terms and integrators, and the tets' FEM on the same lattices (effects.model fem), each "
       "timed on the liver and measured against the FEM reference "
-      "on the indentation test. Writes tradeoff.csv, tradeoff.md and tradeoff.png (error "
+      "on the indentation test and, the spring rows, on the liver poke (organ-poke). Writes "
+      "tradeoff.csv, tradeoff.md and tradeoff.png (error "
       "against time per step, the Pareto front, the 1 ms budget); a progress bar on stderr.");
   options->scenePath = bundledAsset("scenes/liver-poke.json").string();
   command->add_flag("--quick", options->isQuick,
                     "1,000 to 20,000 springs (the tets' FEM to 5,300), a coarser FEM "
                     "reference, a smaller tensile specimen, two rounds of timings over the "
-                    "poke's press alone (about two minutes); else up to 100,000 springs (the "
-                    "tets' FEM to 20,000), three rounds over the whole poke (about half an "
-                    "hour)");
+                    "poke's press alone, no liver poke (about two minutes); else up to 100,000 "
+                    "springs (the tets' FEM to 20,000), three rounds over the whole poke, the "
+                    "liver poke (about half an hour)");
   command->add_option("--output", options->outputFolder, "Folder for the three files")
       ->capture_default_str();
   command->add_option("--scene", options->scenePath, "The scene whose knobs are varied")
@@ -196,6 +243,17 @@ void registerTradeCommand(CLI::App& app) {
                    "Indentation depths, increasing, at most 4.5 mm (the continuum locks deeper "
                    "under the 2.5 mm probe)")
       ->delimiter(',')
+      ->capture_default_str();
+  options->organReferencePath = bundledAsset("meshes/liver-fem-poke.csv").string();
+  command
+      ->add_option("--organ-reference", options->organReferencePath,
+                   "The liver poke's FEM forces kept by organ-poke --fem-cache for the scene; "
+                   "without them for this scene, the map has no liver poke")
+      ->capture_default_str();
+  options->femMeshPath = bundledAsset("meshes/liver-fem.msh").string();
+  command
+      ->add_option("--fem-mesh", options->femMeshPath,
+                   "The conformal tet mesh that reference was solved on")
       ->capture_default_str();
   command->callback([options] { runTrade(*options); });
 }

@@ -17,6 +17,7 @@
 #include "analysis/TensileExperiment.h"
 #include "app/CommandError.h"
 #include "app/LoadedTissue.h"
+#include "app/OrganPoke.h"
 #include "app/ProcessMemory.h"
 #include "app/SceneSession.h"
 #include "collision/CapsuleContact.h"
@@ -439,6 +440,20 @@ void TradeErrors::measure(const TradeRow& row, const IndentationCurve& reference
   }
   out.tensileLoadingR2 = tensile->second.first;
   out.tensileUnloadingR2 = tensile->second.second;
+}
+
+void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {
+  char key[192];
+  std::snprintf(key, sizeof key, "%d|%s|%.6g|%s|%d|%.3g", row.targetSprings, row.law.c_str(),
+                row.bulkModulus_Pa, row.integrator.c_str(), row.newtonIterations, row.cgTolerance);
+  auto poked = m_organ.find(key);
+  if (poked == m_organ.end()) {
+    const SimulatorPoke poke = pokeSimulator(weightlessPokeScene(sceneOf(m_bundled, row)),
+                                             m_settings.organDepths_m, m_settings.organSpeed_m_s);
+    poked = m_organ.emplace(key, std::make_pair(poke.force_N, poke.events)).first;
+  }
+  out.organForce_N = poked->second.first;
+  out.organEvents = poked->second.second;
 }
 
 }  // namespace tissuesim::app

@@ -13,7 +13,8 @@
 // edge as the row's liver lattice, its law and volume term: the probe's force at each depth, static
 // and at the scene's pace (the bundled poke's 4 cm/s, stepped by the row's integrator), against
 // the FEM reference's static force; the top face's displacement against the FEM's; and the
-// tensile test's R^2 against sedf.
+// tensile test's R^2 against sedf. And, where the scene's FEM reference of the liver poke is at
+// hand (organ-poke --fem-cache), the spring rows' force on that poke (OrganPoke.h).
 
 #include <map>
 #include <string>
@@ -74,7 +75,11 @@ struct TradeMeasurement {
   // (the tets: loading against the virgin curve, no unloading).
   double tensileLoadingR2 = 0.0;
   double tensileUnloadingR2 = 0.0;
-  std::string failure;  ///< what stopped the row, when something did
+  // The liver poke (OrganPoke.h), weightless, at the settings' organ depths: the spring rows'.
+  std::vector<double> organForce_N;
+  long organEvents = 0;
+  std::string organFailure;  ///< what stopped the liver poke, when something did
+  std::string failure;       ///< what stopped the row, when something did
 };
 
 struct TradeSettings {
@@ -93,6 +98,9 @@ struct TradeSettings {
   /// speed drifts from minute to minute), and each timing is the median over the rounds.
   int costRounds = 3;
   double pokeSeconds = 0.0;  ///< the cost runs' simulated time; 0: the whole poke (2 s)
+  /// The liver poke's depths below the surface (m), increasing; empty: no liver poke.
+  std::vector<double> organDepths_m;
+  double organSpeed_m_s = 0.002;  ///< its probe's speed
 };
 
 /// The rows of the map: the bundled scene at each resolution (two threads, then one), and at
@@ -130,6 +138,9 @@ class TradeErrors {
   double stiffnessScale(double bulkModulus_Pa);
   /// The block and tensile fields of `out` for spring row `row`, against `reference`.
   void measure(const TradeRow& row, const IndentationCurve& reference, TradeMeasurement& out);
+  /// The liver poke's fields of `out` for spring row `row` (the same for any thread count, so
+  /// measured once for rows that differ in threads alone).
+  void measureOrgan(const TradeRow& row, TradeMeasurement& out);
 
  private:
   const LoadedTissue& m_tissue;
@@ -140,6 +151,7 @@ class TradeErrors {
   std::map<std::string, IndentationCurve> m_static;
   std::map<std::string, IndentationCurve> m_pace;
   std::map<std::string, std::pair<double, double>> m_tensile;
+  std::map<std::string, std::pair<std::vector<double>, long>> m_organ;
 };
 
 }  // namespace tissuesim::app

@@ -127,6 +127,12 @@ std::string tradeCsv(const TradeMap& map) {
     for (const double d : depths)
       csv += ",error_" + std::string(kind) + "_" + depthLabel(d) + "mm_percent";
   }
+  for (const char* kind : {"force", "error"}) {
+    for (const double d : map.settings.organDepths_m)
+      csv += ",organ_" + std::string(kind) + "_" + depthLabel(d) +
+             (*kind == 'f' ? "mm_n" : "mm_percent");
+  }
+  if (!map.settings.organDepths_m.empty()) csv += ",organ_events,organ_failure";
   csv +=
       ",worst_error_percent,surface_rms_mm,surface_max_mm,tensile_r2_loading,"
       "tensile_r2_unloading,failed_steps,pareto,failure\n";
@@ -160,6 +166,16 @@ std::string tradeCsv(const TradeMap& map) {
         fields.push_back(d < forces->size() ? format("%.5g", (*forces)[d]) : "");
       for (std::size_t d = 0; d < depths.size(); ++d)
         fields.push_back(d < errors.size() ? format("%.2f", errors[d]) : "");
+    }
+    const std::vector<double> organErrors = forceErrors(m.organForce_N, map.organReference_N);
+    const std::size_t organDepths = map.settings.organDepths_m.size();
+    for (std::size_t d = 0; d < organDepths; ++d)
+      fields.push_back(d < m.organForce_N.size() ? format("%.5g", m.organForce_N[d]) : "");
+    for (std::size_t d = 0; d < organDepths; ++d)
+      fields.push_back(d < organErrors.size() ? format("%.2f", organErrors[d]) : "");
+    if (organDepths > 0) {
+      fields.push_back(m.organForce_N.empty() ? "" : std::to_string(m.organEvents));
+      fields.push_back(quoted(m.organFailure));
     }
     const bool isOnFront =
         std::find(onFront.begin(), onFront.end(), static_cast<int>(r)) != onFront.end();
@@ -216,16 +232,47 @@ std::string tradeMarkdown(const TradeMap& map) {
   md << "FEM reference force at " << joined(depths_mm, "%g")
      << " mm: " << joined(map.reference.force_N, "%.4g") << " N.\n\n";
 
+  const bool hasOrgan = !map.organReference_N.empty();
+  std::vector<double> organDepths_mm;
+  for (const double d : map.settings.organDepths_m) organDepths_mm.push_back(d * 1e3);
+  if (hasOrgan) {
+    md << "**The liver poke**: the bundled liver itself, weightless and held by its fixed region, "
+          "poked along the instrument's axis at "
+       << format("%g", map.settings.organSpeed_m_s * 1e3)
+       << " mm/s (`tissuesim organ-poke`), against the FEM on a conformal mesh of its drawn "
+          "surface: "
+       << joined(map.organReference_N, "%.4g") << " N at " << joined(organDepths_mm, "%g")
+       << " mm below the surface. Measured on the spring rows.\n\n";
+  } else {
+    md << "No liver poke: " << map.organNote << ".\n\n";
+  }
   md << "| setting | springs | cell (mm) | step median / p99 (ms) | steps/s | start-up (s) | "
         "memory (MB) | instability events on the poke | force error, static (%) | force error, at "
-        "pace (%) | surface RMS / max (mm) | tensile R^2 loading / unloading (%) |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "pace (%) | surface RMS / max (mm) | tensile R^2 loading / unloading (%) |"
+     << (hasOrgan ? " liver poke error (%) |" : "") << "\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|" << (hasOrgan ? "---|" : "") << "\n";
+  const auto organCell = [&](const TradeMeasurement& m) {
+    std::string cell;
+    if (!hasOrgan) return cell;
+    if (!m.organFailure.empty()) {
+      cell.append(" failed: ").append(m.organFailure);
+    } else if (m.organForce_N.empty()) {
+      cell.append(" -");
+    } else {
+      cell.append(" ").append(joined(forceErrors(m.organForce_N, map.organReference_N), "%+.0f"));
+      if (m.organEvents > 0) {
+        cell.append(" (").append(std::to_string(m.organEvents));
+        cell.append(m.organEvents == 1 ? " event)" : " events)");
+      }
+    }
+    return cell.append(" |");
+  };
   for (std::size_t r = 0; r < map.rows.size(); ++r) {
     const TradeRow& row = map.rows[r];
     const TradeMeasurement& m = map.measurements[r];
     md << "| " << row.name << " | ";
     if (!m.failure.empty()) {
-      md << "failed: " << m.failure << " ||||||||||\n";
+      md << "failed: " << m.failure << " |||||||||||" << (hasOrgan ? "|" : "") << "\n";
       continue;
     }
     const std::string staticErrors =
@@ -235,7 +282,7 @@ std::string tradeMarkdown(const TradeMap& map) {
     if (isFem(map, r)) {
       md << "- | - | " << format("%.1f", m.cost.stepMedian_ms / 1e3)
          << " s a load step (block) | - | - | - | - | " << staticErrors << " | - | " << surface
-         << " | - |\n";
+         << " | - |" << organCell(m) << "\n";
       continue;
     }
     md << m.cost.springs << " | " << format("%.1f", map.cellEdges_m[r] * 1e3) << " | "
@@ -251,10 +298,15 @@ std::string tradeMarkdown(const TradeMap& map) {
                      (hasUnloadingTensile(map, r) ? format("%.2f", 100.0 * m.tensileUnloadingR2)
                                                   : std::string("- (virgin; no softening)"))
                : std::string("-"))
-       << " |\n";
+       << " |" << organCell(m) << "\n";
   }
   md << "\nForce errors at " << joined(depths_mm, "%g")
-     << " mm, signed (negative: softer than the FEM). The surface columns compare the top "
+     << " mm, signed (negative: softer than the FEM)"
+     << (hasOrgan ? std::string("; the liver poke's at ")
+                        .append(joined(organDepths_mm, "%g"))
+                        .append(" mm")
+                  : std::string())
+     << ". The surface columns compare the top "
         "face's displacement with the FEM's at the last depth, every 1 mm to 15 mm from the "
         "axis along x and the diagonal.\n\n";
 

@@ -16,6 +16,10 @@ struct TradeMap {
   std::string tissueName;
   std::string sceneName;
   IndentationCurve reference;  ///< the FEM reference
+  /// The liver poke's FEM reference at settings.organDepths_m (empty: no liver poke), and why
+  /// there is none when there is none.
+  std::vector<double> organReference_N;
+  std::string organNote;
   std::vector<TradeRow> rows;
   std::vector<TradeMeasurement> measurements;  ///< one per row
   std::vector<double> cellEdges_m;             ///< per row: its lattice's cube edge (0: FEM)

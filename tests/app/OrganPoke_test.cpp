@@ -2,7 +2,8 @@
 // The liver poke's kept FEM reference (assets/meshes/liver-fem-poke.csv, which `trade` reads and
 // `measure` passes to organ-poke) belongs to the bundled scene as it is: a change to its tissue,
 // its instrument, its fixed region, the conformal mesh or the reference's solver changes the key,
-// and this test fails until the reference is solved again (assets/meshes/README.md).
+// and this test fails until the reference is solved again (assets/meshes/README.md). And the
+// map's liver poke (trade) is organ-poke's simulator side.
 
 #include "app/OrganPoke.h"
 
@@ -14,6 +15,7 @@
 #include "app/FemForceCache.h"
 #include "app/LoadedTissue.h"
 #include "app/SceneSession.h"
+#include "app/trade/TradeGrid.h"
 #include "fem/FemModel.h"
 
 namespace tissuesim::app {
@@ -48,6 +50,33 @@ TEST(OrganPoke, TheKeyChangesWithTheProbe) {
   EXPECT_NE(femReferenceKey(scene, mesh, setup, 2e6), key);
   setup.probeRadius_m *= 2.0;
   EXPECT_NE(femReferenceKey(scene, mesh, setup, 1e6), key);
+}
+
+TEST(OrganPoke, TheMapsLiverPokeIsOrganPokesSimulatorAndIsMeasuredOnceForAnyThreadCount) {
+  const SceneDescription bundled = readScene(kAssets + "/scenes/liver-poke.json");
+  const LoadedTissue tissue(bundled.tissue.string());
+  TradeSettings settings;
+  settings.resolutions = {1000};
+  settings.organDepths_m = {0.001, 0.003};
+  TradeErrors errors(tissue, bundled, settings);
+  const std::vector<TradeRow> rows = tradeRows(bundled, settings);
+  ASSERT_GE(rows.size(), 2u);
+  ASSERT_EQ(rows[0].knob, "resolution");
+  ASSERT_EQ(rows[1].knob, "threads");
+  TradeMeasurement twoThreads, oneThread;
+  errors.measureOrgan(rows[0], twoThreads);
+  errors.measureOrgan(rows[1], oneThread);
+  ASSERT_EQ(twoThreads.organForce_N.size(), 2u);
+  EXPECT_GT(twoThreads.organForce_N[0], 0.0);
+  EXPECT_GT(twoThreads.organForce_N[1], twoThreads.organForce_N[0]);
+  EXPECT_EQ(oneThread.organForce_N, twoThreads.organForce_N);
+  // What organ-poke --springs 1000 measures: the same scene, made weightless, poked the same way.
+  SceneDescription lattice = weightlessPokeScene(bundled);
+  lattice.tetMesh.reset();
+  lattice.targetSprings = 1000;
+  const SimulatorPoke poke =
+      pokeSimulator(lattice, settings.organDepths_m, settings.organSpeed_m_s);
+  EXPECT_EQ(poke.force_N, twoThreads.organForce_N);
 }
 
 }  // namespace

@@ -176,5 +176,70 @@ TEST(TradeOutput, TheMarkdownListsTheFrontInIncreasingCost) {
   EXPECT_NE(md.find("| failed | failed: liver run: killed"), std::string::npos);
 }
 
+TEST(TradeOutput, TheLiverPokeHasItsColumnsWhereItsReferenceIsAtHand) {
+  TradeMap map = sampleMap();
+  // Without a reference: no liver columns, and the note says why.
+  map.organNote = "liver-fem-poke.csv has no reference for this scene";
+  {
+    std::istringstream csv(tradeCsv(map));
+    std::string line;
+    ASSERT_TRUE(std::getline(csv, line));
+    EXPECT_EQ(line.find("organ_"), std::string::npos) << line;
+    const std::string md = tradeMarkdown(map);
+    EXPECT_NE(md.find("No liver poke: liver-fem-poke.csv has no reference"), std::string::npos);
+    EXPECT_EQ(md.find("liver poke error"), std::string::npos);
+  }
+  map.organNote.clear();
+  map.settings.organDepths_m = {0.001, 0.004};
+  map.organReference_N = {0.02, 0.2};
+  map.measurements[0].organForce_N = {0.03, 0.18};  // +50 %, -10 %
+  map.measurements[0].organEvents = 2;
+  map.measurements[2].organForce_N = {0.02, 0.2};
+  map.measurements[2].organEvents = 1;
+  map.measurements[1].organFailure = "the simulator did not reach 4 mm";
+  std::istringstream csv(tradeCsv(map));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = fieldsOf(line);
+  const std::size_t force = columnOf(header, "organ_force_4mm_n");
+  const std::size_t error = columnOf(header, "organ_error_1mm_percent");
+  const std::size_t events = columnOf(header, "organ_events");
+  const std::size_t failure = columnOf(header, "organ_failure");
+  ASSERT_GT(force, 0u);
+  ASSERT_GT(error, 0u);
+  ASSERT_GT(events, 0u);
+  ASSERT_GT(failure, 0u);
+  std::vector<std::vector<std::string>> shown;
+  while (std::getline(csv, line)) shown.push_back(fieldsOf(line));
+  ASSERT_EQ(shown.size(), 7u);
+  for (const std::vector<std::string>& fields : shown) ASSERT_EQ(fields.size(), header.size());
+  EXPECT_EQ(shown[0][force], "0.18");
+  EXPECT_EQ(shown[0][error], "50.00");
+  EXPECT_EQ(shown[0][events], "2");
+  EXPECT_EQ(shown[1][error], "");
+  EXPECT_EQ(shown[1][failure], "the simulator did not reach 4 mm");
+  EXPECT_EQ(shown[6][force], "");  // the FEM's row has none
+  const std::string md = tradeMarkdown(map);
+  EXPECT_NE(md.find("0.02 / 0.2 N at 1 / 4 mm below the surface"), std::string::npos) << md;
+  const std::size_t row = md.find("| fast, poor |");
+  ASSERT_NE(row, std::string::npos);
+  const std::string text = md.substr(row, md.find('\n', row) - row);
+  EXPECT_NE(text.find("| +50 / -10 (2 events) |"), std::string::npos) << text;
+  EXPECT_NE(md.find("| +0 / +0 (1 event) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("failed: the simulator did not reach 4 mm |"), std::string::npos);
+  // Every table row has as many cells as the header.
+  const std::size_t table = md.find("| setting |");
+  const auto cells = [](const std::string& tableRow) {
+    return std::count(tableRow.begin(), tableRow.end(), '|');
+  };
+  const std::string headerRow = md.substr(table, md.find('\n', table) - table);
+  for (std::size_t at = md.find("\n|", table);
+       at != std::string::npos && at < md.find("\n\n", table); at = md.find("\n|", at + 1)) {
+    const std::string next = md.substr(at + 1, md.find('\n', at + 1) - at - 1);
+    if (next.rfind("|---", 0) == 0) continue;
+    EXPECT_EQ(cells(next), cells(headerRow)) << next;
+  }
+}
+
 }  // namespace
 }  // namespace tissuesim::app
