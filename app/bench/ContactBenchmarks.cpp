@@ -141,10 +141,12 @@ void registerContactBenchmarks(const std::string& scenePath) {
           simulation.setInstrumentSource(&live);
           pressToPokeDepth(simulation, scene, live);
           long linearIterations = 0;
+          long newtonIterations = 0;
           double force_N = 0.0;
           for (auto _ : state) {
             const StepOutcome outcome = simulation.step();
             linearIterations += outcome.integrator.linearIterations;
+            newtonIterations += outcome.integrator.iterations;
             force_N = outcome.contact.toolForce_N.norm();
           }
           state.counters["tool_force_n"] = force_N;
@@ -152,6 +154,8 @@ void registerContactBenchmarks(const std::string& scenePath) {
           state.counters["threads"] = threads;
           state.counters["cg_iterations"] =
               static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
+          state.counters["newton_iterations"] =
+              static_cast<double>(newtonIterations) / static_cast<double>(state.iterations());
           state.counters["steps_per_s"] = benchmark::Counter(
               static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
           // A fixed count of steps after the press, not a minimum time: held still, the tissue
