@@ -40,7 +40,8 @@ std::optional<std::vector<double>> readFemForceCache(const std::string& path, st
                                                      const std::vector<double>& depths_mm,
                                                      std::string& why);
 
-/// Writes the forces at `depths_mm` under `key`. @throws CommandError when it cannot.
+/// Writes the forces at `depths_mm` under `key`, keeping the file's other depths when it already
+/// holds forces under the same key. @throws CommandError when it cannot.
 void writeFemForceCache(const std::string& path, std::uint64_t key,
                         const std::vector<double>& depths_mm, const std::vector<double>& force_N);
 

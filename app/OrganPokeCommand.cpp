@@ -180,7 +180,7 @@ void registerOrganPokeCommand(CLI::App& app) {
   command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
   command->add_option("--fem-cache", options->femCachePath,
                       "The FEM's forces: read from this file when it holds them for the same "
-                      "scene, tissue, FEM mesh and depths, else solved and written to it");
+                      "scene, tissue, FEM mesh and depths, else solved and added to it");
   command->callback([options] { runOrganPoke(*options); });
 }
 

@@ -70,6 +70,18 @@ TEST_F(FemForceCacheTest, ReadsBackWhatItWroteToTheBit) {
   EXPECT_EQ((*read)[1], forces[0]);
 }
 
+TEST_F(FemForceCacheTest, KeepsTheSameInputsOtherDepthsAndDropsAnotherKeys) {
+  writeFemForceCache(m_path, 42, {1.0, 10.0}, {0.03, 0.99});
+  writeFemForceCache(m_path, 42, {5.0, 10.0}, {0.26, 0.98});
+  std::string why;
+  const auto read = readFemForceCache(m_path, 42, {1.0, 5.0, 10.0}, why);
+  ASSERT_TRUE(read.has_value()) << why;
+  EXPECT_EQ(*read, (std::vector<double>{0.03, 0.26, 0.98}));  // 10 mm: the newer force
+  writeFemForceCache(m_path, 43, {2.0}, {0.07});
+  EXPECT_FALSE(readFemForceCache(m_path, 43, {1.0}, why).has_value());
+  EXPECT_TRUE(readFemForceCache(m_path, 43, {2.0}, why).has_value()) << why;
+}
+
 TEST_F(FemForceCacheTest, IsNotUsedForOtherInputsOrAMissingDepthOrWhenAbsent) {
   std::string why;
   EXPECT_FALSE(readFemForceCache(m_path, 42, {1.0}, why).has_value());
