@@ -38,10 +38,10 @@ struct SimulatorPoke {
 };
 
 /// The simulator's force along the probe's axis at each depth below where the axis meets the
-/// drawn surface (or the tet mesh's boundary), the probe driven at `speed_m_s` from 1 mm above
-/// that point (the weightless organ rests until touched); interpolated between the steps either
-/// side of each depth. @throws CommandError when the axis misses the organ or the simulator does
-/// not reach the depths.
+/// drawn surface (or the tet mesh's boundary), for `scene` as weightlessPokeScene() makes it: the
+/// probe driven at `speed_m_s` from 1 mm above that point (the weightless organ rests until
+/// touched), the force interpolated between the steps either side of each depth. @throws
+/// CommandError when the axis misses the organ or the simulator does not reach the depths.
 SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<double>& depths_m,
                             double speed_m_s);
 
