@@ -42,12 +42,6 @@ constexpr double kMaxDepth_mm = 30.0;
 /// inputs, else solved (minutes) and kept there.
 std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescription& scene,
                               const std::vector<double>& depths_m) {
-  TetMesh organ;
-  try {
-    organ = readTetMesh(options.femMeshPath);
-  } catch (const MeshFileError& error) {
-    throw CommandError(error.what());
-  }
   const LoadedTissue tissue(scene.tissue.string());
   const OrganPokeSetup setup = organPokeSetup(scene, depths_m);
   const double bulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
@@ -65,6 +59,13 @@ std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescri
   std::fprintf(stderr,
                "organ-poke: %s, weightless, a %.1f mm probe along its axis; the FEM on %s\n",
                scene.name.c_str(), 1e3 * setup.probeRadius_m, options.femMeshPath.c_str());
+  // Read only to solve: a kept reference needs the mesh file's bytes alone (its key).
+  TetMesh organ;
+  try {
+    organ = readTetMesh(options.femMeshPath);
+  } catch (const MeshFileError& error) {
+    throw CommandError(error.what());
+  }
   IndentationCurve fem;
   try {
     fem = pokeOrganFem(tissue.energy, organ, setup, bulkModulus_Pa,
