@@ -41,23 +41,9 @@ void PenaltyContactSet::prepareProducts(const PartBounds& bounds) {
 }
 
 void PenaltyContactSet::addStiffnessProduct(int part, const double* x, double* y) const {
-  const Eigen::Index first = m_bounds[static_cast<std::size_t>(part)];
-  const Eigen::Index last = m_bounds[static_cast<std::size_t>(part) + 1];
-  // k u (u . x) on this part's nodes of each term.
-  for (const RankOneTerm& term : m_terms[static_cast<std::size_t>(m_current)]) {
-    double ux = 0.0;
-    bool touchesPart = false;
-    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
-      ux += term.blocks[i].dot(Eigen::Map<const Eigen::Vector3d>(x + 3 * term.nodes[i]));
-      touchesPart = touchesPart || (term.nodes[i] >= first && term.nodes[i] < last);
-    }
-    if (!touchesPart) continue;
-    const double scale = term.stiffness_N_m * ux;
-    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
-      if (term.nodes[i] < first || term.nodes[i] >= last) continue;
-      Eigen::Map<Eigen::Vector3d>(y + 3 * term.nodes[i]) += scale * term.blocks[i];
-    }
-  }
+  addRankOneProducts(m_terms[static_cast<std::size_t>(m_current)],
+                     m_bounds[static_cast<std::size_t>(part)],
+                     m_bounds[static_cast<std::size_t>(part) + 1], x, y);
 }
 
 void PenaltyContactSet::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
@@ -66,16 +52,7 @@ void PenaltyContactSet::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block)
 }
 
 void PenaltyContactSet::addStiffness(NodeBlockMatrix& matrix) const {
-  for (const RankOneTerm& term : m_terms[static_cast<std::size_t>(m_current)]) {
-    for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
-      if (term.blocks[i].isZero(0.0)) continue;
-      for (std::size_t j = 0; j < kMaxTermNodes; ++j) {
-        if (term.blocks[j].isZero(0.0)) continue;
-        matrix.addBlock(term.nodes[i], term.nodes[j],
-                        term.stiffness_N_m * term.blocks[i] * term.blocks[j].transpose());
-      }
-    }
-  }
+  addRankOneTerms(m_terms[static_cast<std::size_t>(m_current)], matrix);
 }
 
 double PenaltyContactSet::energy(const Eigen::Matrix3Xd& x) const {

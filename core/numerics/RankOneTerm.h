@@ -7,10 +7,13 @@
 // can be told of such terms so that its preconditioner carries them exactly.
 
 #include <array>
+#include <span>
 
 #include <Eigen/Core>
 
 namespace tissuesim {
+
+class NodeBlockMatrix;
 
 /// The most nodes one contact point is carried by: a tet's four.
 inline constexpr std::size_t kMaxTermNodes = 4;
@@ -24,5 +27,12 @@ struct RankOneTerm {
       Eigen::Vector3d::Zero()};
   double stiffness_N_m = 0.0;  ///< k > 0
 };
+
+/// y += sum over the terms of k u (u . x), on the rows of nodes first <= j < last only (x, y:
+/// 3#V): one part of a threaded product, each part writing its own rows.
+void addRankOneProducts(std::span<const RankOneTerm> terms, Eigen::Index first, Eigen::Index last,
+                        const double* x, double* y);
+/// matrix += sum over the terms of k u u^T (their nodes must be in the matrix's pattern).
+void addRankOneTerms(std::span<const RankOneTerm> terms, NodeBlockMatrix& matrix);
 
 }  // namespace tissuesim

@@ -200,7 +200,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   scene.gravity_m_s2 = fields.vector("gravity_m_s2", Eigen::Vector3d::Zero());
   if (fields.has("tray")) {
     const Fields trayFields(fields.at("tray"), "tray", source,
-                            {"up", "height_m", "stiffness_pa_per_m"});
+                            {"up", "height_m", "stiffness_pa_per_m", "friction"});
     SceneTray tray;
     const Eigen::Vector3d up = trayFields.vector("up", Eigen::Vector3d::UnitY());
     if (up.norm() < 1e-9) trayFields.fail("tray.up", "must not be the zero vector");
@@ -208,6 +208,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     tray.height_m =
         trayFields.number("height_m", 0.0, -std::numeric_limits<double>::max(), false, true);
     tray.stiffness_Pa_per_m = trayFields.number("stiffness_pa_per_m", 1e7, 0.0, true);
+    tray.friction = trayFields.number("friction", 0.0, 0.0, false);
     scene.tray = tray;
   }
   if (fields.has("instrument")) {

@@ -46,11 +46,13 @@ struct SceneInstrument {
 /// A flat support under the organ (the tray): the tissue stays on the side of the plane
 /// up . y = height_m that `up` points to, pushed back with a pressure of stiffness_Pa_per_m per
 /// metre of penetration (a penalty per unit area, so the support's stiffness does not depend on
-/// how finely the surface is meshed). Frictionless.
+/// how finely the surface is meshed), with Coulomb friction of coefficient `friction`
+/// (dimensionless; 0: frictionless, and no friction field in the step).
 struct SceneTray {
   Eigen::Vector3d up = Eigen::Vector3d::UnitY();  ///< unit, out of the tray into the tissue
   double height_m = 0.0;
   double stiffness_Pa_per_m = 1e7;
+  double friction = 0.0;
 };
 
 /// The session assessment's thresholds (sim/SessionAssessment.h, docs/assessment.md).

@@ -61,6 +61,11 @@ void Simulation::replaceTissue(const TissueParameters& parameters) {
   m_system->gravity.acceleration_m_s2 = gravity;
   m_state = kept;
   m_lastGoodState = m_state;
+  // The tray's grip starts afresh where the kept state touches it.
+  if (m_friction) {
+    m_friction->releaseAnchors();
+    m_friction->acceptStep(m_state.x);
+  }
   m_activeConditions.clear();
 }
 
@@ -118,6 +123,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   // Dependents first: each holds references into the ones before it.
   m_integrator.reset();
   m_system.reset();
+  m_friction.reset();
   m_tets.reset();
   m_volume.reset();
   m_springs.reset();
@@ -157,6 +163,11 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_system->addField(*m_tets);
   }
   m_system->gravity.acceleration_m_s2 = scene.gravity_m_s2;
+  if (m_tray && scene.tray->friction > 0.0) {
+    m_friction = std::make_unique<PlaneFriction>(m_tray->points(), m_tray->up(), m_tray->height_m(),
+                                                 scene.tray->friction, m_springMesh->nodeCount());
+    m_system->addField(*m_friction);
+  }
   // The instrument's few contacts and every tray point at once, without allocating.
   if (m_tray) m_system->contacts.reserve(256 + static_cast<std::size_t>(m_tray->pointCount()));
   for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);
@@ -195,6 +206,10 @@ void Simulation::settle() {
   m_startState = m_system->restState();
   m_springs->resetStretchHistory();
   m_startStretchHistory = m_springs->stretchHistory();
+  if (m_friction) {
+    m_friction->releaseAnchors();
+    m_startAnchors = m_friction->anchors();
+  }
   if (m_scene.gravity_m_s2.squaredNorm() == 0.0) return;
   // Long, heavily damped implicit steps: backward Euler is stable at any step, and the damping
   // (about twice the slowest sag mode's angular frequency, a few rad/s on an organ) brings the
@@ -214,14 +229,17 @@ void Simulation::settle() {
   for (; step < kSettlingMaxSteps && !isSettled; ++step) {
     m_system->contacts.clear();
     if (m_tray) m_tray->findContacts(state.x, m_system->contacts);
+    if (m_friction) m_friction->beginStep(state.x);
     const StepReport report = settler.step(*m_system, state, kSettlingTimeStep_s);
     if (report.refused || !report.isFinite) break;
+    if (m_friction) m_friction->acceptStep(state.x);
     speed_m_s = state.v.colwise().norm().maxCoeff();
     isSettled = speed_m_s < kSettledSpeed_m_s;
   }
   m_system->contacts.clear();
   if (!isSettled) {
     m_springs->resetStretchHistory();
+    if (m_friction) m_friction->releaseAnchors();
     std::ostringstream detail;
     detail << "the organ did not come to rest under gravity in " << step * kSettlingTimeStep_s
            << " s (fastest node " << speed_m_s << " m/s); starting from the unloaded shape";
@@ -233,12 +251,15 @@ void Simulation::settle() {
   // The organ's own weight has preconditioned it (the first loading of the Mullins effect):
   // that memory belongs to the start state, and a reset restores it with the positions.
   m_startStretchHistory = m_springs->stretchHistory();
+  // So has the tray's grip: where the organ came to rest on it.
+  if (m_friction) m_startAnchors = m_friction->anchors();
 }
 
 void Simulation::reset() {
   m_state = m_startState;
   m_lastGoodState = m_state;
   m_springs->restoreStretchHistory(m_startStretchHistory);
+  if (m_friction) m_friction->restoreAnchors(m_startAnchors);
   m_time_s = 0.0;
   m_steps = 0;
   m_events.clear();
@@ -264,6 +285,7 @@ void Simulation::findContacts() {
   if (m_contact != nullptr && m_scene.instrument)
     m_contact->findContacts(m_state.x, m_pose, m_system->contacts);
   if (m_tray) m_tray->findContacts(m_state.x, m_system->contacts);
+  if (m_friction) m_friction->beginStep(m_state.x);
 }
 
 StepOutcome Simulation::step() {
@@ -332,6 +354,7 @@ StepOutcome Simulation::step() {
   m_activeConditions.swap(m_conditionsNow);  // a condition that ended may fire again when it recurs
 
   if (outcome.isGood) {
+    if (m_friction) m_friction->acceptStep(m_state.x);
     m_time_s = next;
     ++m_steps;
     m_lastGoodState.x = m_state.x;  // same sizes: copies, no allocation

@@ -6,12 +6,15 @@
 //
 // With gravity, the organ starts settled: at construction (and for a new tissue) it is let sag
 // onto its support (the tray, the fixed region) with heavy damping and long steps until it is
-// still, and that state is where it starts and what reset() returns to; a trainee never sees
-// the organ drop when a scene opens.
+// still, and that state is where it starts and what reset() returns to (with the tray's grip
+// where it came to rest, when the tray has friction); a trainee never sees the organ drop when a
+// scene opens.
 //
 // Each step: the instrument pose at t + dt from the InstrumentSource, the contacts it makes from
 // the ContactProvider, the tray's and the grasp's springs (penalty terms the integrator evaluates
-// at its trial states: implicit with the implicit integrators), one integrator step.
+// at its trial states: implicit with the implicit integrators), the tray's friction ties from
+// where the last good step left them (forces/PlaneFriction.h), one integrator step; a good step
+// then moves the ties by Coulomb's law.
 // Each good step is added to the session's assessment (SessionAssessment: force, path, damage);
 // reset() starts a new one.
 // Instabilities (refused or non-finite steps, Newton not converged, springs past locking, collapsed
@@ -105,6 +108,8 @@ class Simulation {
   const MechanicalState& startState() const { return m_startState; }
   /// The tray's support (null when the scene has no tray).
   const TraySupport* tray() const { return m_tray.get(); }
+  /// The tray's friction (null when the scene has no tray or a frictionless one).
+  const PlaneFriction* trayFriction() const { return m_friction.get(); }
   const SpringMesh& springMesh() const { return *m_springMesh; }
   const SpringForceField& springs() const { return *m_springs; }
   const SceneGeometry& geometry() const { return m_geometry; }
@@ -149,8 +154,10 @@ class Simulation {
   std::unique_ptr<SessionAssessment> m_assessment;
   std::size_t m_eventCount = 0;
   const char* m_latestEventKind = nullptr;
-  std::unique_ptr<Grasp> m_grasp;       ///< only with an instrument
-  std::unique_ptr<TraySupport> m_tray;  ///< only with a tray
+  std::unique_ptr<Grasp> m_grasp;                     ///< only with an instrument
+  std::unique_ptr<TraySupport> m_tray;                ///< only with a tray
+  std::unique_ptr<PlaneFriction> m_friction;          ///< only with a tray that has friction
+  std::vector<PlaneFriction::Anchor> m_startAnchors;  ///< where settling left the tray's grip
   ContactProvider* m_contact = nullptr;
   const InstrumentSource* m_instrument = nullptr;
   MechanicalState m_state;

@@ -21,7 +21,7 @@ TraySupport::TraySupport(const SceneGeometry& geometry, const SceneTray& tray)
         vertexAreas(geometry.surface->vertices_m, geometry.surface->triangles);
     m_points.reserve(static_cast<std::size_t>(area.size()));
     for (Eigen::Index v = 0; v < area.size(); ++v) {
-      Point point;
+      CarriedSurfacePoint point;
       for (std::size_t k = 0; k < kMaxTermNodes; ++k)
         point.nodes[k] = embedding.nodes()(static_cast<Eigen::Index>(k), v);
       point.embedded = embedding.weights().col(v);
@@ -34,10 +34,8 @@ TraySupport::TraySupport(const SceneGeometry& geometry, const SceneTray& tray)
     const Eigen::VectorXd area = vertexAreas(geometry.mesh.nodes_m, faces);
     for (Eigen::Index node = 0; node < area.size(); ++node) {
       if (!(area[node] > 0.0)) continue;  // interior
-      Point point;
+      CarriedSurfacePoint point;
       point.nodes.fill(static_cast<int>(node));
-      point.embedded = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
-      point.carried = point.embedded;
       point.stiffness_N_m = tray.stiffness_Pa_per_m * area[node];
       m_points.push_back(point);
     }
@@ -45,8 +43,8 @@ TraySupport::TraySupport(const SceneGeometry& geometry, const SceneTray& tray)
 }
 
 void TraySupport::findContacts(const Eigen::Matrix3Xd& x, PenaltyContactSet& contacts) const {
-  for (const Point& point : m_points) {
-    const Eigen::Vector3d drawn = combine(point, point.embedded, x);
+  for (const CarriedSurfacePoint& point : m_points) {
+    const Eigen::Vector3d drawn = point.drawn(x);
     const double height = m_up.dot(drawn);
     if (!(height < m_height_m + kDetectionMargin_m)) continue;
     PenaltyContact contact;
@@ -54,7 +52,7 @@ void TraySupport::findContacts(const Eigen::Matrix3Xd& x, PenaltyContactSet& con
     contact.weights = point.carried;
     contact.normal = -m_up;  // out of the tissue, into the tray
     // delta = h - up . (s + g) with g = drawn - s frozen for the step (s the carried point).
-    contact.offset_m = m_up.dot(drawn - combine(point, point.carried, x)) - m_height_m;
+    contact.offset_m = m_up.dot(drawn - point.load(x)) - m_height_m;
     contact.stiffness_N_m = point.stiffness_N_m;
     contact.damping_N_s_m = kDampingPerStiffness_s * point.stiffness_N_m;
     contact.isSupport = true;
@@ -64,16 +62,15 @@ void TraySupport::findContacts(const Eigen::Matrix3Xd& x, PenaltyContactSet& con
 
 double TraySupport::maxPenetration_m(const Eigen::Matrix3Xd& x) const {
   double deepest = 0.0;
-  for (const Point& point : m_points)
-    deepest = std::max(deepest, m_height_m - m_up.dot(combine(point, point.embedded, x)));
+  for (const CarriedSurfacePoint& point : m_points)
+    deepest = std::max(deepest, m_height_m - m_up.dot(point.drawn(x)));
   return deepest;
 }
 
 Eigen::Vector3d TraySupport::force_N(const Eigen::Matrix3Xd& x) const {
   double total = 0.0;
-  for (const Point& point : m_points)
-    total += point.stiffness_N_m *
-             std::max(0.0, m_height_m - m_up.dot(combine(point, point.embedded, x)));
+  for (const CarriedSurfacePoint& point : m_points)
+    total += point.stiffness_N_m * std::max(0.0, m_height_m - m_up.dot(point.drawn(x)));
   return total * m_up;
 }
 

@@ -13,15 +13,15 @@
 // the scene has one (each carried by the tet that holds it at rest, through its barycentric
 // weights clamped to that tet, the gap to the drawn point frozen into the step's offset, as
 // the instrument's contact on the drawn surface does), else the tet mesh's boundary nodes.
-// Frictionless: the fixed region already holds the organ against sliding, and a frictionless
-// support has one equilibrium, which the organ settles into and stays at.
+// Friction, when the scene asks for it (tray.friction, Coulomb's mu), is a force field of its
+// own over the same points (forces/PlaneFriction.h), which frictionless scenes leave out.
 
-#include <array>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "forces/PenaltyContacts.h"
+#include "forces/PlaneFriction.h"
 #include "sim/SceneFile.h"
 #include "sim/SceneGeometry.h"
 
@@ -42,23 +42,16 @@ class TraySupport {
   Eigen::Index pointCount() const { return static_cast<Eigen::Index>(m_points.size()); }
   /// The deepest penetration of any point below the tray at x (m; 0 when none is below).
   double maxPenetration_m(const Eigen::Matrix3Xd& x) const;
-  /// The support's force on the tissue at x (N): what the tray carries.
+  /// The support's normal force on the tissue at x (N): what the tray carries.
   Eigen::Vector3d force_N(const Eigen::Matrix3Xd& x) const;
 
- private:
-  struct Point {
-    std::array<int, kMaxTermNodes> nodes{};
-    Eigen::Vector4d embedded;  ///< the weights that move the point (may extrapolate)
-    Eigen::Vector4d carried;   ///< the same clamped to the tet: what the contact loads
-    double stiffness_N_m = 0.0;
-  };
-  static Eigen::Vector3d combine(const Point& point, const Eigen::Vector4d& weights,
-                                 const Eigen::Matrix3Xd& x) {
-    return weights[0] * x.col(point.nodes[0]) + weights[1] * x.col(point.nodes[1]) +
-           weights[2] * x.col(point.nodes[2]) + weights[3] * x.col(point.nodes[3]);
-  }
+  /// The points that can touch the tray, each with its normal penalty.
+  const std::vector<CarriedSurfacePoint>& points() const { return m_points; }
+  const Eigen::Vector3d& up() const { return m_up; }
+  double height_m() const { return m_height_m; }
 
-  std::vector<Point> m_points;
+ private:
+  std::vector<CarriedSurfacePoint> m_points;
   Eigen::Vector3d m_up;
   double m_height_m;
 };

@@ -29,6 +29,7 @@ TEST(SceneFile, TheBundledSceneLoads) {
   EXPECT_EQ(scene.tray->up, Eigen::Vector3d::UnitY());
   EXPECT_DOUBLE_EQ(scene.tray->height_m, 0.0075);
   EXPECT_DOUBLE_EQ(scene.tray->stiffness_Pa_per_m, 3e7);
+  EXPECT_EQ(scene.tray->friction, 0.0);  // frictionless: a poke leaves no set where it rests
   ASSERT_TRUE(scene.instrument.has_value());
   EXPECT_DOUBLE_EQ(scene.instrument->shaftRadius_m, 0.0025);
   EXPECT_NEAR(scene.instrument->direction.norm(), 1.0, 1e-15);
@@ -98,6 +99,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"tray-zero-up.json", "field 'tray.up' must not be the zero vector"},
         BadScene{"tray-no-height.json", "field 'tray.height_m' is missing"},
         BadScene{"tray-zero-stiffness.json", "field 'tray.stiffness_pa_per_m' = 0 is out of range"},
+        BadScene{"tray-negative-friction.json", "field 'tray.friction' = -0.2 is out of range"},
         BadScene{"tray-quasi-newton.json", "field 'tray' cannot be used with physics.integrator"},
         BadScene{"gravity-quasi-newton.json",
                  "field 'gravity_m_s2' cannot be used with physics.integrator"},

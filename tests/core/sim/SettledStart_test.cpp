@@ -76,5 +76,72 @@ TEST(SettledStart, AnOrganNothingHoldsIsReportedAndStartsUnloaded) {
   EXPECT_EQ(simulation.state().x, simulation.springMesh().restPositions_m);
 }
 
+SceneDescription bundledSceneWithFriction(double coefficient) {
+  SceneDescription scene = bundledScene();
+  scene.tray->friction = coefficient;
+  return scene;
+}
+
+/// The mean sideways (x) travel of the drawn surface's points that rest on the tray at the
+/// start, after `steps` steps with gravity tipped sideways by a third of g.
+double lobeSlide_m(Simulation& simulation, int steps) {
+  const TraySupport& tray = *simulation.tray();
+  const Eigen::Matrix3Xd start = simulation.state().x;
+  simulation.setGravity({9.81 / 3.0, -9.81, 0.0});
+  for (int n = 0; n < steps; ++n) EXPECT_TRUE(simulation.step().isGood) << n;
+  simulation.setGravity({0.0, -9.81, 0.0});
+  double slide = 0.0;
+  int resting = 0;
+  for (const CarriedSurfacePoint& point : tray.points()) {
+    if (!(tray.up().dot(point.drawn(start)) < tray.height_m())) continue;
+    slide += point.drawn(simulation.state().x).x() - point.drawn(start).x();
+    ++resting;
+  }
+  EXPECT_GT(resting, 0);
+  return slide / resting;
+}
+
+TEST(SettledStart, OnATrayWithFrictionTheLiverSettlesStaysAndResetsToItsGrip) {
+  Simulation simulation(bundledSceneWithFriction(0.3));
+  EXPECT_TRUE(simulation.events().empty());
+  ASSERT_NE(simulation.trayFriction(), nullptr);
+  int anchored = 0;
+  for (const PlaneFriction::Anchor& anchor : simulation.trayFriction()->anchors())
+    anchored += anchor.limit_N > 0.0 ? 1 : 0;
+  EXPECT_GT(anchored, 0) << "the lobe grips the tray where it came to rest";
+  const MechanicalState start = simulation.state();
+  const std::vector<PlaneFriction::Anchor> settled = simulation.trayFriction()->anchors();
+  for (int n = 0; n < 1000; ++n) ASSERT_TRUE(simulation.step().isGood) << n;
+  EXPECT_LT(largestDistance_m(simulation.state().x, start.x), 5e-5);
+  EXPECT_TRUE(simulation.events().empty());
+  // Pulled sideways, the lobe slides and its grip moves with it; reset puts back the grip that
+  // settling left.
+  const auto anchorsEqual = [](const std::vector<PlaneFriction::Anchor>& a,
+                               const std::vector<PlaneFriction::Anchor>& b) {
+    for (std::size_t p = 0; p < a.size(); ++p) {
+      if (a[p].limit_N != b[p].limit_N || a[p].position_m != b[p].position_m) return false;
+    }
+    return a.size() == b.size();
+  };
+  EXPECT_NE(lobeSlide_m(simulation, 300), 0.0);
+  EXPECT_FALSE(anchorsEqual(simulation.trayFriction()->anchors(), settled));
+  simulation.reset();
+  EXPECT_TRUE(anchorsEqual(simulation.trayFriction()->anchors(), settled));
+  EXPECT_EQ(simulation.state().x, start.x);
+}
+
+TEST(SettledStart, FrictionHoldsTheLobeOnTheTrayAgainstASidewaysPull) {
+  // The liver tipped a third of g sideways for 0.3 s: on a frictionless tray its lowest lobe
+  // slides over it by millimetres; with friction 1 it stays put, within the ties' elastic reach.
+  // (The tray carries 1.3 N of the liver's 11 N: at 0.3 the lobe slides much as it does without.)
+  Simulation frictionless(bundledScene());
+  Simulation gripped(bundledSceneWithFriction(1.0));
+  const double slid_m = lobeSlide_m(frictionless, 300);
+  const double held_m = lobeSlide_m(gripped, 300);
+  EXPECT_GT(slid_m, 3e-3);
+  EXPECT_LT(std::abs(held_m), 0.05 * slid_m);
+  EXPECT_TRUE(gripped.events().empty());
+}
+
 }  // namespace
 }  // namespace tissuesim

@@ -2,8 +2,11 @@
 // The tray as a support: what it carries and how far the tissue sinks into it.
 #include "sim/TraySupport.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
+#include "forces/PlaneFriction.h"
 #include "integrators/ImplicitEulerSolver.h"
 #include "support/TestSystems.h"
 
@@ -92,6 +95,93 @@ TEST(TraySupport, OnlyPointsNearTheTrayBecomeContacts) {
   contacts.clear();
   t.support->findContacts(raised, contacts);
   EXPECT_TRUE(contacts.empty());
+}
+
+/// The same block settled on a tray with friction mu, then the tray tipped theta (gravity
+/// turned by theta about y, with the given mass damping): the block's centre of mass over the
+/// next 0.5 s.
+struct BlockOnInclinedTray {
+  static constexpr double kTilt_rad = 20.0 * 3.14159265358979323846 / 180.0;  // tan 0.364
+  test::BlockSystem block{{0.04, 0.04, 0.02}, {4, 4, 2}, SpringLaw::Eesm, false, 1e5};
+  SceneGeometry geometry;
+  std::unique_ptr<TraySupport> support;
+  std::unique_ptr<PlaneFriction> friction;
+  std::vector<double> centreX_m;  ///< every 0.1 s after the tilt
+  double slidingTiesAtTheEnd = 0.0;
+
+  explicit BlockOnInclinedTray(double coefficient, double damping_1_s = 0.0) {
+    geometry.mesh = makeBlockMesh({0.04, 0.04, 0.02}, {4, 4, 2});
+    SceneTray tray;
+    tray.up = Eigen::Vector3d::UnitZ();
+    tray.height_m = -0.001;
+    tray.stiffness_Pa_per_m = 3e7;
+    support = std::make_unique<TraySupport>(geometry, tray);
+    friction = std::make_unique<PlaneFriction>(support->points(), tray.up, tray.height_m,
+                                               coefficient, block.mesh.nodeCount());
+    block.system.addField(*friction);
+    block.system.contacts.reserve(static_cast<std::size_t>(support->pointCount()));
+    MechanicalState state = block.system.restState();
+    const Eigen::VectorXd& mass = block.mesh.nodeMass_kg;
+    const auto step = [&](ImplicitEulerSolver& solver, double h) {
+      block.system.contacts.clear();
+      support->findContacts(state.x, block.system.contacts);
+      friction->beginStep(state.x);
+      const StepReport report = solver.step(block.system, state, h);
+      EXPECT_TRUE(report.isFinite && !report.refused);
+      friction->acceptStep(state.x);
+    };
+    IntegratorSettings settling;
+    settling.massDamping_1_s = 40.0;
+    settling.maxIterations = 4;
+    ImplicitEulerSolver settler(settling, LinearSolverKind::ConjugateGradient);
+    block.system.gravity.acceleration_m_s2 = {0.0, 0.0, -kGravity_m_s2};
+    for (int n = 0; n < 400; ++n) step(settler, 0.005);
+    IntegratorSettings free;
+    free.massDamping_1_s = damping_1_s;
+    free.maxIterations = 8;
+    free.forceTolerance_N = 1e-9;
+    free.linearTolerance = 1e-8;
+    ImplicitEulerSolver solver(free, LinearSolverKind::ConjugateGradient);
+    block.system.gravity.acceleration_m_s2 =
+        kGravity_m_s2 * Eigen::Vector3d(std::sin(kTilt_rad), 0.0, -std::cos(kTilt_rad));
+    for (int n = 0; n <= 500; ++n) {
+      if (n % 100 == 0) centreX_m.push_back((state.x.row(0) * mass)(0) / mass.sum());
+      if (n < 500) step(solver, 0.001);
+    }
+    slidingTiesAtTheEnd = friction->slidingCount(state.x);
+  }
+  /// The centre's acceleration along the slope from its last three samples (m/s^2).
+  double acceleration_m_s2() const {
+    return (centreX_m[5] - 2.0 * centreX_m[4] + centreX_m[3]) / (0.1 * 0.1);
+  }
+};
+
+TEST(TraySupport, WithFrictionABlockSlidesDownASteepTrayAsCoulombSays) {
+  // On a slope of 20 degrees a block slides with g (sin theta - mu cos theta) when mu is below
+  // tan theta = 0.364: frictionless, and at mu 0.2.
+  for (const double mu : {0.0, 0.2}) {
+    const BlockOnInclinedTray t(mu);
+    const double theta = BlockOnInclinedTray::kTilt_rad;
+    const double expected = kGravity_m_s2 * (std::sin(theta) - mu * std::cos(theta));
+    EXPECT_NEAR(t.acceleration_m_s2(), expected, 0.03 * expected) << "mu " << mu;
+    if (mu > 0.0) {
+      EXPECT_GT(t.slidingTiesAtTheEnd, 0) << "it slides";
+    }
+  }
+}
+
+TEST(TraySupport, WithFrictionABlockHoldsOnASlopeBelowItsAngleOfRepose) {
+  // mu 0.6 > tan 20 degrees: the block leans over by the tissue's shear (about a millimetre for
+  // this soft a tissue), then stays, where a block that cannot slip at all (mu 3) stays too; at
+  // mu 0.2 it would be 19 cm down the slope by then.
+  const BlockOnInclinedTray held(0.6, 20.0);
+  const BlockOnInclinedTray stuck(3.0, 20.0);
+  const double leaned_m = held.centreX_m[5] - held.centreX_m[0];
+  EXPECT_GT(leaned_m, 0.0);
+  EXPECT_LT(leaned_m, 2e-3);
+  EXPECT_NEAR(leaned_m, stuck.centreX_m[5] - stuck.centreX_m[0], 5e-4);
+  EXPECT_LT(std::abs(held.centreX_m[5] - held.centreX_m[4]), 5e-6);  // no creep
+  EXPECT_EQ(held.slidingTiesAtTheEnd, 0);
 }
 
 }  // namespace
