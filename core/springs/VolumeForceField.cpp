@@ -46,7 +46,22 @@ VolumeForceField::VolumeForceField(const SpringMesh& mesh, double bulkModulus_Pa
       m_slots{VolumeBlocks::Zero(kVolumeBlockRows, m_cells.cellCount()),
               VolumeBlocks::Zero(kVolumeBlockRows, m_cells.cellCount())},
       m_ownBlocks(VolumeBlocks::Zero(kVolumeBlockRows, m_cells.cellCount())),
-      m_pressure_Pa(m_cells.cellCount()) {}
+      m_pressure_Pa(m_cells.cellCount()) {
+  // Room for every tet in each part's list (ints), and for a thousand guarded tets a pass: a
+  // deep poke guards a handful; more than a thousand grows the lists once.
+  constexpr std::size_t kReservedGuardTerms = 1024;
+  m_guardVolume_m3.reserve(m_cells.tets.size());
+  for (const int t : m_cells.tets)
+    m_guardVolume_m3.push_back(kGuardVolumeRatio * mesh.tetRestVolume_m3[t]);
+  for (std::vector<int>& list : m_guardedTets)
+    list.reserve(static_cast<std::size_t>(mesh.tets.cols()));
+  for (std::size_t slot = 0; slot < 3; ++slot) {
+    m_guardTerms[slot].reserve(kReservedGuardTerms);
+    m_guardPressure_Pa[slot].reserve(kReservedGuardTerms);
+  }
+  for (RankOneTermDiagonals& diagonals : m_guardDiagonals)
+    diagonals.resize(mesh.nodeCount(), kReservedGuardTerms);
+}
 
 VolumeForceField::~VolumeForceField() = default;
 
@@ -83,6 +98,11 @@ void VolumeForceField::prepareProducts(const PartBounds& bounds) {
 
 void VolumeForceField::addStiffnessProduct(int part, const double* x, double* y) const {
   m_product->addPart(part, currentBlocks(), x, y);
+  const std::vector<RankOneTerm>& guard = m_guardTerms[static_cast<std::size_t>(m_current)];
+  if (guard.empty()) return;
+  const PartBounds& bounds = m_product->bounds();
+  addRankOneProducts(guard, bounds[static_cast<std::size_t>(part)],
+                     bounds[static_cast<std::size_t>(part) + 1], x, y);
 }
 
 void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
@@ -104,6 +124,9 @@ void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) 
     b22 += c * g[2] * g[2];
   }
   addSymmetric(block, b00, b01, b02, b11, b12, b22);
+  if (m_guardTerms[static_cast<std::size_t>(m_current)].empty()) return;
+  if (const Eigen::Matrix3d* guard = m_guardDiagonals[static_cast<std::size_t>(m_current)].at(j))
+    block += *guard;
 }
 
 void VolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
@@ -120,6 +143,7 @@ void VolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
     }
   }
   const auto current = static_cast<std::size_t>(m_current);
+  addRankOneTerms(m_guardTerms[current], matrix);
   if (!m_isSlotExact[current]) return;
   // p d^2V/dx^2 per tet of each cell, p = kappa (J - 1) the cell's pressure.
   const Eigen::Matrix3Xd& x = m_slotPositions_m[current];
@@ -137,6 +161,19 @@ void VolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
       }
     }
   }
+  // The guard's p_t d^2V_t/dx^2.
+  const std::vector<RankOneTerm>& guard = m_guardTerms[current];
+  for (std::size_t k = 0; k < guard.size(); ++k) {
+    const RankOneTerm& term = guard[k];
+    const Eigen::Vector4i tet(term.nodes[0], term.nodes[1], term.nodes[2], term.nodes[3]);
+    const std::array<Eigen::Matrix3d, 16> h = tetVolumeHessian(x, tet);
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        matrix.addBlock(tet[i], tet[j],
+                        m_guardPressure_Pa[current][k] * h[static_cast<std::size_t>(4 * i + j)]);
+      }
+    }
+  }
 }
 
 VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
@@ -148,6 +185,8 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
   // Per cell: g summed over its tets, J, k and the pressure; each tet's sign for the report.
   const auto cellPass = [&](int p) {
     VolumeFieldReport& report = parts[static_cast<std::size_t>(p)];
+    std::vector<int>& guarded = m_guardedTets[static_cast<std::size_t>(p)];
+    guarded.clear();
     const Eigen::Index end = cells * (p + 1) / kParts;
     for (Eigen::Index c = cells * p / kParts; c < end; ++c) {
       // g is summed in registers and on the stack, one scalar per axis and slot, then stored
@@ -180,6 +219,7 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
         addAt(2, g2);
         addAt(3, g3);
         report.invertedTetCount += tetVolume <= 0.0 ? 1 : 0;
+        if (tetVolume < m_guardVolume_m3[static_cast<std::size_t>(k)]) guarded.push_back(t);
       }
       double* const g = out.col(c).data();
       for (std::size_t slot = 0; slot < VolumeCells::kMaxNodes; ++slot) {
@@ -217,12 +257,55 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
       forces(2, j) -= f2;
     }
   });
+  // The guard, after the cells' forces (on this thread, in the parts' order: the same sums for
+  // any thread count).
+  const std::size_t guardSlot = &out == &m_slots[0] ? 0 : &out == &m_slots[1] ? 1 : 2;
+  addGuardForces(x, forces, m_guardTerms[guardSlot], m_guardPressure_Pa[guardSlot]);
+  if (guardSlot < 2) m_guardDiagonals[guardSlot].set(m_guardTerms[guardSlot]);
+  m_lastGuardTerms = &m_guardTerms[guardSlot];
   VolumeFieldReport report;
   for (const VolumeFieldReport& part : parts) report.include(part);
   return report;
 }
 
+void VolumeForceField::addGuardForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,
+                                      std::vector<RankOneTerm>& terms,
+                                      std::vector<double>& pressures) const {
+  terms.clear();
+  pressures.clear();
+  for (const std::vector<int>& guarded : m_guardedTets) {
+    for (const int t : guarded) {
+      const Eigen::Vector3d a = x.col(m_mesh.tets(0, t));
+      const Eigen::Vector3d ab = x.col(m_mesh.tets(1, t)) - a;
+      const Eigen::Vector3d ac = x.col(m_mesh.tets(2, t)) - a;
+      const Eigen::Vector3d ad = x.col(m_mesh.tets(3, t)) - a;
+      RankOneTerm term;
+      term.blocks[1] = ac.cross(ad) / 6.0;
+      term.blocks[2] = ad.cross(ab) / 6.0;
+      term.blocks[3] = ab.cross(ac) / 6.0;
+      term.blocks[0] = -(term.blocks[1] + term.blocks[2] + term.blocks[3]);
+      const double restVolume = m_mesh.tetRestVolume_m3[t];
+      const double ratio = ab.dot(term.blocks[1]) / restVolume;
+      const double pressure = m_bulkModulus_Pa * (ratio - kGuardVolumeRatio);  // dE_t/dV_t
+      for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
+        term.nodes[i] = m_mesh.tets(static_cast<Eigen::Index>(i), t);
+        forces.col(term.nodes[i]) -= pressure * term.blocks[i];
+      }
+      term.stiffness_N_m = m_bulkModulus_Pa / restVolume;
+      terms.push_back(term);
+      pressures.push_back(pressure);
+    }
+  }
+}
+
 void VolumeForceField::addNodeStiffnessBound(Eigen::VectorXd& nodeStiffness) const {
+  if (m_lastGuardTerms != nullptr) {
+    for (const RankOneTerm& term : *m_lastGuardTerms) {
+      double squaredNorm = 0.0;
+      for (const Eigen::Vector3d& block : term.blocks) squaredNorm += block.squaredNorm();
+      for (const int node : term.nodes) nodeStiffness[node] += term.stiffness_N_m * squaredNorm;
+    }
+  }
   const VolumeBlocks& blocks = *m_lastBlocks;
   const int* const start = m_incidence.start.data();
   const int* const entries = m_incidence.entries.data();
@@ -248,6 +331,11 @@ double VolumeForceField::energy(const Eigen::Matrix3Xd& x) const {
     const double restVolume = m_cells.restVolume_m3[c];
     const double ratio = volume / restVolume;
     energy += 0.5 * m_bulkModulus_Pa * restVolume * (ratio - 1.0) * (ratio - 1.0);
+  }
+  for (Eigen::Index t = 0; t < m_mesh.tets.cols(); ++t) {
+    const double restVolume = m_mesh.tetRestVolume_m3[t];
+    const double below = signedTetVolume(x, m_mesh.tets, t) / restVolume - kGuardVolumeRatio;
+    if (below < 0.0) energy += 0.5 * m_bulkModulus_Pa * restVolume * below * below;
   }
   return energy;
 }

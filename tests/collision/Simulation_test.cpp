@@ -534,6 +534,28 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
   }
 }
 
+TEST(Simulation, OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet) {
+  // The bundled poke (4 cm/s) to 3.8 cm on the liver meshed with 7.5 mm cubes: under the probe
+  // one tet was squeezed flat and through itself (down to J = -0.16 at 3.6 cm) while its cube
+  // kept its volume, and the poke reported it. The volume term's guard per tet holds it above
+  // J = 0.3 (VolumeForceField.h).
+  SceneDescription description = pokeScene();
+  description.tetMesh->file = std::string(TISSUESIM_ASSET_DIR) + "/meshes/liver-20000.msh";
+  ScriptedPoke scene(0.04, 1.0, description);
+  Simulation& simulation = scene.simulation;
+  ASSERT_GT(simulation.springMesh().springCount(), 19000);
+  double lowest = 1.0;
+  for (int n = 0; n < 950; ++n) {
+    ASSERT_TRUE(simulation.step().isGood) << n;
+    lowest = std::min(
+        lowest,
+        VolumeForceField::inspect(simulation.springMesh(), simulation.state().x).minVolumeRatio);
+  }
+  EXPECT_GT(lowest, 0.3);
+  EXPECT_EQ(simulation.eventCount(), 0u);
+  for (const InstabilityEvent& event : simulation.events()) ADD_FAILURE() << event.detail;
+}
+
 TEST(Simulation, WeightlessTheMullinsPermanentSetOfADeepFastPokeIsUnderHalfAMillimetre) {
   // The residual strain of the Mullins effect alone, with no weight to hold the softened springs
   // stretched: the fast 7 cm poke of the test above, and release. Under gravity the same poke

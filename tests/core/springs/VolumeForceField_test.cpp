@@ -183,6 +183,91 @@ TEST(VolumeForceField, PushesAnInvertedTetBackOut) {
   EXPECT_GT(f(2, 3), 0.0);  // the apex is pushed back up
 }
 
+TEST(VolumeForceField, ATetSqueezedBelowHalfItsVolumeIsPushedBackOnItsOwn) {
+  // One cube of six tets; one corner pushed 70 % of the way to its tet's opposite face, which
+  // squeezes that tet to 0.3 of its volume (and changes its neighbours'). Beyond the cube's term,
+  // each tet below J_g = 1/2 adds 1/2 kappa V0 (J - J_g)^2: its
+  // force, its Gauss-Newton stiffness in the products, the diagonal blocks and the assembled
+  // matrix, and its exact Hessian there.
+  const double h = 0.01;
+  const SpringMesh mesh = buildSpringMesh(makeBlockMesh({h, h, h}, {1, 1, 1}), 1000.0);
+  const double kappa = 5e4;
+  VolumeForceField field(mesh, kappa);
+  const Eigen::Vector4i squeezed = mesh.tets.col(0);
+  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  const Eigen::Vector3d face = (x.col(squeezed[1]) + x.col(squeezed[2]) + x.col(squeezed[3])) / 3.0;
+  x.col(squeezed[0]) += 0.7 * (face - x.col(squeezed[0]));
+  ASSERT_NEAR(signedTetVolume(x, mesh.tets, 0) / mesh.tetRestVolume_m3[0], 0.3, 1e-12);
+  const auto guardEnergy = [&](const Eigen::Matrix3Xd& at) {
+    double energy = 0.0;
+    for (Eigen::Index t = 0; t < mesh.tets.cols(); ++t) {
+      const double below = signedTetVolume(at, mesh.tets, t) / mesh.tetRestVolume_m3[t] - 0.5;
+      if (below < 0.0) energy += 0.5 * kappa * mesh.tetRestVolume_m3[t] * below * below;
+    }
+    return energy;
+  };
+  const double guard = guardEnergy(x);
+  ASSERT_GT(guard, 0.0);
+  EXPECT_NEAR(field.energy(x), cubeVolumeEnergy(mesh, x, kappa, h) + guard,
+              1e-12 * field.energy(x));
+  // Forces: minus the gradient of the cube's and the guard's energies.
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  ForcePass pass;
+  pass.stiffness = StiffnessSlot::Current;
+  ForceReport report;
+  field.prepareProducts({0, 2, 4, 6, x.cols()});
+  field.addForces(x, f, pass, report);
+  const double step = 1e-9;
+  for (Eigen::Index d = 0; d < x.size(); ++d) {
+    Eigen::Matrix3Xd up = x, down = x;
+    up.data()[d] += step;
+    down.data()[d] -= step;
+    const double gradient = (cubeVolumeEnergy(mesh, up, kappa, h) + guardEnergy(up) -
+                             cubeVolumeEnergy(mesh, down, kappa, h) - guardEnergy(down)) /
+                            (2 * step);
+    EXPECT_NEAR(f.data()[d], -gradient, 1e-6 * f.cwiseAbs().maxCoeff());
+  }
+  // The squeezed tet's apex is pushed back away from its face.
+  EXPECT_GT(f.col(squeezed[0]).dot(x.col(squeezed[0]) - face), 0.0);
+  // Stiffness: the products and the diagonal blocks are the assembled Gauss-Newton matrix's.
+  NodeBlockMatrix matrix(mesh.nodeCount(), stiffnessCouplings(mesh, &field.cells()));
+  matrix.setZero();
+  field.addStiffness(matrix);
+  const Eigen::MatrixXd dense(matrix.matrix());
+  Eigen::VectorXd direction(x.size());
+  for (Eigen::Index i = 0; i < direction.size(); ++i) direction[i] = std::sin(2.3 * i + 0.4);
+  Eigen::VectorXd product = Eigen::VectorXd::Zero(x.size());
+  for (int part = 0; part < ForceField::kParts; ++part)
+    field.addStiffnessProduct(part, direction.data(), product.data());
+  const Eigen::VectorXd expected = dense * direction;
+  EXPECT_LT((product - expected).cwiseAbs().maxCoeff(), 1e-10 * expected.cwiseAbs().maxCoeff());
+  for (Eigen::Index j = 0; j < mesh.nodeCount(); ++j) {
+    Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+    field.addDiagonalBlock(j, block);
+    EXPECT_LT((block - dense.block(3 * j, 3 * j, 3, 3)).cwiseAbs().maxCoeff(),
+              1e-10 * dense.cwiseAbs().maxCoeff());
+  }
+  // The exact Hessian, asked for, is -df/dx there.
+  pass.isProjected = false;
+  field.addForces(x, f, pass, report);
+  matrix.setZero();
+  field.addStiffness(matrix);
+  const Eigen::MatrixXd exact(matrix.matrix());
+  for (Eigen::Index d = 0; d < x.size(); ++d) {
+    Eigen::Matrix3Xd up = x, down = x;
+    up.data()[d] += 1e-8;
+    down.data()[d] -= 1e-8;
+    Eigen::Matrix3Xd fUp = Eigen::Matrix3Xd::Zero(3, x.cols());
+    Eigen::Matrix3Xd fDown = Eigen::Matrix3Xd::Zero(3, x.cols());
+    field.addForces(up, fUp, nullptr);
+    field.addForces(down, fDown, nullptr);
+    const Eigen::Matrix3Xd change = (fDown - fUp) / 2e-8;
+    const Eigen::VectorXd column = Eigen::Map<const Eigen::VectorXd>(change.data(), x.size());
+    EXPECT_LT((exact.col(d) - column).cwiseAbs().maxCoeff(), 1e-6 * exact.cwiseAbs().maxCoeff())
+        << d;
+  }
+}
+
 TEST(VolumeForceField, InspectionOnThePoolFindsWhatTheSerialOneDoes) {
   const SpringMesh mesh = buildSpringMesh(makeBlockMesh({0.04, 0.04, 0.04}, {4, 4, 4}), 1000.0);
   Eigen::Matrix3Xd x = mesh.restPositions_m;
