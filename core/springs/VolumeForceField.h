@@ -27,11 +27,10 @@
 //   E_t = 1/2 kappa V0_t (J_t - J_g)^2   for J_t = V_t / V0_t < J_g = 1/2, else 0
 //   f_i = -kappa (J_t - J_g) g_t,i,   H_t ~= (kappa / V0_t) g_t g_t^T   (one rank-one term)
 //
-// which only a tet squeezed to half its volume feels (none on the bundled liver's poke, whose
-// tets stay above 0.7). Its few terms are kept beside the cells' blocks, as the contacts keep
-// theirs (numerics/RankOneTerm.h). Its modulus is the cells' kappa: three or ten times stiffer,
-// it also held the 100,000-spring liver's tets, but a fast 7 cm poke into the bundled liver then
-// left a 2 cm crease (the guard's barrier held the fold that the cells' term would undo).
+// which only a tet squeezed to half its volume feels. Its few terms are kept beside the cells'
+// blocks, as the contacts keep theirs (numerics/RankOneTerm.h). Its modulus is the cells' kappa:
+// a stiffer guard's barrier held folds after fast deep pokes that the cells' term undoes
+// (docs/scene-file.md, "The guard per tet").
 //
 // Passes: the cells in kParts fixed ranges compute g, J and the pressure (on the pool when one
 // is set); then each node gathers its cells' forces in a node-wise pass, over a node-to-cell

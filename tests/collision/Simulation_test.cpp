@@ -535,10 +535,9 @@ TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
 }
 
 TEST(Simulation, OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet) {
-  // The bundled poke (4 cm/s) to 3.8 cm on the liver meshed with 7.5 mm cubes: under the probe
-  // one tet was squeezed flat and through itself (down to J = -0.16 at 3.6 cm) while its cube
-  // kept its volume, and the poke reported it. The volume term's guard per tet holds it above
-  // J = 0.3 (VolumeForceField.h).
+  // The bundled poke (4 cm/s) to 3.8 cm on the liver meshed with 7.5 mm cubes, the probe a third
+  // of one wide: a tet under it can be squeezed flat and through itself while its cube keeps its
+  // volume. The volume term's guard per tet (VolumeForceField.h) holds every tet above J = 0.3.
   SceneDescription description = pokeScene();
   description.tetMesh->file = std::string(TISSUESIM_ASSET_DIR) + "/meshes/liver-20000.msh";
   ScriptedPoke scene(0.04, 1.0, description);
