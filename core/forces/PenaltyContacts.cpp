@@ -136,19 +136,7 @@ std::size_t PenaltyContactSet::collectTerms(const Eigen::Matrix3Xd& x,
     for (const PenaltyContact& c : m_contacts) {
       if (c.isSupport != isSupportPass) continue;
       if (!(c.penetration(x) > 0.0)) continue;  // as addStiffness
-      RankOneTerm term;
-      term.nodes = c.nodes;
-      term.stiffness_N_m = c.stiffness_N_m;
-      for (std::size_t k = 0; k < kMaxTermNodes; ++k) {
-        if (c.weights[static_cast<Eigen::Index>(k)] == 0.0) continue;
-        for (int axis = 0; axis < 3; ++axis) {
-          const bool isFree = isFixed == nullptr ||
-                              (*isFixed)[static_cast<std::size_t>(3 * c.nodes[k] + axis)] == 0;
-          term.blocks[k][axis] =
-              isFree ? c.weights[static_cast<Eigen::Index>(k)] * c.normal[axis] : 0.0;
-        }
-      }
-      terms.push_back(term);
+      terms.push_back(pointTerm(c.nodes, c.weights, c.normal, c.stiffness_N_m, isFixed));
     }
     if (!isSupportPass) instrumentCount = terms.size();
   }

@@ -129,20 +129,8 @@ void PlaneFriction::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, co
     }
     if (!keepsStiffness) continue;
     const auto addTerm = [&](const Eigen::Vector3d& direction, double stiffness_N_m) {
-      RankOneTerm term;
-      term.nodes = point.nodes;
-      term.stiffness_N_m = stiffness_N_m;
-      for (std::size_t n = 0; n < kMaxTermNodes; ++n) {
-        const double w = point.carried[static_cast<Eigen::Index>(n)];
-        if (w == 0.0) continue;
-        for (int axis = 0; axis < 3; ++axis) {
-          const bool isFree =
-              pass.fixedDofs == nullptr ||
-              (*pass.fixedDofs)[static_cast<std::size_t>(3 * point.nodes[n] + axis)] == 0;
-          term.blocks[n][axis] = isFree ? w * direction[axis] : 0.0;
-        }
-      }
-      terms.push_back(term);
+      terms.push_back(
+          pointTerm(point.nodes, point.carried, direction, stiffness_N_m, pass.fixedDofs));
     };
     if (sticks) {
       addTerm(t1, k);

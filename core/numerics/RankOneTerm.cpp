@@ -5,6 +5,24 @@
 
 namespace tissuesim {
 
+RankOneTerm pointTerm(const std::array<int, kMaxTermNodes>& nodes, const Eigen::Vector4d& weights,
+                      const Eigen::Vector3d& direction, double stiffness_N_m,
+                      const std::vector<char>* fixedDofs) {
+  RankOneTerm term;
+  term.nodes = nodes;
+  term.stiffness_N_m = stiffness_N_m;
+  for (std::size_t i = 0; i < kMaxTermNodes; ++i) {
+    const double w = weights[static_cast<Eigen::Index>(i)];
+    if (w == 0.0) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      const bool isFree =
+          fixedDofs == nullptr || (*fixedDofs)[static_cast<std::size_t>(3 * nodes[i] + axis)] == 0;
+      term.blocks[i][axis] = isFree ? w * direction[axis] : 0.0;
+    }
+  }
+  return term;
+}
+
 void addRankOneProducts(std::span<const RankOneTerm> terms, Eigen::Index first, Eigen::Index last,
                         const double* x, double* y) {
   for (const RankOneTerm& term : terms) {

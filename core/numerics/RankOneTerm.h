@@ -8,6 +8,7 @@
 
 #include <array>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -27,6 +28,13 @@ struct RankOneTerm {
       Eigen::Vector3d::Zero()};
   double stiffness_N_m = 0.0;  ///< k > 0
 };
+
+/// The term of a point s = sum_i w_i x_i held along unit `direction` with stiffness k: u's block
+/// at node i is w_i direction, zeroed on the DOFs flagged in `fixedDofs` (3#V; null: none fixed),
+/// as the solvers zero the matrix's rows there.
+RankOneTerm pointTerm(const std::array<int, kMaxTermNodes>& nodes, const Eigen::Vector4d& weights,
+                      const Eigen::Vector3d& direction, double stiffness_N_m,
+                      const std::vector<char>* fixedDofs);
 
 /// y += sum over the terms of k u (u . x), on the rows of nodes first <= j < last only (x, y:
 /// 3#V): one part of a threaded product, each part writing its own rows.
