@@ -13,18 +13,22 @@ double stretchMeasure(double lambda) {
 }
 }  // namespace
 
-StressSoftening::StressSoftening(const TissueParameters& parameters)
+StressSoftening::StressSoftening(const TissueParameters& parameters, double onsetMeasure)
     : m_b(parameters.softeningB),
       m_residualScale_Pa(parameters.mu_Pa / (2.0 * parameters.softeningC_Pa) *
                          kResidualStressUnit_Pa),
-      m_exponentN(parameters.softeningExponentN) {}
+      m_exponentN(parameters.softeningExponentN),
+      m_onsetMeasure(std::max(0.0, onsetMeasure)),
+      m_inverseOnsetMeasure(m_onsetMeasure > 0.0 ? 1.0 / m_onsetMeasure : 0.0),
+      m_rootOnsetMeasure(std::sqrt(m_onsetMeasure)),
+      m_inverseRootOnsetMeasure(m_onsetMeasure > 0.0 ? 1.0 / m_rootOnsetMeasure : 0.0) {}
 
 double StressSoftening::factor(double lambda, double lambdaMax) const {
   const double m = stretchMeasure(lambda);
   // M is m at lambda_max (model.md's fix of Eq. 20's typo).
   const double bigM = stretchMeasure(lambdaMax);
   const double argument = std::max(0.0, (bigM - m) * m / bigM);
-  return std::exp(-m_b * std::sqrt(argument));
+  return std::exp(-m_b * rootOfMeasure<false>(argument).value);
 }
 
 double StressSoftening::residualStress(double lambda, double lambdaMax) const {

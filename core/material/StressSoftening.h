@@ -23,6 +23,18 @@
 //    tests tension only): P_v(lambda) + P_s(1), so the stress is continuous at lambda = 1 and
 //    the residual offset carries into compression. This is our extension, not the paper's.
 //  - lambda_max only grows (MullinsState), until an explicit reset.
+//
+// The onset (for the solvers; the reference curves keep the exact law): F leaves lambda_max with
+// a vertical tangent, sqrt(q) having none at q = 0. A spring at its peak (where every loading
+// spring sits after each step's commit) then has, just below it, a stiffness without bound, and
+// a Newton step that unloads it by a hair meets a stress drop its tangent did not foresee. With
+// an onset q_0 > 0, sqrt(q) is replaced below q_0 by the quadratic that meets it C1 there,
+//
+//   rho(q) = sqrt(q_0) t (3 - t) / 2,  t = q / q_0            (rho(0) = 0: F = 1 at the peak)
+//
+// so the tangent at the peak is finite, 3 / (2 sqrt(q_0)) in q. rho <= sqrt(q), so the stress
+// there is at most exp(0.1741 b sqrt(q_0)) - 1 above the exact law (the largest of
+// sqrt(t) - t (3 - t) / 2 on [0, 1] is 0.17404), and equal to it from q_0 on.
 
 #include <algorithm>
 #include <cmath>
@@ -63,9 +75,10 @@ class StressSoftening {
   /// The bracket of Eq. 19 is read in kPa (model.md); this converts it to Pa.
   static constexpr double kResidualStressUnit_Pa = 1000.0;
 
-  explicit StressSoftening(const TissueParameters& parameters);
+  /// @param onsetMeasure q_0 >= 0 of the rounded onset (see the header); 0 is the exact law.
+  explicit StressSoftening(const TissueParameters& parameters, double onsetMeasure = 0.0);
 
-  /// F(lambda; lambda_max) in (0, 1]; 1 at lambda = lambda_max.
+  /// F(lambda; lambda_max) in (0, 1], with the onset if one is set; 1 at lambda = lambda_max.
   double factor(double lambda, double lambdaMax) const;
 
   /// R(lambda; lambda_max) in Pa (negative below lambda_max for lambda > 1: the permanent set).
@@ -80,9 +93,9 @@ class StressSoftening {
     return softenWithSlope({virginStress, 0.0}, lambda, peak(lambdaMax)).value;
   }
 
-  /// The same with its derivative in lambda, given the virgin stress's (Pa). The factor F has a
-  /// vertical tangent at lambda_max (model.md); its slope is capped there, at the value
-  /// sqrt((M - m) m / M) = 1e-6 would give, so Newton sees a large but finite tangent.
+  /// The same with its derivative in lambda, given the virgin stress's (Pa). With the exact law
+  /// (no onset) F has a vertical tangent at lambda_max (model.md); its slope is capped there, at
+  /// the value sqrt((M - m) m / M) = 1e-6 would give.
   /// Inline: it runs once per softened spring per force evaluation (a third of the explicit
   /// slab's spring pass when it was a call).
   /// kWithSlope false: the value alone (slope 0), the same to the bit; for passes that need
@@ -106,8 +119,8 @@ class StressSoftening {
     // m' = 2 (lambda^3 - lambda^-3) / m;  dF/dlambda = -b F dq / (2 sqrt(q)).
     const double m = std::sqrt(l2 * l2 + 2.0 * inverse2);
     const double q = std::max(0.0, (1.0 - m * peak.inverseMeasure) * m);
-    const double rootQ = std::sqrt(q);
-    const double f = std::exp(-m_b * rootQ);
+    const RootOfMeasure root = rootOfMeasure<kWithSlope>(q);
+    const double f = std::exp(-m_b * root.value);
     if constexpr (!kWithSlope) {
       return {t * f, 0.0};
     } else {
@@ -116,12 +129,9 @@ class StressSoftening {
           m_residualScale_Pa * (-8.0 * lambda * peak.axial + 16.0 * l2 * lambda -
                                 4.0 * peak.lateral * inverse2 + 8.0 * inverse2 * inverse);
       const double dt = virgin.slope + residualSlope * inverse - residual * inverse2;
-      // The tangent is vertical at lambda_max: cap it where sqrt(q) = 1e-6 (see above). One
-      // division for both 1/m and 1/sqrt(q).
-      constexpr double kMinRootQ = 1e-6;
       const double dqTimesM =
           (1.0 - 2.0 * m * peak.inverseMeasure) * 2.0 * (l2 * lambda - inverse2 * inverse);
-      const double df = -m_b * f * dqTimesM / (2.0 * m * std::max(kMinRootQ, rootQ));
+      const double df = -m_b * f * dqTimesM * root.slope / m;
       return {t * f, dt * f + t * df};
     }
   }
@@ -129,7 +139,32 @@ class StressSoftening {
     return softenWithSlope(virgin, lambda, peak(lambdaMax));
   }
 
+  /// sqrt(q) of F = exp(-b sqrt(q)) (Eq. 20), or below the onset its quadratic (see the
+  /// header), and its derivative in q. With the exact law that derivative is capped where
+  /// sqrt(q) = 1e-6: at the peak itself it has no value.
+  struct RootOfMeasure {
+    double value;
+    double slope;
+  };
+  template <bool kWithSlope = true>
+  RootOfMeasure rootOfMeasure(double q) const {
+    if (q < m_onsetMeasure) {
+      const double t = q * m_inverseOnsetMeasure;
+      return {m_rootOnsetMeasure * (t * (1.5 - 0.5 * t)),
+              kWithSlope ? (1.5 - t) * m_inverseRootOnsetMeasure : 0.0};
+    }
+    constexpr double kMinRoot = 1e-6;
+    const double value = std::sqrt(q);
+    return {value, kWithSlope ? 0.5 / std::max(kMinRoot, value) : 0.0};
+  }
+
   bool isEnabled() const { return m_b > 0.0 || m_residualScale_Pa > 0.0; }
+  /// q_0 of the onset and its derived numbers (1 / q_0, sqrt(q_0), 1 / sqrt(q_0); all 0 for the
+  /// exact law), for kernels that evaluate several springs at a time.
+  double onsetMeasure() const { return m_onsetMeasure; }
+  double inverseOnsetMeasure() const { return m_inverseOnsetMeasure; }
+  double rootOnsetMeasure() const { return m_rootOnsetMeasure; }
+  double inverseRootOnsetMeasure() const { return m_inverseRootOnsetMeasure; }
   /// b of F (Eq. 20) and (mu / 2C) * 1 kPa of R (Eq. 17), for kernels that evaluate
   /// softenWithSlope several springs at a time.
   double b() const { return m_b; }
@@ -139,6 +174,10 @@ class StressSoftening {
   double m_b;
   double m_residualScale_Pa;  ///< (mu / 2C) * 1 kPa
   int m_exponentN;
+  double m_onsetMeasure;
+  double m_inverseOnsetMeasure;
+  double m_rootOnsetMeasure;
+  double m_inverseRootOnsetMeasure;
 };
 
 }  // namespace tissuesim

@@ -29,7 +29,7 @@ SpringForceLaw::SpringForceLaw(SpringLaw law, const StiffnessTable& table,
                                bool isSoftening)
     : m_law(law),
       m_table(table),
-      m_softening(parameters),
+      m_softening(parameters, kSofteningOnsetMeasure),
       m_linearModulus_Pa(linearModulus_Pa),
       m_inverseArea(1.0 / parameters.springArea_m2),
       m_isSoftening(isSoftening && law != SpringLaw::Smm &&

@@ -40,6 +40,8 @@ struct SpringStressBatchCoefficients {
   bool isSoftening;
   double b;                 ///< softening's b (Eq. 20)
   double residualScale_Pa;  ///< softening's (mu / 2C) * 1 kPa (Eq. 17)
+  // Its onset (StressSoftening.h): q_0, 1 / q_0, sqrt(q_0), 1 / sqrt(q_0).
+  double onsetMeasure, inverseOnsetMeasure, rootOnsetMeasure, inverseRootOnsetMeasure;
 
   explicit SpringStressBatchCoefficients(const SpringForceLaw& law)
       : nodes(law.table().stressSpline().nodes().data()),
@@ -49,7 +51,11 @@ struct SpringStressBatchCoefficients {
         maxCell(static_cast<double>(law.table().stressSpline().size() - 2)),
         isSoftening(law.isSoftening()),
         b(law.softening().b()),
-        residualScale_Pa(law.softening().residualScale_Pa()) {}
+        residualScale_Pa(law.softening().residualScale_Pa()),
+        onsetMeasure(law.softening().onsetMeasure()),
+        inverseOnsetMeasure(law.softening().inverseOnsetMeasure()),
+        rootOnsetMeasure(law.softening().rootOnsetMeasure()),
+        inverseRootOnsetMeasure(law.softening().inverseRootOnsetMeasure()) {}
 };
 
 namespace batch {
@@ -186,7 +192,15 @@ __attribute__((target("avx,fma"))) inline void evaluateStressBatch(
     const __m256d m = _mm256_sqrt_pd(_mm256_fmadd_pd(l2, l2, _mm256_mul_pd(two, inverse2)));
     const __m256d q =
         _mm256_max_pd(zero, _mm256_mul_pd(_mm256_fnmadd_pd(m, inverseMeasure, one), m));
-    const __m256d rootQ = _mm256_sqrt_pd(q);
+    // sqrt(q), or below the onset q_0 its quadratic sqrt(q_0) t (3 - t) / 2, t = q / q_0.
+    const __m256d onsetT = _mm256_mul_pd(q, _mm256_set1_pd(c.inverseOnsetMeasure));
+    const __m256d inOnset = _mm256_cmp_pd(q, _mm256_set1_pd(c.onsetMeasure), _CMP_LT_OQ);
+    const __m256d rootQ = _mm256_blendv_pd(
+        _mm256_sqrt_pd(q),
+        _mm256_mul_pd(_mm256_set1_pd(c.rootOnsetMeasure),
+                      _mm256_mul_pd(onsetT, _mm256_fnmadd_pd(_mm256_set1_pd(0.5), onsetT,
+                                                             _mm256_set1_pd(1.5)))),
+        inOnset);
     const __m256d f = batch::exp(_mm256_mul_pd(_mm256_set1_pd(-c.b), rootQ));
     const __m256d softenedValue = _mm256_mul_pd(total, f);
     // The n = 1 jump faded out within kJumpBlendWidth below lambda_max (SpringForceLaw):
@@ -217,14 +231,19 @@ __attribute__((target("avx,fma"))) inline void evaluateStressBatch(
                                      _mm256_mul_pd(_mm256_mul_pd(four, lateral), inverse2))));
       const __m256d dTotal =
           _mm256_fnmadd_pd(residual, inverse2, _mm256_fmadd_pd(residualSlope, inverse, valueSlope));
-      // dF/dlambda = -b F (1 - 2 m / M) 2 (l^3 - l^-3) / (2 m max(1e-6, sqrt q)): the cap as
-      // StressSoftening's, for the vertical tangent at lambda_max.
+      // dF/dlambda = -b F (1 - 2 m / M) 2 (l^3 - l^-3) rho'(q) / m, rho' = 1 / (2 max(1e-6,
+      // sqrt q)) (the exact law's cap, as StressSoftening's) or (3/2 - t) / sqrt(q_0) below q_0.
       const __m256d dqTimesM = _mm256_mul_pd(
           _mm256_mul_pd(_mm256_fnmadd_pd(_mm256_mul_pd(two, m), inverseMeasure, one), two),
           _mm256_sub_pd(_mm256_mul_pd(l2, l), _mm256_mul_pd(inverse2, inverse)));
+      const __m256d rootSlope = _mm256_blendv_pd(
+          _mm256_div_pd(_mm256_set1_pd(0.5), _mm256_max_pd(_mm256_set1_pd(1e-6), rootQ)),
+          _mm256_mul_pd(_mm256_sub_pd(_mm256_set1_pd(1.5), onsetT),
+                        _mm256_set1_pd(c.inverseRootOnsetMeasure)),
+          inOnset);
       const __m256d df = _mm256_div_pd(
-          _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(-c.b), f), dqTimesM),
-          _mm256_mul_pd(_mm256_mul_pd(two, m), _mm256_max_pd(_mm256_set1_pd(1e-6), rootQ)));
+          _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(-c.b), f), _mm256_mul_pd(dqTimesM, rootSlope)),
+          m);
       const __m256d softenedSlope = _mm256_fmadd_pd(total, df, _mm256_mul_pd(dTotal, f));
       valueSlope = _mm256_blendv_pd(valueSlope, softenedSlope, tension);
       // jump is zero outside the blend: these lanes are unchanged.

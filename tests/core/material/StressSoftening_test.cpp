@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "material/StressSoftening.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -107,6 +108,73 @@ TEST_F(StressSofteningTest, CompressionAfterStretchingIsContinuousAtRest) {
   EXPECT_LT(softened(0.9, peak), softened(1.0, peak));
   // Never stretched: compression is virgin.
   EXPECT_EQ(m_softening.soften(m_energy.stress(0.9), 0.9, 1.0), m_energy.stress(0.9));
+}
+
+// q = (1 - m / M) m of Eq. 20, the measure whose square root F takes.
+double measureGap(double lambda, double lambdaMax) {
+  const auto m = [](double l) { return std::sqrt(l * l * l * l + 2.0 / (l * l)); };
+  return (1.0 - m(lambda) / m(lambdaMax)) * m(lambda);
+}
+
+TEST_F(StressSofteningTest, TheRoundedOnsetIsTheExactLawPastItAndWithinItsBoundInside) {
+  // Below q_0 sqrt(q) becomes sqrt(q_0) t (3 - t) / 2: never above it, so the stress is never
+  // below the exact law's there, and at most exp(0.1741 b sqrt(q_0)) - 1 above it (the largest
+  // of sqrt(t) - t (3 - t) / 2 on [0, 1] is 0.17404).
+  constexpr double kOnset = 1e-4;
+  const StressSoftening rounded(m_parameters, kOnset);
+  const double bound = std::exp(0.1741 * m_parameters.softeningB * std::sqrt(kOnset)) - 1.0;
+  for (const double peak : {1.01, 1.1, 1.2, 1.3}) {
+    int inside = 0;
+    double largest = 0.0;
+    for (double below = 1e-9; below < 0.02; below *= 1.05) {
+      const double lambda = peak - below;
+      const double exact = softened(lambda, peak);
+      const double smooth = rounded.soften(m_energy.stress(lambda), lambda, peak);
+      if (measureGap(lambda, peak) >= kOnset) {
+        EXPECT_DOUBLE_EQ(smooth, exact) << lambda << " from " << peak;
+        continue;
+      }
+      ++inside;
+      const double ratio = smooth / exact - 1.0;
+      EXPECT_GE(ratio, -1e-14) << lambda << " from " << peak;
+      EXPECT_LE(ratio, bound) << lambda << " from " << peak;
+      largest = std::max(largest, ratio);
+    }
+    EXPECT_GT(inside, 50) << peak;
+    EXPECT_GT(largest, 0.5 * bound) << "the onset changed the curve inside it: " << peak;
+  }
+  EXPECT_DOUBLE_EQ(rounded.factor(1.2, 1.2), 1.0);
+  EXPECT_EQ(rounded.soften(m_energy.stress(1.25), 1.25, 1.2), m_energy.stress(1.25));
+}
+
+TEST_F(StressSofteningTest, TheRoundedOnsetHasAFiniteTangentAtThePeakAndItIsTheDerivative) {
+  // The exact law's tangent is vertical at lambda_max (capped where sqrt(q) = 1e-6); the rounded
+  // one's is 3 b q'(lambda) / (2 sqrt(q_0)) times the stress there, and its slopes are the
+  // derivative of its values inside the onset, across q_0 and past it.
+  constexpr double kOnset = 1e-4;
+  const StressSoftening rounded(m_parameters, kOnset);
+  const double peak = 1.2;
+  const auto slopeAt = [&](const StressSoftening& law, double lambda) {
+    return law.softenWithSlope(m_energy.stressAndSlope(lambda), lambda, peak).slope;
+  };
+  const double justBelow = peak - 1e-12;
+  const double stress = m_energy.stress(peak);
+  // dq/dlambda at the peak (negative: q grows going down from it).
+  const double measureSlope =
+      (measureGap(peak - 1e-6, peak) - measureGap(peak - 2e-6, peak)) / 1e-6;
+  const double expected =
+      1.5 * m_parameters.softeningB * -measureSlope / std::sqrt(kOnset) * stress;
+  EXPECT_NEAR(slopeAt(rounded, justBelow), expected + m_energy.stressAndSlope(peak).slope,
+              0.01 * expected);
+  EXPECT_GT(slopeAt(m_softening, justBelow), 1000.0 * expected) << "the exact law's, capped";
+  for (double below = 1e-6; below < 0.01; below *= 1.7) {
+    const double lambda = peak - below;
+    const double h = 1e-9;
+    const double fd = (rounded.soften(m_energy.stress(lambda + h), lambda + h, peak) -
+                       rounded.soften(m_energy.stress(lambda - h), lambda - h, peak)) /
+                      (2.0 * h);
+    EXPECT_NEAR(slopeAt(rounded, lambda), fd, 1e-4 * std::abs(fd)) << lambda;
+  }
 }
 
 TEST_F(StressSofteningTest, ResidualTermMatchesEq17ByHand) {
