@@ -54,7 +54,7 @@ void registerContactBenchmarks(const std::string& scenePath) {
   // Speed against accuracy on the real task: the bundled poke (the tool 4 cm down over 1 s),
   // each setting against implicit Euler converged (8 Newton iterations, CG 1e-8): the largest
   // node distance from it at the deepest point and over the way down, and the tool force there.
-  // Quasi-Newton is not on it: a scene with gravity or a tray refuses it (SceneFile.cpp).
+  // Quasi-Newton is not on it: a scene with a tray refuses it (SceneFile.cpp).
   struct Setting {
     const char* name;
     const char* integrator;
