@@ -98,6 +98,16 @@ void CapsuleContact::carry(Eigen::Index f, const Eigen::Vector3d& onTriangle,
   contact.weights = clampedToTet(weights);
 }
 
+namespace {
+/// Where the shaft holds a face: four fixed points inside it (barycentric), its centroid and one
+/// towards each corner, none on an edge, so no point is shared with a neighbouring face.
+const std::array<Eigen::Vector3d, 4> kShaftSamples{
+    Eigen::Vector3d(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0),
+    Eigen::Vector3d(2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0),
+    Eigen::Vector3d(1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0),
+    Eigen::Vector3d(1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0)};
+}  // namespace
+
 void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPose& pose,
                                   PenaltyContactSet& contacts) {
   if (m_embedding != nullptr) {
@@ -129,6 +139,22 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
   // Taking the direction from the capsule rather than from the triangle's normal keeps a face
   // that the shaft has passed through being pushed back out instead of along the shaft.
   m_features.clear();
+  const auto addContact = [&](Eigen::Index f, const Eigen::Vector3d& weights,
+                              const Eigen::Vector3d& drawnPoint, const Eigen::Vector3d& away,
+                              const Eigen::Vector3d& onAxis, double share) {
+    // penetration = r - u . (s(x) - c) = n . s(x) - offset with n = -u.
+    PenaltyContact contact;
+    carry(f, weights, contact);
+    contact.normal = -away;
+    // The carried point s(x) may lie off the drawn point p (outside the lattice, or where the
+    // drawn triangle and the tet's interpolation differ): the step's contact is s(x) + (p - s(x))
+    // with the gap frozen, so the penetration at the current state is the drawn surface's own.
+    const Eigen::Vector3d gap = drawnPoint - contact.point(x);
+    contact.offset_m = -(radius + away.dot(onAxis)) - contact.normal.dot(gap);
+    contact.stiffness_N_m = share * m_settings.stiffness_N_m;
+    contact.damping_N_s_m = share * m_settings.damping_N_s_m;
+    contacts.add(contact);
+  };
   for (const int f : m_touched) {
     const Eigen::Vector3d a = m_vertices.row(m_faces(0, f)).transpose();
     const Eigen::Vector3d b = m_vertices.row(m_faces(1, f)).transpose();
@@ -137,6 +163,27 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
     if (faceNormal.squaredNorm() == 0.0) continue;  // degenerate: no face to push
     const SegmentTriangleClosest closest = closestSegmentTriangle(axisStart, axisEnd, a, b, c);
     if (closest.distance >= radius + margin) continue;
+    // How far up the shaft the face lies (its centroid; not its nearest point, which jumps
+    // along a face that lies along the axis): 0 at the tip's centre and ahead of it, 1 from a
+    // radius up. The tip holds each face at its nearest point; the shaft at fixed points.
+    const double upShaft =
+        std::clamp(((a + b + c) / 3.0 - axisEnd).dot(-pose.direction) / radius, 0.0, 1.0);
+    const double shaftShare = upShaft * upShaft * (3.0 - 2.0 * upShaft);
+    if (shaftShare > 0.0) {
+      for (const Eigen::Vector3d& weights : kShaftSamples) {
+        const Eigen::Vector3d q = weights[0] * a + weights[1] * b + weights[2] * c;
+        const double along =
+            std::clamp((q - axisStart).dot(pose.direction), 0.0, m_settings.length_m);
+        const Eigen::Vector3d onAxis = axisStart + along * pose.direction;
+        Eigen::Vector3d away = q - onAxis;
+        const double distance = away.norm();
+        if (distance >= radius + margin || distance <= 1e-6 * radius) continue;
+        away /= distance;
+        addContact(f, weights, q, away, onAxis,
+                   shaftShare / static_cast<double>(kShaftSamples.size()));
+      }
+    }
+    if (shaftShare == 1.0) continue;
     if (!isFirstAtFeature(f, closest.weights)) continue;
     Eigen::Vector3d away = closest.onTriangle - closest.onSegment;
     Eigen::Vector3d onAxis = closest.onSegment;
@@ -155,18 +202,7 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
       if (away.norm() <= 1e-6 * radius) continue;
       away.normalize();
     }
-    // penetration = r - u . (s(x) - c) = n . s(x) - offset with n = -u.
-    PenaltyContact contact;
-    carry(f, closest.weights, contact);
-    contact.normal = -away;
-    // The carried point s(x) may lie off the drawn point p (outside the lattice, or where the
-    // drawn triangle and the tet's interpolation differ): the step's contact is s(x) + (p - s(x))
-    // with the gap frozen, so the penetration at the current state is the drawn surface's own.
-    const Eigen::Vector3d gap = closest.onTriangle - contact.point(x);
-    contact.offset_m = -(radius + away.dot(onAxis)) - contact.normal.dot(gap);
-    contact.stiffness_N_m = m_settings.stiffness_N_m;
-    contact.damping_N_s_m = m_settings.damping_N_s_m;
-    contacts.add(contact);
+    addContact(f, closest.weights, closest.onTriangle, away, onAxis, 1.0 - shaftShare);
   }
 }
 

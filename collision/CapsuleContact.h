@@ -14,19 +14,27 @@
 // (FCL's own GJK: libccd's MPR can hang, SurfaceBvh.cpp) to find the triangles it touches or is
 // about to touch.
 //
-// Response: one penalty contact (PenaltyContacts.h) per such triangle, frozen for the step: the
-// triangle's point p nearest the capsule's axis (c on the axis; exact segment-triangle closest
-// points) must stay at least r from c along u = (p - c) / |p - c|, the way the capsule's surface
-// faces there, with stiffness k. Where p lies on an edge or at a corner, the faces that share
-// it find the same point: it is one contact, the first face's. Counted once per face, a corner
-// pushed back with its valence times k, and which faces shared the point changed from one step
-// to the next: a probe held deep never settled (every step started newtons out of balance). At the
-// tip that is the face's inward normal (the tip carries the face ahead of it); beside the shaft it
-// is radial (the shaft holds the dent's walls apart). Taking the direction from the capsule, not
-// from the face's normal, matters once the tool is deep: with the face normal, a face the shaft had
-// passed was pushed along the shaft and the surface closed over the tool. A face the axis runs
-// through is pushed ahead of the tip when it lies across the tool, radially off the axis when it
-// lies along it. The integrators evaluate the contacts at their trial states; the implicit ones
+// Response near the tip: one penalty contact (PenaltyContacts.h) per such triangle, frozen for
+// the step: the triangle's point p nearest the capsule's axis (c on the axis; exact
+// segment-triangle closest points) must stay at least r from c along u = (p - c) / |p - c|, the way
+// the capsule's surface faces there, with stiffness k. Where p lies on an edge or at a corner, the
+// faces that share it find the same point: it is one contact, the first face's. Counted once per
+// face, a corner pushed back with its valence times k, and which faces shared the point changed
+// from one step to the next: a probe held deep never settled (every step started newtons out of
+// balance). At the tip that is the face's inward normal (the tip carries the face ahead of it);
+// beside the shaft it is radial (the shaft holds the dent's walls apart). Taking the direction from
+// the capsule, not from the face's normal, matters once the tool is deep: with the face normal, a
+// face the shaft had passed was pushed along the shaft and the surface closed over the tool. A face
+// the axis runs through is pushed ahead of the tip when it lies across the tool, radially off the
+// axis when it lies along it. The shaft holds a face at fixed points instead: four inside it (its
+// centroid and one towards each corner), each pushed radially off the axis with a quarter of k. A
+// face lying along the shaft has no well-determined nearest point: it jumped between the face's
+// edges from one step to the next, merging with a neighbour's point and parting again, and a probe
+// held deep cycled so (the contact set and the force changing every step). Fixed points enter and
+// leave the capsule where their force is zero. A face changes from the tip's rule to the shaft's as
+// its centroid rises from the tip's centre to a radius above it (a smoothstep sharing k between
+// them), by where the face lies, not by its nearest point, which jumps the same way.
+// The integrators evaluate the contacts at their trial states; the implicit ones
 // carry k in the Newton matrix, so it can be stiff: 10^4 N/m per face (a 1.7 N push over one face
 // penetrates 0.17 mm). It used to be an explicit force, capped near 1,000 N/m by stability; at 300
 // N/m the 2.5 mm tip sank 4.8 mm below the surface. The explicit integrator applies the contacts as

@@ -440,42 +440,51 @@ TEST(Simulation, QuasiNewtonPokesTheLiverAsImplicitEulerDoes) {
   }
 }
 
-TEST(Simulation, AProbeHeldSevenCentimetresDeepComesToRest) {
-  // The bundled poke taken to 7 cm (17 N) and held there. Each step takes its contacts from the
-  // tissue where the last one left it; when a surface point the probe pushes was counted once
-  // for every face that shared it, which faces did changed from step to step, the force ran
-  // 16.4, 16.6, 16.4 N and round again, and every step took five Newton iterations (about four
-  // times the step's cost) for as long as the probe stayed. Held, it must come to rest.
-  SceneDescription bundled = pokeScene();
-  Simulation simulation(bundled);
-  const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
-  const SceneInstrument& tool = *bundled.instrument;
-  const InstrumentPose start{tool.tipStart_m, tool.direction};
-  InstrumentPose deep = start;
-  deep.tip_m += 0.07 * tool.direction;
-  const InstrumentScript hold({{0.0, start}, {1.75, deep}, {3.0, deep}});
-  simulation.setContactProvider(contact.get());
-  simulation.setInstrumentSource(&hold);
-  const int pressSteps = static_cast<int>(std::lround(1.75 / simulation.timeStep_s()));
-  const int settleSteps = static_cast<int>(std::lround(0.3 / simulation.timeStep_s()));
-  for (int n = 0; n < pressSteps + settleSteps; ++n) ASSERT_TRUE(simulation.step().isGood);
-  double iterations = 0.0;
-  double largestChange_N = 0.0;
-  double lastForce_N = -1.0;
-  constexpr int kHeldSteps = 200;
-  for (int n = 0; n < kHeldSteps; ++n) {
-    const StepOutcome outcome = simulation.step();
-    ASSERT_TRUE(outcome.isGood);
-    const double force_N = outcome.contact.toolForce_N.norm();
-    EXPECT_GT(force_N, 10.0) << "the probe is deep";
-    if (lastForce_N >= 0.0)
-      largestChange_N = std::max(largestChange_N, std::abs(force_N - lastForce_N));
-    lastForce_N = force_N;
-    iterations += outcome.integrator.iterations;
+TEST(Simulation, AProbeHeldSevenToNineCentimetresDeepComesToRest) {
+  // The bundled poke taken to 7, 8 and 9 cm (16-26 N), on its axis and 4 mm beside it, and
+  // held there. Each step takes its contacts from the tissue where the last one left it. When a
+  // surface point the probe pushes was counted once for every face that shared it, the force
+  // ran round a cycle and every step took five Newton iterations for as long as the probe
+  // stayed. And while the shaft held each face at its point nearest the axis, a face lying
+  // along the shaft had that point jump between its edges from one step to the next, merging
+  // with a neighbour's and parting again: most of these holds cycled. Held, it must come to rest.
+  for (const double depth_m : {0.07, 0.08, 0.09}) {
+    for (const double aside_m : {0.0, -0.004}) {
+      SceneDescription bundled = pokeScene();
+      Simulation simulation(bundled);
+      const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
+      const SceneInstrument& tool = *bundled.instrument;
+      InstrumentPose start{tool.tipStart_m, tool.direction};
+      start.tip_m.z() += aside_m;
+      InstrumentPose deep = start;
+      deep.tip_m += depth_m * tool.direction;
+      const InstrumentScript hold({{0.0, start}, {1.75, deep}, {3.0, deep}});
+      simulation.setContactProvider(contact.get());
+      simulation.setInstrumentSource(&hold);
+      const int pressSteps = static_cast<int>(std::lround(1.75 / simulation.timeStep_s()));
+      const int settleSteps = static_cast<int>(std::lround(0.3 / simulation.timeStep_s()));
+      for (int n = 0; n < pressSteps + settleSteps; ++n) ASSERT_TRUE(simulation.step().isGood);
+      double iterations = 0.0;
+      double largestChange_N = 0.0;
+      double lastForce_N = -1.0;
+      constexpr int kHeldSteps = 200;
+      for (int n = 0; n < kHeldSteps; ++n) {
+        const StepOutcome outcome = simulation.step();
+        ASSERT_TRUE(outcome.isGood);
+        const double force_N = outcome.contact.toolForce_N.norm();
+        EXPECT_GT(force_N, 10.0) << "the probe is deep";
+        if (lastForce_N >= 0.0)
+          largestChange_N = std::max(largestChange_N, std::abs(force_N - lastForce_N));
+        lastForce_N = force_N;
+        iterations += outcome.integrator.iterations;
+      }
+      EXPECT_LT(iterations / kHeldSteps, 1.5)
+          << "Newton iterations a step, held " << depth_m << " m deep, " << aside_m << " aside";
+      EXPECT_LT(largestChange_N, 0.05) << "the force from one step to the next, held " << depth_m
+                                       << " m deep, " << aside_m << " aside";
+      EXPECT_EQ(simulation.eventCount(), 0u) << depth_m << " " << aside_m;
+    }
   }
-  EXPECT_LT(iterations / kHeldSteps, 1.5) << "Newton iterations a step, held";
-  EXPECT_LT(largestChange_N, 0.05) << "the force from one step to the next, held";
-  EXPECT_EQ(simulation.eventCount(), 0u);
 }
 
 TEST(Simulation, TheProbeHeldAtThePokesDepthTakesOneNewtonIterationAStep) {
@@ -724,8 +733,7 @@ TEST(Simulation, ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous
   // Driven through the proxy (the window's LiveInstrument) the tip moves at most 0.5 mm a step
   // and drags the tissue along (up to about 22 N, 2 cm deep, changing by at most 4.3 N a step:
   // the tissue's stiffness times the proxy's 0.5 mm), never inside the drawn liver. Driven
-  // directly it moves 4 cm in one step, through the liver, and the force jumps with it (77 N,
-  // 75 N of it in one step).
+  // directly it moves 4 cm in one step, through the liver, and the force jumps with it.
   const ToolMotionLimits limits;
   const JumpForces proxied = forcesAfterACursorJump(&limits);
   const JumpForces direct = forcesAfterACursorJump(nullptr);
@@ -734,10 +742,10 @@ TEST(Simulation, ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous
   EXPECT_GT(proxied.peak_N, 0.3);  // it pushed the tissue
   // Continuous: the force builds over several steps, none carrying a quarter of its peak.
   EXPECT_LT(proxied.largestChange_N, 0.25 * proxied.peak_N);
-  // The checks can fail.
+  // The checks can fail: driven directly, each of them does.
   EXPECT_NEAR(direct.largestMove_m, 0.04, 1e-9);
   EXPECT_GT(direct.stepsInside, 0);
-  EXPECT_GT(direct.largestChange_N, 0.5 * direct.peak_N);
+  EXPECT_GT(direct.largestChange_N, 0.25 * direct.peak_N);
 }
 
 TEST(Simulation, SofteningCanBeSwitchedOffWhileRunning) {
