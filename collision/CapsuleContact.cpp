@@ -179,8 +179,7 @@ void CapsuleContact::findContacts(const Eigen::Matrix3Xd& x, const InstrumentPos
         const double distance = away.norm();
         if (distance >= radius + margin || distance <= 1e-6 * radius) continue;
         away /= distance;
-        addContact(f, weights, q, away, onAxis,
-                   shaftShare / static_cast<double>(kShaftSamples.size()));
+        addContact(f, weights, q, away, onAxis, shaftShare);
       }
     }
     if (shaftShare == 1.0) continue;

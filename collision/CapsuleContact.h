@@ -26,14 +26,17 @@
 // the capsule, not from the face's normal, matters once the tool is deep: with the face normal, a
 // face the shaft had passed was pushed along the shaft and the surface closed over the tool. A face
 // the axis runs through is pushed ahead of the tip when it lies across the tool, radially off the
-// axis when it lies along it. The shaft holds a face at fixed points instead: four inside it (its
-// centroid and one towards each corner), each pushed radially off the axis with a quarter of k. A
-// face lying along the shaft has no well-determined nearest point: it jumped between the face's
-// edges from one step to the next, merging with a neighbour's point and parting again, and a probe
-// held deep cycled so (the contact set and the force changing every step). Fixed points enter and
-// leave the capsule where their force is zero. A face changes from the tip's rule to the shaft's as
-// its centroid rises from the tip's centre to a radius above it (a smoothstep sharing k between
-// them), by where the face lies, not by its nearest point, which jumps the same way.
+// axis when it lies along it.
+// The shaft holds a face at fixed points instead: four inside it (its centroid and one towards
+// each corner), each pushed radially off the axis with k. A face lying along the shaft has no
+// well-determined nearest point: it jumped between the face's edges from one step to the next,
+// merging with a neighbour's point and parting again, and a probe held deep cycled so (the
+// contact set and the force changing every step). Fixed points enter and leave the capsule
+// where their force is zero. Each takes the whole k: at a quarter (a face's k shared out) or a
+// half, the tissue slipped through a shaft swept sideways deep in it. A face changes from the
+// tip's rule to the shaft's as its centroid rises from the tip's centre to a radius above it (a
+// smoothstep sharing k between them), by where the face lies, not by its nearest point, which
+// jumps the same way.
 // The integrators evaluate the contacts at their trial states; the implicit ones
 // carry k in the Newton matrix, so it can be stiff: 10^4 N/m per face (a 1.7 N push over one face
 // penetrates 0.17 mm). It used to be an explicit force, capped near 1,000 N/m by stability; at 300
