@@ -4,7 +4,9 @@
 #include "sim/Simulation.h"
 
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -440,54 +442,74 @@ TEST(Simulation, QuasiNewtonPokesTheLiverAsImplicitEulerDoes) {
   }
 }
 
+/// What the bundled scene's probe did while held: pressed `depth_m` along its axis from `start`
+/// over `press_s`, left `settle_s` to settle, then `heldSteps` steps held still.
+struct HeldProbe {
+  double newtonIterations = 0.0;  ///< a step, on average over the held steps
+  double cgProducts = 0.0;        ///< a step, likewise
+  double largestChange_N = 0.0;   ///< of the tool's force from one held step to the next
+  double smallestForce_N = 0.0;   ///< over the held steps
+  std::size_t events = 0;
+  bool isEveryStepGood = true;
+};
+HeldProbe holdTheProbe(const InstrumentPose& start, double depth_m, double press_s, double settle_s,
+                       int heldSteps) {
+  Simulation simulation(pokeScene());
+  const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
+  InstrumentPose deep = start;
+  deep.tip_m += depth_m * start.direction;
+  const double end_s = press_s + settle_s + (heldSteps + 1) * simulation.timeStep_s();
+  const InstrumentScript hold({{0.0, start}, {press_s, deep}, {end_s, deep}});
+  simulation.setContactProvider(contact.get());
+  simulation.setInstrumentSource(&hold);
+  HeldProbe held;
+  const auto steps = static_cast<int>(std::lround((press_s + settle_s) / simulation.timeStep_s()));
+  for (int n = 0; n < steps; ++n) held.isEveryStepGood &= simulation.step().isGood;
+  double lastForce_N = -1.0;
+  held.smallestForce_N = std::numeric_limits<double>::infinity();
+  for (int n = 0; n < heldSteps; ++n) {
+    const StepOutcome outcome = simulation.step();
+    held.isEveryStepGood &= outcome.isGood;
+    const double force_N = outcome.contact.toolForce_N.norm();
+    held.smallestForce_N = std::min(held.smallestForce_N, force_N);
+    if (lastForce_N >= 0.0)
+      held.largestChange_N = std::max(held.largestChange_N, std::abs(force_N - lastForce_N));
+    lastForce_N = force_N;
+    held.newtonIterations += outcome.integrator.iterations;
+    held.cgProducts += outcome.integrator.linearIterations;
+  }
+  held.newtonIterations /= heldSteps;
+  held.cgProducts /= heldSteps;
+  held.events = simulation.eventCount();
+  return held;
+}
+
 TEST(Simulation, AProbeHeldSevenToNineCentimetresDeepComesToRest) {
   // The bundled poke taken to 7, 8 and 9 cm (8-26 N), on its axis and 4 mm to either side of
   // it, and held there. Each step takes its contacts from the tissue where the last one left it.
-  // When a surface point the probe pushes was counted once for every face that shared it, the force
-  // ran round a cycle and every step took five Newton iterations for as long as the probe
+  // When a surface point the probe pushes was counted once for every face that shared it, the
+  // force ran round a cycle and every step took five Newton iterations for as long as the probe
   // stayed. And while the shaft held each face at its point nearest the axis, a face lying
   // along the shaft had that point jump between its edges from one step to the next, merging
   // with a neighbour's and parting again: most of these holds cycled. Held, it must come to rest.
+  const SceneInstrument tool = *pokeScene().instrument;
   int restless = 0;
   for (const double depth_m : {0.07, 0.08, 0.09}) {
     for (const double aside_m : {0.0, -0.004, 0.004}) {
-      SceneDescription bundled = pokeScene();
-      Simulation simulation(bundled);
-      const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
-      const SceneInstrument& tool = *bundled.instrument;
       InstrumentPose start{tool.tipStart_m, tool.direction};
       start.tip_m.z() += aside_m;
-      InstrumentPose deep = start;
-      deep.tip_m += depth_m * tool.direction;
-      const InstrumentScript hold({{0.0, start}, {1.75, deep}, {3.0, deep}});
-      simulation.setContactProvider(contact.get());
-      simulation.setInstrumentSource(&hold);
-      const int pressSteps = static_cast<int>(std::lround(1.75 / simulation.timeStep_s()));
-      const int settleSteps = static_cast<int>(std::lround(0.3 / simulation.timeStep_s()));
-      for (int n = 0; n < pressSteps + settleSteps; ++n) ASSERT_TRUE(simulation.step().isGood);
-      double iterations = 0.0;
-      double largestChange_N = 0.0;
-      double lastForce_N = -1.0;
-      constexpr int kHeldSteps = 200;
-      for (int n = 0; n < kHeldSteps; ++n) {
-        const StepOutcome outcome = simulation.step();
-        ASSERT_TRUE(outcome.isGood);
-        const double force_N = outcome.contact.toolForce_N.norm();
-        EXPECT_GT(force_N, 5.0) << "the probe is deep";
-        if (lastForce_N >= 0.0)
-          largestChange_N = std::max(largestChange_N, std::abs(force_N - lastForce_N));
-        lastForce_N = force_N;
-        iterations += outcome.integrator.iterations;
-      }
+      const HeldProbe held = holdTheProbe(start, depth_m, 1.75, 0.3, 200);
+      const std::string where =
+          std::to_string(depth_m) + " m deep, " + std::to_string(aside_m) + " aside";
+      EXPECT_TRUE(held.isEveryStepGood) << where;
+      EXPECT_GT(held.smallestForce_N, 5.0) << "the probe is deep, " << where;
       // At rest: one Newton iteration a step and a steady force. One hold of the nine may
       // still cycle, mildly (a tip contact coming and going).
-      const bool isAtRest = iterations / kHeldSteps < 1.5 && largestChange_N < 0.05;
+      const bool isAtRest = held.newtonIterations < 1.5 && held.largestChange_N < 0.05;
       restless += isAtRest ? 0 : 1;
-      EXPECT_LT(iterations / kHeldSteps, 3.0)
-          << "Newton iterations a step, held " << depth_m << " m deep, " << aside_m << " aside";
-      EXPECT_LT(largestChange_N, 0.25) << "the force from one step to the next, held " << depth_m
-                                       << " m deep, " << aside_m << " aside";
-      EXPECT_EQ(simulation.eventCount(), 0u) << depth_m << " " << aside_m;
+      EXPECT_LT(held.newtonIterations, 3.0) << "Newton iterations a step, held " << where;
+      EXPECT_LT(held.largestChange_N, 0.25) << "the force from one step to the next, " << where;
+      EXPECT_EQ(held.events, 0u) << where;
     }
   }
   EXPECT_LE(restless, 1) << "holds that did not come to rest, of nine";
@@ -495,36 +517,19 @@ TEST(Simulation, AProbeHeldSevenToNineCentimetresDeepComesToRest) {
 
 TEST(Simulation, TheProbeHeldAtThePokesDepthTakesOneNewtonIterationAStep) {
   // The bundled poke's press (4 cm in 1 s) and the probe held there, as the held-probe
-  // benchmark steps it. After each step every spring that loaded in it sits at its peak
-  // stretch. With the unloading curve's exact onset, whose tangent is vertical there, a Newton
-  // step that unloaded one by a hair overshot, and CG met stiffnesses a million times the
-  // stress: the held steps kept taking a second Newton iteration and twice the CG products.
-  // The onset rounded (SpringForceLaw.h), the tissue held still needs one iteration a step.
-  const SceneDescription bundled = pokeScene();
-  Simulation simulation(bundled);
-  const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
-  const SceneInstrument& tool = *bundled.instrument;
-  const InstrumentPose start{tool.tipStart_m, tool.direction};
-  InstrumentPose deep = start;
-  deep.tip_m += 0.04 * tool.direction;
-  const InstrumentScript hold({{0.0, start}, {1.0, deep}, {2.0, deep}});
-  simulation.setContactProvider(contact.get());
-  simulation.setInstrumentSource(&hold);
-  // The press, and the first 60 ms of the hold, while the tissue still rings from the stop.
-  for (int n = 0; n < 1060; ++n) ASSERT_TRUE(simulation.step().isGood) << n;
-  constexpr int kHeldSteps = 340;
-  double newtonIterations = 0.0;
-  double linearIterations = 0.0;
-  for (int n = 0; n < kHeldSteps; ++n) {
-    const StepOutcome outcome = simulation.step();
-    ASSERT_TRUE(outcome.isGood);
-    EXPECT_GT(outcome.contact.toolForce_N.norm(), 4.0) << "the probe is in";
-    newtonIterations += outcome.integrator.iterations;
-    linearIterations += outcome.integrator.linearIterations;
-  }
-  EXPECT_LT(newtonIterations / kHeldSteps, 1.1) << "Newton iterations a step, held";
-  EXPECT_LT(linearIterations / kHeldSteps, 14.0) << "CG products a step, held";
-  EXPECT_EQ(simulation.eventCount(), 0u);
+  // benchmark steps it, after the first 60 ms of the hold, while the tissue still rings from
+  // the stop. After each step every spring that loaded in it sits at its peak stretch. With
+  // the unloading curve's exact onset, whose tangent is vertical there, a Newton step that
+  // unloaded one by a hair overshot, and CG met stiffnesses a million times the stress: the held
+  // steps kept taking a second Newton iteration and twice the CG products. The onset rounded
+  // (SpringForceLaw.h), the tissue held still needs one iteration a step.
+  const SceneInstrument tool = *pokeScene().instrument;
+  const HeldProbe held = holdTheProbe({tool.tipStart_m, tool.direction}, 0.04, 1.0, 0.06, 340);
+  EXPECT_TRUE(held.isEveryStepGood);
+  EXPECT_GT(held.smallestForce_N, 4.0) << "the probe is in";
+  EXPECT_LT(held.newtonIterations, 1.1) << "Newton iterations a step, held";
+  EXPECT_LT(held.cgProducts, 14.0) << "CG products a step, held";
+  EXPECT_EQ(held.events, 0u);
 }
 
 TEST(Simulation, TheLiverRecoversItsShapeAfterDeepAndFastPokes) {
