@@ -2,6 +2,7 @@
 #include "springs/VolumeCells.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <numeric>
 #include <utility>
@@ -27,6 +28,74 @@ std::pair<int, int> diagonalOf(const Eigen::Matrix3Xd& rest, const Eigen::Matrix
   }
   if (lowNode < 0 || highNode < 0) return {-1, -1};
   return {lowNode, highNode};
+}
+
+/// Parity of the permutation taking `from` to `to` (the same four nodes): +1 even, -1 odd.
+int permutationSign(const std::array<int, 4>& from, const std::array<int, 4>& to) {
+  std::array<int, 4> position{};
+  for (std::size_t i = 0; i < 4; ++i) {
+    position[i] = static_cast<int>(std::find(from.begin(), from.end(), to[i]) - from.begin());
+  }
+  int sign = 1;
+  for (std::size_t i = 0; i < 4; ++i) {
+    for (std::size_t j = i + 1; j < 4; ++j) sign *= position[i] > position[j] ? -1 : 1;
+  }
+  return sign;
+}
+
+/// Cell c's corners around its diagonal (VolumeCells::cubeSlots), its tets reordered to match,
+/// when it is six tets sharing the diagonal (low, high) whose other two nodes chain, each tet
+/// turned the same way, into one loop of six corners. Leaves the cell as it is otherwise.
+void orderCubeAroundItsDiagonal(VolumeCells& cells, const Eigen::Matrix4Xi& tets, Eigen::Index c,
+                                int low, int high) {
+  const auto begin = static_cast<std::size_t>(cells.tetStart[static_cast<std::size_t>(c)]);
+  if (cells.tetStart[static_cast<std::size_t>(c) + 1] - static_cast<int>(begin) != 6) return;
+  // Each tet as a step a -> b around the diagonal, turned so that (low, a, b, high) is an even
+  // permutation of the tet's own order: its volume is then d . (h_a x h_b) / 6 exactly.
+  std::array<std::array<int, 2>, 6> steps{};
+  for (std::size_t k = 0; k < 6; ++k) {
+    const int t = cells.tets[begin + k];
+    const std::array<int, 4> own{tets(0, t), tets(1, t), tets(2, t), tets(3, t)};
+    std::array<int, 2> others{};
+    std::size_t count = 0;
+    for (const int node : own) {
+      if (node == low || node == high) continue;
+      if (count == 2) return;
+      others[count++] = node;
+    }
+    if (count != 2) return;
+    if (permutationSign(own, {low, others[0], others[1], high}) < 0)
+      std::swap(others[0], others[1]);
+    steps[k] = others;
+  }
+  // Walk the loop from the first step: each corner must start exactly one step.
+  std::array<int, 6> corners{};
+  std::array<int, 6> order{};
+  std::array<bool, 6> taken{};
+  int corner = steps[0][0];
+  for (std::size_t k = 0; k < 6; ++k) {
+    std::size_t next = 6;
+    for (std::size_t s = 0; s < 6; ++s) {
+      if (!taken[s] && steps[s][0] == corner) next = s;
+    }
+    if (next == 6) return;
+    taken[next] = true;
+    corners[k] = corner;
+    order[k] = cells.tets[begin + next];
+    corner = steps[next][1];
+  }
+  if (corner != corners[0]) return;
+  const auto slotOf = [&](int node) {
+    int slot = 0;
+    while (cells.nodes(slot, c) != node) ++slot;
+    return slot;
+  };
+  cells.cubeSlots(0, c) = slotOf(low);
+  for (std::size_t k = 0; k < 6; ++k) {
+    cells.cubeSlots(static_cast<Eigen::Index>(k) + 1, c) = slotOf(corners[k]);
+    cells.tets[begin + k] = order[k];
+  }
+  cells.cubeSlots(7, c) = slotOf(high);
 }
 
 }  // namespace
@@ -94,6 +163,13 @@ VolumeCells groupTetsIntoCells(const Eigen::Matrix3Xd& restPositions_m,
     }
     cells.nodeCount[static_cast<std::size_t>(c)] = count;
     cells.tetStart.push_back(static_cast<int>(cells.tets.size()));
+  }
+  cells.cubeSlots.setConstant(VolumeCells::kMaxNodes, cellCount, -1);
+  for (Eigen::Index c = 0; c < cellCount; ++c) {
+    const std::pair<int, int>& diagonal =
+        diagonals[static_cast<std::size_t>(groups[static_cast<std::size_t>(c)][0])];
+    if (diagonal.first >= 0 && cells.nodeCount[static_cast<std::size_t>(c)] == 8)
+      orderCubeAroundItsDiagonal(cells, tets, c, diagonal.first, diagonal.second);
   }
   return cells;
 }

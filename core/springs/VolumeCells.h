@@ -30,6 +30,14 @@ struct VolumeCells {
   std::vector<int> tets;                                ///< #T, the tets cell by cell
   Eigen::Matrix4Xi tetSlots;      ///< 4 by #T (tet order): each tet node's slot in its cell
   Eigen::VectorXd restVolume_m3;  ///< #C, the sum of its tets' rest volumes
+  /// A cube's corners around its diagonal, as slots (kMaxNodes by #C; row 0 -1 for a cell that is
+  /// not a whole cube): row 0 the lowest corner, row 7 the highest, rows 1-6 the six others in
+  /// turn around the diagonal, so that the cell's k-th tet (tets[tetStart + k], k = 0 .. 5) is
+  /// (row 0, row k + 1, row (k + 1) % 6 + 1, row 7) with the mesh's orientation: its signed
+  /// volume is d . (h_k x h_k+1) / 6, d and h_k the highest and the k-th corner less the lowest.
+  Eigen::Matrix<int, kMaxNodes, Eigen::Dynamic> cubeSlots;
+
+  bool isCube(Eigen::Index c) const { return cubeSlots(0, c) >= 0; }
 
   Eigen::Index cellCount() const { return nodes.cols(); }
   /// Node pairs (a < b) that share a cell, each once (2 by #P).

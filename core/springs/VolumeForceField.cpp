@@ -195,31 +195,35 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
       // which the processor cannot forward (the pass's hottest instructions).
       std::array<double, VolumeCells::kMaxNodes> gx{}, gy{}, gz{};
       double volume = 0.0;
-      for (int k = m_cells.tetStart[static_cast<std::size_t>(c)];
-           k < m_cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k) {
-        const int t = m_cells.tets[static_cast<std::size_t>(k)];
-        const Eigen::Vector3d a = x.col(m_mesh.tets(0, t));
-        const Eigen::Vector3d ab = x.col(m_mesh.tets(1, t)) - a;
-        const Eigen::Vector3d ac = x.col(m_mesh.tets(2, t)) - a;
-        const Eigen::Vector3d ad = x.col(m_mesh.tets(3, t)) - a;
-        const Eigen::Vector3d g1 = ac.cross(ad) / 6.0;
-        const Eigen::Vector3d g2 = ad.cross(ab) / 6.0;
-        const Eigen::Vector3d g3 = ab.cross(ac) / 6.0;
-        const Eigen::Vector3d g0 = -(g1 + g2 + g3);
-        const double tetVolume = ab.dot(g1);  // V = (x_b - x_a) . g_b
-        volume += tetVolume;
-        const auto addAt = [&](int i, const Eigen::Vector3d& gi) {
-          const auto slot = static_cast<std::size_t>(m_cells.tetSlots(i, t));
-          gx[slot] += gi.x();
-          gy[slot] += gi.y();
-          gz[slot] += gi.z();
-        };
-        addAt(0, g0);
-        addAt(1, g1);
-        addAt(2, g2);
-        addAt(3, g3);
-        report.invertedTetCount += tetVolume <= 0.0 ? 1 : 0;
-        if (tetVolume < m_guardVolume_m3[static_cast<std::size_t>(k)]) guarded.push_back(t);
+      if (m_cells.isCube(c)) {
+        volume = addCubeVolumeGradient(x, c, gx, gy, gz, report, guarded);
+      } else {
+        for (int k = m_cells.tetStart[static_cast<std::size_t>(c)];
+             k < m_cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k) {
+          const int t = m_cells.tets[static_cast<std::size_t>(k)];
+          const Eigen::Vector3d a = x.col(m_mesh.tets(0, t));
+          const Eigen::Vector3d ab = x.col(m_mesh.tets(1, t)) - a;
+          const Eigen::Vector3d ac = x.col(m_mesh.tets(2, t)) - a;
+          const Eigen::Vector3d ad = x.col(m_mesh.tets(3, t)) - a;
+          const Eigen::Vector3d g1 = ac.cross(ad) / 6.0;
+          const Eigen::Vector3d g2 = ad.cross(ab) / 6.0;
+          const Eigen::Vector3d g3 = ab.cross(ac) / 6.0;
+          const Eigen::Vector3d g0 = -(g1 + g2 + g3);
+          const double tetVolume = ab.dot(g1);  // V = (x_b - x_a) . g_b
+          volume += tetVolume;
+          const auto addAt = [&](int i, const Eigen::Vector3d& gi) {
+            const auto slot = static_cast<std::size_t>(m_cells.tetSlots(i, t));
+            gx[slot] += gi.x();
+            gy[slot] += gi.y();
+            gz[slot] += gi.z();
+          };
+          addAt(0, g0);
+          addAt(1, g1);
+          addAt(2, g2);
+          addAt(3, g3);
+          report.invertedTetCount += tetVolume <= 0.0 ? 1 : 0;
+          if (tetVolume < m_guardVolume_m3[static_cast<std::size_t>(k)]) guarded.push_back(t);
+        }
       }
       double* const g = out.col(c).data();
       for (std::size_t slot = 0; slot < VolumeCells::kMaxNodes; ++slot) {
@@ -266,6 +270,50 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
   VolumeFieldReport report;
   for (const VolumeFieldReport& part : parts) report.include(part);
   return report;
+}
+
+double VolumeForceField::addCubeVolumeGradient(const Eigen::Matrix3Xd& x, Eigen::Index c,
+                                               std::array<double, VolumeCells::kMaxNodes>& gx,
+                                               std::array<double, VolumeCells::kMaxNodes>& gy,
+                                               std::array<double, VolumeCells::kMaxNodes>& gz,
+                                               VolumeFieldReport& report,
+                                               std::vector<int>& guarded) const {
+  // The six tets around the diagonal d = x_7 - x_0 (VolumeCells::cubeSlots), h_k = x_k - x_0:
+  //   V_k = d . a_k / 6, a_k = h_k x h_k+1;   V = sum_k V_k
+  //   dV/dx_7 = sum_k a_k / 6,   dV/dx_k = d x (h_k-1 - h_k+1) / 6,   dV/dx_0 = -(the others)
+  // Each corner is read once: the tet-by-tet sum reads 24 corners and takes 18 cross products.
+  const auto column = m_cells.nodes.col(c);
+  const auto corners = m_cells.cubeSlots.col(c);
+  const Eigen::Vector3d low = x.col(column[corners[0]]);
+  const Eigen::Vector3d d = x.col(column[corners[7]]) - low;
+  std::array<Eigen::Vector3d, 6> h;
+  for (std::size_t k = 0; k < 6; ++k)
+    h[k] = x.col(column[corners[static_cast<Eigen::Index>(k) + 1]]) - low;
+  const int firstTet = m_cells.tetStart[static_cast<std::size_t>(c)];
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d ringSum = Eigen::Vector3d::Zero();
+  double volume = 0.0;
+  const auto addAt = [&](Eigen::Index slot, const Eigen::Vector3d& gi) {
+    gx[static_cast<std::size_t>(slot)] = gi.x();
+    gy[static_cast<std::size_t>(slot)] = gi.y();
+    gz[static_cast<std::size_t>(slot)] = gi.z();
+  };
+  for (std::size_t k = 0; k < 6; ++k) {
+    const Eigen::Vector3d a = h[k].cross(h[(k + 1) % 6]);
+    sum += a;
+    const double tetVolume = d.dot(a) / 6.0;
+    volume += tetVolume;
+    report.invertedTetCount += tetVolume <= 0.0 ? 1 : 0;
+    const std::size_t tet = static_cast<std::size_t>(firstTet) + k;
+    if (tetVolume < m_guardVolume_m3[tet]) guarded.push_back(m_cells.tets[tet]);
+    const Eigen::Vector3d gk = d.cross(h[(k + 5) % 6] - h[(k + 1) % 6]) / 6.0;
+    ringSum += gk;
+    addAt(corners[static_cast<Eigen::Index>(k) + 1], gk);
+  }
+  const Eigen::Vector3d high = sum / 6.0;
+  addAt(corners[7], high);
+  addAt(corners[0], -(high + ringSum));
+  return volume;
 }
 
 void VolumeForceField::addGuardForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,

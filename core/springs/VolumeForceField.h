@@ -111,6 +111,13 @@ class VolumeForceField final : public ForceField {
 
  private:
   const VolumeBlocks& currentBlocks() const { return m_slots[static_cast<std::size_t>(m_current)]; }
+  /// A whole cube's g (into its slots of gx, gy, gz), its tets counted into `report` and the
+  /// guard's list; returns its volume V (m^3).
+  double addCubeVolumeGradient(const Eigen::Matrix3Xd& x, Eigen::Index c,
+                               std::array<double, VolumeCells::kMaxNodes>& gx,
+                               std::array<double, VolumeCells::kMaxNodes>& gy,
+                               std::array<double, VolumeCells::kMaxNodes>& gz,
+                               VolumeFieldReport& report, std::vector<int>& guarded) const;
   /// The guard (see the header) on the tets the last cell pass listed: forces += its forces at
   /// x, `terms` overwritten with its stiffness, `pressures` with kappa (J_t - J_g) per term.
   void addGuardForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& forces,

@@ -11,6 +11,7 @@
 // row's sum runs in a fixed order, so products are bit-identical for any thread count.
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -49,12 +50,14 @@ class VolumeStiffnessProduct {
 
  private:
   /// A cell as the product reads it: where its nodes' rows start, its index, its node count, and
-  /// which of its nodes (bit i: slot i) lie in the part that lists it.
+  /// the slots of those of its nodes that lie in the part that lists it (a list, not a mask: the
+  /// product writes them without a branch per node).
   struct Entry {
     std::array<int, VolumeCells::kMaxNodes> rows;
     int cell;
     int nodeCount;
-    unsigned ownNodes;
+    int ownCount;
+    std::array<std::uint8_t, VolumeCells::kMaxNodes> ownSlots;
   };
   /// The cells [begin, end) of m_entries into y; AllOwn: every node of each is the part's.
   template <bool AllOwn>
