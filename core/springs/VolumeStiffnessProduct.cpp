@@ -69,8 +69,9 @@ CellIncidence::CellIncidence(const VolumeCells& cells, Eigen::Index nodeCount)
   }
 }
 
-VolumeStiffnessProduct::VolumeStiffnessProduct(const VolumeCells& cells, const PartBounds& bounds)
-    : m_bounds(bounds) {
+VolumeStiffnessProduct::VolumeStiffnessProduct(const VolumeCells& cells, const PartBounds& bounds,
+                                               Kernel kernel)
+    : m_bounds(bounds), m_isAvxFma(kernel == Kernel::Fastest && hasAvxAndFma()) {
   const auto partOf = [&](int node) { return BlockLinearOperator::partOf(m_bounds, node); };
   std::array<std::array<std::vector<Entry>, 2>, kParts> lists;
   for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
@@ -107,7 +108,7 @@ void VolumeStiffnessProduct::addPart(int part, const VolumeBlocks& blocks, const
                                      double* y) const {
   const std::array<std::size_t, 3>& lists = m_listStart[static_cast<std::size_t>(part)];
 #if defined(__x86_64__)
-  if (hasAvxAndFma()) {
+  if (m_isAvxFma) {
     const Entry* const entries = m_entries.data();
     addEntriesAvxFma<true>(entries + lists[0], entries + lists[1], blocks.data(), x, y);
     addEntriesAvxFma<false>(entries + lists[1], entries + lists[2], blocks.data(), x, y);

@@ -41,7 +41,12 @@ class VolumeStiffnessProduct {
   static constexpr int kParts = BlockLinearOperator::kParts;
   using PartBounds = BlockLinearOperator::PartBounds;
 
-  VolumeStiffnessProduct(const VolumeCells& cells, const PartBounds& bounds);
+  /// Which loop the product runs: the AVX+FMA one where the CPU has both (numerics/
+  /// CpuFeatures.h), or the portable one (what other CPUs run; tests compare the two).
+  enum class Kernel { Fastest, Portable };
+
+  VolumeStiffnessProduct(const VolumeCells& cells, const PartBounds& bounds,
+                         Kernel kernel = Kernel::Fastest);
 
   const PartBounds& bounds() const { return m_bounds; }
 
@@ -65,6 +70,7 @@ class VolumeStiffnessProduct {
                 double* y) const;
 
   PartBounds m_bounds;
+  bool m_isAvxFma = false;
   // Per part, its cells in two lists (all nodes its own; some), m_listStart[p] = {all, some,
   // end} into m_entries.
   std::vector<Entry> m_entries;

@@ -6,8 +6,11 @@
 #include <map>
 #include <random>
 #include <set>
+#include <string>
 
 #include "mesh/BlockMesher.h"
+#include "mesh/TetMesh.h"
+#include "mesh/TetMeshFile.h"
 #include "springs/SpringMesh.h"
 #include "springs/VolumeForceField.h"
 #include "support/TestSystems.h"
@@ -60,6 +63,65 @@ TEST(VolumeCells, ALatticeGroupsIntoItsCubes) {
   EXPECT_EQ(unique, expected);
 }
 
+// Signed volume of the k-th tet of cube c as the cube's order around its diagonal gives it.
+double volumeAroundTheDiagonal(const VolumeCells& cells, const Eigen::Matrix3Xd& x, Eigen::Index c,
+                               int k) {
+  const auto at = [&](int row) -> Eigen::Vector3d {
+    return x.col(cells.nodes(cells.cubeSlots(row, c), c));
+  };
+  const Eigen::Vector3d low = at(0);
+  return (at(7) - low).dot((at(k + 1) - low).cross(at((k + 1) % 6 + 1) - low)) / 6.0;
+}
+
+TEST(VolumeCells, ALatticeCubeIsOrderedAroundItsDiagonal) {
+  const double h = 0.01;
+  const SpringMesh mesh = buildSpringMesh(makeBlockMesh({3 * h, 2 * h, h}, {3, 2, 1}), 1000.0);
+  const VolumeCells cells =
+      groupTetsIntoCells(mesh.restPositions_m, mesh.tets, mesh.tetRestVolume_m3);
+  // Moved well away from the lattice, one corner through its cube's diagonal: some tets inside
+  // out, and the order (fixed at rest) still gives each tet's own signed volume.
+  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> move(-0.3 * h, 0.3 * h);
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += move(random);
+  x.col(cells.nodes(cells.cubeSlots(1, 0), 0)) = x.col(cells.nodes(cells.cubeSlots(7, 0), 0));
+  int inverted = 0;
+  for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+    ASSERT_TRUE(cells.isCube(c)) << "cell " << c;
+    std::set<int> slots;
+    for (int row = 0; row < 8; ++row) slots.insert(cells.cubeSlots(row, c));
+    EXPECT_EQ(slots.size(), 8u);
+    const Eigen::Vector3d low = mesh.restPositions_m.col(cells.nodes(cells.cubeSlots(0, c), c));
+    const Eigen::Vector3d high = mesh.restPositions_m.col(cells.nodes(cells.cubeSlots(7, c), c));
+    EXPECT_TRUE(high.isApprox(low + Eigen::Vector3d(h, h, h), 1e-12));
+    for (int k = 0; k < 6; ++k) {
+      const int t =
+          cells.tets[static_cast<std::size_t>(cells.tetStart[static_cast<std::size_t>(c)] + k)];
+      const double own = signedTetVolume(x, mesh.tets, t);
+      EXPECT_NEAR(volumeAroundTheDiagonal(cells, x, c, k), own, 1e-15 * h * h * h);
+      inverted += own <= 0.0 ? 1 : 0;
+    }
+  }
+  EXPECT_GE(inverted, 1);
+}
+
+TEST(VolumeCells, EveryCubeOfTheBundledLiverIsOrderedAroundItsDiagonal) {
+  const SpringMesh mesh = buildSpringMesh(
+      readTetMesh(std::string(TISSUESIM_ASSET_DIR) + "/meshes/liver-5300.msh"), 1000.0);
+  const VolumeCells cells =
+      groupTetsIntoCells(mesh.restPositions_m, mesh.tets, mesh.tetRestVolume_m3);
+  ASSERT_GT(cells.cellCount(), 500);
+  for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+    ASSERT_TRUE(cells.isCube(c)) << "cell " << c;
+    for (int k = 0; k < 6; ++k) {
+      const int t =
+          cells.tets[static_cast<std::size_t>(cells.tetStart[static_cast<std::size_t>(c)] + k)];
+      const double own = signedTetVolume(mesh.restPositions_m, mesh.tets, t);
+      EXPECT_NEAR(volumeAroundTheDiagonal(cells, mesh.restPositions_m, c, k), own, 1e-12 * own);
+    }
+  }
+}
+
 TEST(VolumeCells, AnUnstructuredMeshKeepsATermPerTet) {
   // The same lattice with its nodes jiggled: no tet has nodes at both of its bounding box's
   // extreme corners any more.
@@ -74,6 +136,7 @@ TEST(VolumeCells, AnUnstructuredMeshKeepsATermPerTet) {
   ASSERT_EQ(cells.cellCount(), mesh.tets.cols());
   for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
     EXPECT_EQ(cells.nodeCount[static_cast<std::size_t>(c)], 4);
+    EXPECT_FALSE(cells.isCube(c));
     const int t = cells.tets[static_cast<std::size_t>(cells.tetStart[static_cast<std::size_t>(c)])];
     EXPECT_EQ(cells.restVolume_m3[c], mesh.tetRestVolume_m3[t]);
   }

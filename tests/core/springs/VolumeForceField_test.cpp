@@ -6,9 +6,11 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <random>
 #include <utility>
 
 #include "mesh/BlockMesher.h"
+#include "mesh/TetMesh.h"
 #include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
 #include "springs/StiffnessCouplings.h"
@@ -265,6 +267,55 @@ TEST(VolumeForceField, ATetSqueezedBelowHalfItsVolumeIsPushedBackOnItsOwn) {
     const Eigen::VectorXd column = Eigen::Map<const Eigen::VectorXd>(change.data(), x.size());
     EXPECT_LT((exact.col(d) - column).cwiseAbs().maxCoeff(), 1e-6 * exact.cwiseAbs().maxCoeff())
         << d;
+  }
+}
+
+TEST(VolumeForceField, TheProductsTwoLoopsApplyTheCellsRankOneTerms) {
+  // A lattice (cubes of 8 nodes) and the same lattice jiggled (a cell per tet, 4 nodes), moved
+  // off rest; x random. Both kernels (the AVX one where the CPU has it) against sum k g (g . x)
+  // summed here cell by cell.
+  for (const bool isJiggled : {false, true}) {
+    TetMesh lattice = makeBlockMesh({0.04, 0.03, 0.02}, {4, 3, 2});
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> jiggle(-5e-4, 5e-4);
+    if (isJiggled) {
+      for (Eigen::Index i = 0; i < lattice.nodes_m.size(); ++i)
+        lattice.nodes_m.data()[i] += jiggle(random);
+    }
+    const SpringMesh mesh = buildSpringMesh(lattice, 1000.0);
+    const VolumeForceField field(mesh, 1e5);
+    Eigen::Matrix3Xd x = mesh.restPositions_m;
+    for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += 2.0 * jiggle(random);
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+    VolumeBlocks blocks(kVolumeBlockRows, field.cells().cellCount());
+    field.addForces(x, f, &blocks);
+    const Eigen::Index n = mesh.nodeCount();
+    const VolumeStiffnessProduct::PartBounds bounds{0, n / 5, n / 2, 3 * n / 4, n};
+    Eigen::VectorXd v(3 * n);
+    for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = jiggle(random) * 1e3;
+    Eigen::VectorXd expected = Eigen::VectorXd::Zero(3 * n);
+    const VolumeCells& cells = field.cells();
+    for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+      const int count = cells.nodeCount[static_cast<std::size_t>(c)];
+      double gv = 0.0;
+      for (int i = 0; i < count; ++i)
+        gv += blocks.col(c).segment<3>(3 * i).dot(v.segment<3>(3 * cells.nodes(i, c)));
+      for (int i = 0; i < count; ++i) {
+        expected.segment<3>(3 * cells.nodes(i, c)) +=
+            blocks(kVolumeBlockRows - 1, c) * gv * blocks.col(c).segment<3>(3 * i);
+      }
+    }
+    ASSERT_GT(expected.norm(), 0.0);
+    for (const auto kernel :
+         {VolumeStiffnessProduct::Kernel::Fastest, VolumeStiffnessProduct::Kernel::Portable}) {
+      const VolumeStiffnessProduct product(cells, bounds, kernel);
+      Eigen::VectorXd y = Eigen::VectorXd::Zero(3 * n);
+      for (int part = 0; part < VolumeStiffnessProduct::kParts; ++part)
+        product.addPart(part, blocks, v.data(), y.data());
+      EXPECT_LT((y - expected).norm(), 1e-13 * expected.norm())
+          << (isJiggled ? "tets, " : "cubes, ")
+          << (kernel == VolumeStiffnessProduct::Kernel::Fastest ? "fastest" : "portable");
+    }
   }
 }
 
