@@ -72,6 +72,11 @@ class ForceField {
   virtual void addStiffnessProduct(int part, const double* x, double* y) const = 0;
   /// block += K's (j, j) block.
   virtual void addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const = 0;
+  /// block += what CG's block-Jacobi preconditioner takes for K's (j, j) block: that block
+  /// itself, unless a field's couplings are better served by weighing it (VolumeForceField).
+  virtual void addPreconditionerBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
+    addDiagonalBlock(j, block);
+  }
   /// matrix += K (its pattern: the system's makeMatrix()).
   virtual void addStiffness(NodeBlockMatrix& matrix) const = 0;
 

@@ -182,9 +182,9 @@ ConjugateGradientReport BlockConjugateGradient::solve(const BlockLinearOperator&
     for (Eigen::Index j = first; j < last; ++j) {
       double* inverse = inverseBlocks + 6 * j;
       if (const Eigen::Matrix3d* termDiagonal = m_termDiagonals.at(j)) {
-        invertDiagonalBlock(a.diagonalBlock(j) - *termDiagonal, inverse);
+        invertDiagonalBlock(a.preconditionerBlock(j) - *termDiagonal, inverse);
       } else {
-        invertDiagonalBlock(a.diagonalBlock(j), inverse);
+        invertDiagonalBlock(a.preconditionerBlock(j), inverse);
       }
       const double* bj = bs + 3 * j;
       double* rj = r + 3 * j;

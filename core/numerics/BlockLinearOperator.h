@@ -30,6 +30,8 @@ class BlockLinearOperator {
   virtual void multiplyPart(int part, const double* x, double* y) const = 0;
   /// Block (j, j) of A.
   virtual Eigen::Matrix3d diagonalBlock(Eigen::Index j) const = 0;
+  /// The (j, j) block conjugate gradients' preconditioner inverts: A's own by default.
+  virtual Eigen::Matrix3d preconditionerBlock(Eigen::Index j) const { return diagonalBlock(j); }
   /// A itself when it is stored assembled (what a direct solver factorises), else null.
   virtual const NodeBlockMatrix* assembled() const { return nullptr; }
 

@@ -106,6 +106,25 @@ void VolumeForceField::addStiffnessProduct(int part, const double* x, double* y)
 }
 
 void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
+  addWeightedDiagonalBlock<false>(j, block);
+}
+
+void VolumeForceField::addPreconditionerBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
+  addWeightedDiagonalBlock<true>(j, block);
+}
+
+template <bool IsWeighed>
+void VolumeForceField::addWeightedDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
+  // sqrt(n) for a cell of n nodes (addPreconditionerBlock).
+  static constexpr std::array<double, VolumeCells::kMaxNodes + 1> kWeight{0.0,
+                                                                          1.0,
+                                                                          1.4142135623730951,
+                                                                          1.7320508075688772,
+                                                                          2.0,
+                                                                          2.2360679774997898,
+                                                                          2.4494897427086259,
+                                                                          2.6457513110645907,
+                                                                          2.8284271247461903};
   const auto node = static_cast<std::size_t>(j);
   const VolumeBlocks& blocks = currentBlocks();
   double b00 = 0.0, b01 = 0.0, b02 = 0.0, b11 = 0.0, b12 = 0.0, b22 = 0.0;
@@ -115,7 +134,11 @@ void VolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) 
         blocks.data() +
         kVolumeBlockRows * static_cast<std::ptrdiff_t>(entry / VolumeCells::kMaxNodes);
     const double* const g = column + 3 * (entry % VolumeCells::kMaxNodes);
-    const double c = column[kVolumeBlockRows - 1];
+    double c = column[kVolumeBlockRows - 1];
+    if constexpr (IsWeighed) {
+      c *= kWeight[static_cast<std::size_t>(
+          m_cells.nodeCount[static_cast<std::size_t>(entry / VolumeCells::kMaxNodes)])];
+    }
     b00 += c * g[0] * g[0];
     b01 += c * g[0] * g[1];
     b02 += c * g[0] * g[2];

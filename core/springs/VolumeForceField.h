@@ -107,9 +107,20 @@ class VolumeForceField final : public ForceField {
   void prepareProducts(const PartBounds& bounds) override;
   void addStiffnessProduct(int part, const double* x, double* y) const override;
   void addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const override;
+  /// Each cell's part of the diagonal block weighed by sqrt(n), n its node count. Block Jacobi
+  /// sees a cell's term k g g^T only through its block diagonal D = diag(k g_i g_i^T), which
+  /// matches it for a move of one node (x^T k g g^T x / x^T D x = 1) and underrates it n-fold for
+  /// the move it resists most, every node along its g_i (the quotient's largest: Cauchy-Schwarz).
+  /// sqrt(n), the two's geometric mean, is about where CG's iterations are fewest on the bundled
+  /// liver (docs/performance-details.md, "The volume term's preconditioner"); the solution is
+  /// the same, only the path to it shorter.
+  void addPreconditionerBlock(Eigen::Index j, Eigen::Matrix3d& block) const override;
   void addStiffness(NodeBlockMatrix& matrix) const override;
 
  private:
+  /// addDiagonalBlock's sum, each cell's part weighed by sqrt(n) when IsWeighed.
+  template <bool IsWeighed>
+  void addWeightedDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const;
   const VolumeBlocks& currentBlocks() const { return m_slots[static_cast<std::size_t>(m_current)]; }
   /// A whole cube's g (into its slots of gx, gy, gz), its tets counted into `report` and the
   /// guard's list; returns its volume V (m^3).

@@ -43,12 +43,16 @@ class SystemOperator final : public BlockLinearOperator {
   const PartBounds& partBounds() const override { return m_bounds; }
   void multiplyPart(int part, const double* x, double* y) const override;
   Eigen::Matrix3d diagonalBlock(Eigen::Index j) const override;
+  /// The fields' preconditioner blocks (ForceField::addPreconditionerBlock) with the mass's.
+  Eigen::Matrix3d preconditionerBlock(Eigen::Index j) const override;
 
   /// The largest diagonal entry of A (N/m; a scale for Levenberg-Marquardt shifts). A pass
   /// over the fields: not for every iteration.
   double largestDiagonalEntry() const;
 
  private:
+  /// block with each fixed DOF's row and column those of the identity.
+  Eigen::Matrix3d withFixedRows(Eigen::Index j, Eigen::Matrix3d block) const;
   const Eigen::VectorXd& m_mass_kg;
   std::vector<const ForceField*> m_fields;
   PartBounds m_bounds{};
