@@ -18,32 +18,41 @@ __attribute__((target("avx"))) inline __m256d loadNode(const double* v) {
   return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(v)), _mm_load_sd(v + 2), 1);
 }
 
-/// VolumeStiffnessProduct::addRange's loop with AVX and FMA, a node's three values in one
-/// register, over the entries [first, last).
-template <bool AllOwn, typename Entry>
-__attribute__((target("avx,fma"))) void addEntriesAvxFma(const Entry* first, const Entry* last,
-                                                         const double* blocks, const double* x,
-                                                         double* y) {
-  for (const Entry* e = first; e != last; ++e) {
-    const Entry& entry = *e;
-    const double* const g = blocks + kVolumeBlockRows * static_cast<std::ptrdiff_t>(entry.cell);
-    const auto count = static_cast<std::size_t>(entry.nodeCount);
-    __m256d sum = _mm256_setzero_pd();
+/// VolumeStiffnessProduct's two loops with AVX and FMA, a node's three values in one register.
+/// scales[k] = k_c (g_c . x) for the entries [first, last) (scales: the first's).
+template <typename Entry>
+__attribute__((target("avx,fma"))) void scaleEntriesAvxFma(const Entry* first, const Entry* last,
+                                                           const double* blocks, const double* x,
+                                                           double* scales) {
+  for (const Entry* e = first; e != last; ++e, ++scales) {
+    const double* const g = blocks + kVolumeBlockRows * static_cast<std::ptrdiff_t>(e->cell);
+    const auto count = static_cast<std::size_t>(e->nodeCount);
     // g's four values from slot i (the fourth the next slot's, or k) meet x's zero lane.
+    __m256d sum = _mm256_setzero_pd();
     for (std::size_t i = 0; i < count; ++i)
-      sum = _mm256_fmadd_pd(_mm256_loadu_pd(g + 3 * i), loadNode(x + entry.rows[i]), sum);
+      sum = _mm256_fmadd_pd(_mm256_loadu_pd(g + 3 * i), loadNode(x + e->rows[i]), sum);
     const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(sum), _mm256_extractf128_pd(sum, 1));
-    const double gx = _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
-    const __m256d scale = _mm256_set1_pd(g[kVolumeBlockRows - 1] * gx);
-    const auto own = static_cast<std::size_t>(entry.ownCount);
-    for (std::size_t o = 0; o < own; ++o) {
-      const std::size_t i = AllOwn ? o : entry.ownSlots[o];
-      // Three values written back, not four: the fourth is another node's, maybe another part's.
-      double* const yi = y + entry.rows[i];
-      const __m256d add = _mm256_mul_pd(scale, _mm256_loadu_pd(g + 3 * i));
-      _mm_storeu_pd(yi, _mm_add_pd(_mm_loadu_pd(yi), _mm256_castpd256_pd128(add)));
-      yi[2] += _mm_cvtsd_f64(_mm256_extractf128_pd(add, 1));
+    *scales =
+        g[kVolumeBlockRows - 1] * _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
+  }
+}
+
+/// y_j += sum over j's terms of scale g_c,slot for the nodes [begin, end).
+template <typename Term>
+__attribute__((target("avx,fma"))) void gatherNodesAvxFma(Eigen::Index begin, Eigen::Index end,
+                                                          const int* start, const Term* terms,
+                                                          const double* blocks,
+                                                          const double* scales, double* y) {
+  for (Eigen::Index j = begin; j < end; ++j) {
+    // Four lanes summed, the fourth (the next slot's g, or k) never written.
+    __m256d sum = _mm256_setzero_pd();
+    for (int t = start[j]; t < start[j + 1]; ++t) {
+      sum = _mm256_fmadd_pd(_mm256_broadcast_sd(scales + terms[t].entry),
+                            _mm256_loadu_pd(blocks + terms[t].offset), sum);
     }
+    double* const yj = y + 3 * j;
+    _mm_storeu_pd(yj, _mm_add_pd(_mm_loadu_pd(yj), _mm256_castpd256_pd128(sum)));
+    yj[2] += _mm_cvtsd_f64(_mm256_extractf128_pd(sum, 1));
   }
 }
 
@@ -73,74 +82,87 @@ VolumeStiffnessProduct::VolumeStiffnessProduct(const VolumeCells& cells, const P
                                                Kernel kernel)
     : m_bounds(bounds), m_isAvxFma(kernel == Kernel::Fastest && hasAvxAndFma()) {
   const auto partOf = [&](int node) { return BlockLinearOperator::partOf(m_bounds, node); };
-  std::array<std::array<std::vector<Entry>, 2>, kParts> lists;
-  for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
-    std::array<int, VolumeCells::kMaxNodes> parts{};
-    Entry entry{};
-    entry.cell = static_cast<int>(c);
-    entry.nodeCount = cells.nodeCount[static_cast<std::size_t>(c)];
-    for (std::size_t i = 0; i < static_cast<std::size_t>(entry.nodeCount); ++i) {
-      entry.rows[i] = 3 * cells.nodes(static_cast<Eigen::Index>(i), c);
-      parts[i] = partOf(cells.nodes(static_cast<Eigen::Index>(i), c));
-    }
-    for (int p = 0; p < kParts; ++p) {
-      entry.ownCount = 0;
-      entry.ownSlots.fill(0);
+  // Each part's entries: every cell with a node among its own, in cell order.
+  for (std::size_t p = 0; p < kParts; ++p) {
+    m_partStart[p] = m_entries.size();
+    for (Eigen::Index c = 0; c < cells.cellCount(); ++c) {
+      Entry entry{};
+      entry.cell = static_cast<int>(c);
+      entry.nodeCount = cells.nodeCount[static_cast<std::size_t>(c)];
+      bool isListed = false;
       for (std::size_t i = 0; i < static_cast<std::size_t>(entry.nodeCount); ++i) {
-        if (parts[i] == p)
-          entry.ownSlots[static_cast<std::size_t>(entry.ownCount++)] = static_cast<std::uint8_t>(i);
+        const int node = cells.nodes(static_cast<Eigen::Index>(i), c);
+        entry.rows[i] = 3 * node;
+        isListed = isListed || partOf(node) == static_cast<int>(p);
       }
-      if (entry.ownCount == 0) continue;
-      lists[static_cast<std::size_t>(p)][entry.ownCount == entry.nodeCount ? 0 : 1].push_back(
-          entry);
+      if (isListed) m_entries.push_back(entry);
     }
   }
+  m_partStart[kParts] = m_entries.size();
+  m_scales.assign(m_entries.size(), 0.0);
+  // Each node's terms, from its own part's entries, in entry order.
+  const Eigen::Index nodeCount = m_bounds[kParts];
+  std::vector<std::vector<Term>> nodeTerms(static_cast<std::size_t>(nodeCount));
   for (std::size_t p = 0; p < kParts; ++p) {
-    for (std::size_t list = 0; list < 2; ++list) {
-      m_listStart[p][list] = m_entries.size();
-      m_entries.insert(m_entries.end(), lists[p][list].begin(), lists[p][list].end());
+    for (std::size_t k = m_partStart[p]; k < m_partStart[p + 1]; ++k) {
+      const Entry& entry = m_entries[k];
+      for (std::size_t i = 0; i < static_cast<std::size_t>(entry.nodeCount); ++i) {
+        const int node = entry.rows[i] / 3;
+        if (partOf(node) != static_cast<int>(p)) continue;
+        nodeTerms[static_cast<std::size_t>(node)].push_back(
+            {static_cast<int>(k), kVolumeBlockRows * entry.cell + 3 * static_cast<int>(i)});
+      }
     }
-    m_listStart[p][2] = m_entries.size();
+  }
+  m_termStart.assign(1, 0);
+  for (const std::vector<Term>& terms : nodeTerms) {
+    m_terms.insert(m_terms.end(), terms.begin(), terms.end());
+    m_termStart.push_back(static_cast<int>(m_terms.size()));
   }
 }
 
 void VolumeStiffnessProduct::addPart(int part, const VolumeBlocks& blocks, const double* x,
                                      double* y) const {
-  const std::array<std::size_t, 3>& lists = m_listStart[static_cast<std::size_t>(part)];
+  // First k_c (g_c . x) for every cell with a node in the part (a cell across two parts is
+  // taken by both: no part reads another's), then each node gathers its cells' k g (g . x).
+  const auto p = static_cast<std::size_t>(part);
+  const Eigen::Index begin = m_bounds[p];
+  const Eigen::Index end = m_bounds[p + 1];
+  double* const scales = m_scales.data();
 #if defined(__x86_64__)
   if (m_isAvxFma) {
     const Entry* const entries = m_entries.data();
-    addEntriesAvxFma<true>(entries + lists[0], entries + lists[1], blocks.data(), x, y);
-    addEntriesAvxFma<false>(entries + lists[1], entries + lists[2], blocks.data(), x, y);
+    scaleEntriesAvxFma(entries + m_partStart[p], entries + m_partStart[p + 1], blocks.data(), x,
+                       scales + m_partStart[p]);
+    gatherNodesAvxFma(begin, end, m_termStart.data(), m_terms.data(), blocks.data(), scales, y);
     return;
   }
 #endif
-  addRange<true>(lists[0], lists[1], blocks.data(), x, y);
-  addRange<false>(lists[1], lists[2], blocks.data(), x, y);
-}
-
-template <bool AllOwn>
-void VolumeStiffnessProduct::addRange(std::size_t begin, std::size_t end, const double* blocks,
-                                      const double* x, double* y) const {
-  // k g (g . x) on the cell's own nodes.
-  for (std::size_t k = begin; k < end; ++k) {
+  for (std::size_t k = m_partStart[p]; k < m_partStart[p + 1]; ++k) {
     const Entry& entry = m_entries[k];
-    const double* const g = blocks + kVolumeBlockRows * static_cast<std::ptrdiff_t>(entry.cell);
-    const auto count = static_cast<std::size_t>(entry.nodeCount);
+    const double* const g =
+        blocks.data() + kVolumeBlockRows * static_cast<std::ptrdiff_t>(entry.cell);
     double gx = 0.0;
-    for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(entry.nodeCount); ++i) {
       const double* const xi = x + entry.rows[i];
       gx += g[3 * i] * xi[0] + g[3 * i + 1] * xi[1] + g[3 * i + 2] * xi[2];
     }
-    const double scale = g[kVolumeBlockRows - 1] * gx;
-    const auto own = static_cast<std::size_t>(entry.ownCount);
-    for (std::size_t o = 0; o < own; ++o) {
-      const std::size_t i = AllOwn ? o : entry.ownSlots[o];
-      double* const yi = y + entry.rows[i];
-      yi[0] += scale * g[3 * i];
-      yi[1] += scale * g[3 * i + 1];
-      yi[2] += scale * g[3 * i + 2];
+    scales[k] = g[kVolumeBlockRows - 1] * gx;
+  }
+  for (Eigen::Index j = begin; j < end; ++j) {
+    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+    for (int t = m_termStart[static_cast<std::size_t>(j)];
+         t < m_termStart[static_cast<std::size_t>(j) + 1]; ++t) {
+      const Term& term = m_terms[static_cast<std::size_t>(t)];
+      const double* const g = blocks.data() + term.offset;
+      const double scale = scales[term.entry];
+      y0 += scale * g[0];
+      y1 += scale * g[1];
+      y2 += scale * g[2];
     }
+    y[3 * j] += y0;
+    y[3 * j + 1] += y1;
+    y[3 * j + 2] += y2;
   }
 }
 

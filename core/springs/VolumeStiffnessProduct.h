@@ -6,12 +6,12 @@
 //
 // read from the force pass's VolumeBlocks: k g (g . x) per cell (VolumeCells.h), no dense block.
 //
-// Parallel parts: node ranges given by the operator. Part p takes g_c . x once for every cell
-// with a node among its own, and adds to those nodes only: no two parts write one row, and each
-// row's sum runs in a fixed order, so products are bit-identical for any thread count.
+// Parallel parts: node ranges given by the operator. Part p takes s_c = k_c g_c . x once for
+// every cell with a node among its own (its own scratch), then each of its nodes gathers
+// sum_c s_c g_c,i over its cells: one write per row, no two parts writing one row or one s_c,
+// and each row's sum in a fixed order, so products are bit-identical for any thread count.
 
 #include <array>
-#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -54,27 +54,29 @@ class VolumeStiffnessProduct {
   void addPart(int part, const VolumeBlocks& blocks, const double* x, double* y) const;
 
  private:
-  /// A cell as the product reads it: where its nodes' rows start, its index, its node count, and
-  /// the slots of those of its nodes that lie in the part that lists it (a list, not a mask: the
-  /// product writes them without a branch per node).
+  /// A cell as the product reads it: where its nodes' rows start, its index, its node count.
   struct Entry {
     std::array<int, VolumeCells::kMaxNodes> rows;
     int cell;
     int nodeCount;
-    int ownCount;
-    std::array<std::uint8_t, VolumeCells::kMaxNodes> ownSlots;
   };
-  /// The cells [begin, end) of m_entries into y; AllOwn: every node of each is the part's.
-  template <bool AllOwn>
-  void addRange(std::size_t begin, std::size_t end, const double* blocks, const double* x,
-                double* y) const;
+  /// One of a node's cells: its entry (in the node's part) and where its g_i starts in the
+  /// blocks (kVolumeBlockRows cell + 3 slot).
+  struct Term {
+    int entry;
+    int offset;
+  };
 
   PartBounds m_bounds;
   bool m_isAvxFma = false;
-  // Per part, its cells in two lists (all nodes its own; some), m_listStart[p] = {all, some,
-  // end} into m_entries.
+  // Per part p, its cells: m_entries[m_partStart[p] .. m_partStart[p + 1]).
   std::vector<Entry> m_entries;
-  std::array<std::array<std::size_t, 3>, kParts> m_listStart{};
+  std::array<std::size_t, kParts + 1> m_partStart{};
+  // Per node j, its terms: m_terms[m_termStart[j] .. m_termStart[j + 1]), in entry order.
+  std::vector<int> m_termStart;
+  std::vector<Term> m_terms;
+  // k_c (g_c . x) per entry: scratch of the const product, each part writing its own entries.
+  mutable std::vector<double> m_scales;
 };
 
 }  // namespace tissuesim
