@@ -305,7 +305,6 @@ double VolumeForceField::addCubeVolumeGradient(const Eigen::Matrix3Xd& x, Eigen:
   //   V_k = d . a_k / 6, a_k = h_k x h_k+1;   V = sum_k V_k
   //   dV/dx_7 = sum_k a_k / 6,   dV/dx_k = d x (h_k-1 - h_k+1) / 6,   dV/dx_0 = -(the others)
   // Each corner is read once: the tet-by-tet sum reads 24 corners and takes 18 cross products.
-  // A sixth is multiplied, not divided by: 27 divisions a cube were most of the pass's time.
   constexpr double kSixth = 1.0 / 6.0;
   const auto column = m_cells.nodes.col(c);
   const auto corners = m_cells.cubeSlots.col(c);
