@@ -13,10 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::filesystem::path node =
       fuzz::asFile(data, static_cast<std::size_t>(split - data), ".node");
   const std::uint8_t* rest = split == data + size ? split : split + 1;
-  std::filesystem::path ele = node;
-  ele.replace_extension(".ele");
-  std::ofstream(ele, std::ios::binary)
-      .write(reinterpret_cast<const char*>(rest), static_cast<std::streamsize>(data + size - rest));
+  // The same name as the .node's, so the reader finds it beside that one.
+  fuzz::asFile(rest, static_cast<std::size_t>(data + size - rest), ".ele");
   fuzz::expectOnlyOwnErrors<MeshFileError>([&] { readTetMesh(node); });
   return 0;
 }
