@@ -127,44 +127,52 @@ void registerContactBenchmarks(const std::string& scenePath) {
         ->Iterations(1);
   }
 
-  for (const int threads : {1, 2}) {
-    const std::string name = "Contact/WholeStep/liver5k/threads:" + std::to_string(threads);
-    benchmark::RegisterBenchmark(
-        name.c_str(),
-        [scene, threads](benchmark::State& state) {
-          SceneDescription changed = scene;
-          changed.threads = threads;
-          Simulation simulation(changed);
-          const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
-          LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
-          simulation.setContactProvider(contact.get());
-          simulation.setInstrumentSource(&live);
-          pressToPokeDepth(simulation, scene, live);
-          long linearIterations = 0;
-          long newtonIterations = 0;
-          double force_N = 0.0;
-          for (auto _ : state) {
-            const StepOutcome outcome = simulation.step();
-            linearIterations += outcome.integrator.linearIterations;
-            newtonIterations += outcome.integrator.iterations;
-            force_N = outcome.contact.toolForce_N.norm();
-          }
-          state.counters["tool_force_n"] = force_N;
-          state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
-          state.counters["threads"] = threads;
-          state.counters["cg_iterations"] =
-              static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
-          state.counters["newton_iterations"] =
-              static_cast<double>(newtonIterations) / static_cast<double>(state.iterations());
-          state.counters["steps_per_s"] = benchmark::Counter(
-              static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-          // A fixed count of steps after the press, not a minimum time: held still, the tissue
-          // settles and each step needs fewer CG products (11 just after arrival, 6 after four
-          // seconds), so a time-based count made the figure depend on --benchmark_min_time. 400
-          // steps is the first 0.4 s of holding, the part a trainee's poke spends there.
-        })
-        ->Unit(benchmark::kMicrosecond)
-        ->Iterations(400);
+  // The held step as the scene has it, and, when it has a volume term, without it: the term's
+  // cost is the ratio of the two (docs/performance.md, "What each effect costs").
+  for (const bool isWithoutVolumeTerm : {false, true}) {
+    if (isWithoutVolumeTerm && scene.bulkModulus_Pa <= 0.0) continue;
+    for (const int threads : {1, 2}) {
+      const std::string name = std::string("Contact/WholeStep/liver5k/") +
+                               (isWithoutVolumeTerm ? "no_volume_term/" : "") +
+                               "threads:" + std::to_string(threads);
+      benchmark::RegisterBenchmark(
+          name.c_str(),
+          [scene, threads, isWithoutVolumeTerm](benchmark::State& state) {
+            SceneDescription changed = scene;
+            changed.threads = threads;
+            if (isWithoutVolumeTerm) changed.bulkModulus_Pa = 0.0;
+            Simulation simulation(changed);
+            const std::unique_ptr<CapsuleContact> contact = makeInstrumentContact(simulation);
+            LiveInstrument live({scene.instrument->tipStart_m, scene.instrument->direction, false});
+            simulation.setContactProvider(contact.get());
+            simulation.setInstrumentSource(&live);
+            pressToPokeDepth(simulation, scene, live);
+            long linearIterations = 0;
+            long newtonIterations = 0;
+            double force_N = 0.0;
+            for (auto _ : state) {
+              const StepOutcome outcome = simulation.step();
+              linearIterations += outcome.integrator.linearIterations;
+              newtonIterations += outcome.integrator.iterations;
+              force_N = outcome.contact.toolForce_N.norm();
+            }
+            state.counters["tool_force_n"] = force_N;
+            state.counters["springs"] = static_cast<double>(simulation.springMesh().springCount());
+            state.counters["threads"] = threads;
+            state.counters["cg_iterations"] =
+                static_cast<double>(linearIterations) / static_cast<double>(state.iterations());
+            state.counters["newton_iterations"] =
+                static_cast<double>(newtonIterations) / static_cast<double>(state.iterations());
+            state.counters["steps_per_s"] = benchmark::Counter(
+                static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+            // A fixed count of steps after the press, not a minimum time: held still, the tissue
+            // settles and each step needs fewer CG products (11 just after arrival, 6 after four
+            // seconds), so a time-based count made the figure depend on --benchmark_min_time. 400
+            // steps is the first 0.4 s of holding, the part a trainee's poke spends there.
+          })
+          ->Unit(benchmark::kMicrosecond)
+          ->Iterations(400);
+    }
   }
 }
 
