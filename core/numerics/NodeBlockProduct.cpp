@@ -7,6 +7,7 @@
 
 #include <cstring>
 
+#include "numerics/AvxLanes.h"
 #include "numerics/CpuFeatures.h"
 
 namespace tissuesim {
@@ -96,11 +97,6 @@ void dotColumnsSse2(const double* column, Eigen::Index n, const double* g, doubl
   y[2] = _mm_cvtsd_f64(_mm_add_sd(a2, _mm_unpackhi_pd(a2, a2)));
 }
 
-__attribute__((target("avx,fma"))) inline double sum4(__m256d v) {
-  const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
-  return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
-}
-
 /// The same four at a time with FMA (g is 32-byte aligned and zero past n).
 __attribute__((target("avx,fma"))) void dotColumnsAvxFma(const double* column, Eigen::Index n,
                                                          const double* g, double* y) {
@@ -126,9 +122,9 @@ __attribute__((target("avx,fma"))) void dotColumnsAvxFma(const double* column, E
     a1 = _mm256_fmadd_pd(_mm256_maskload_pd(c1 + k, mask), gk, a1);
     a2 = _mm256_fmadd_pd(_mm256_maskload_pd(c2 + k, mask), gk, a2);
   }
-  y[0] = sum4(a0);
-  y[1] = sum4(a1);
-  y[2] = sum4(a2);
+  y[0] = sumOfLanes(a0);
+  y[1] = sumOfLanes(a1);
+  y[2] = sumOfLanes(a2);
 }
 
 }  // namespace

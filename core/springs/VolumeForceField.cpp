@@ -130,15 +130,13 @@ void VolumeForceField::addWeightedDiagonalBlock(Eigen::Index j, Eigen::Matrix3d&
   double b00 = 0.0, b01 = 0.0, b02 = 0.0, b11 = 0.0, b12 = 0.0, b22 = 0.0;
   for (int e = m_incidence.start[node]; e < m_incidence.start[node + 1]; ++e) {
     const int entry = m_incidence.entries[static_cast<std::size_t>(e)];
+    const int cell = entry / VolumeCells::kMaxNodes;
     const double* const column =
-        blocks.data() +
-        kVolumeBlockRows * static_cast<std::ptrdiff_t>(entry / VolumeCells::kMaxNodes);
+        blocks.data() + kVolumeBlockRows * static_cast<std::ptrdiff_t>(cell);
     const double* const g = column + 3 * (entry % VolumeCells::kMaxNodes);
     double c = column[kVolumeBlockRows - 1];
-    if constexpr (IsWeighed) {
-      c *= kWeight[static_cast<std::size_t>(
-          m_cells.nodeCount[static_cast<std::size_t>(entry / VolumeCells::kMaxNodes)])];
-    }
+    if constexpr (IsWeighed)
+      c *= kWeight[static_cast<std::size_t>(m_cells.nodeCount[static_cast<std::size_t>(cell)])];
     b00 += c * g[0] * g[0];
     b01 += c * g[0] * g[1];
     b02 += c * g[0] * g[2];

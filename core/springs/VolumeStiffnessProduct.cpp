@@ -5,6 +5,7 @@
 #include <immintrin.h>
 #endif
 
+#include "numerics/AvxLanes.h"
 #include "numerics/CpuFeatures.h"
 
 namespace tissuesim {
@@ -31,9 +32,7 @@ __attribute__((target("avx,fma"))) void scaleEntriesAvxFma(const Entry* first, c
     __m256d sum = _mm256_setzero_pd();
     for (std::size_t i = 0; i < count; ++i)
       sum = _mm256_fmadd_pd(_mm256_loadu_pd(g + 3 * i), loadNode(x + e->rows[i]), sum);
-    const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(sum), _mm256_extractf128_pd(sum, 1));
-    *scales =
-        g[kVolumeBlockRows - 1] * _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
+    *scales = g[kVolumeBlockRows - 1] * sumOfLanes(sum);
   }
 }
 

@@ -57,18 +57,16 @@ void SystemOperator::multiplyPart(int part, const double* x, double* y) const {
 }
 
 Eigen::Matrix3d SystemOperator::diagonalBlock(Eigen::Index j) const {
-  Eigen::Matrix3d block = Eigen::Matrix3d::Identity() * (m_massWeight * m_mass_kg[j] + m_shift_N_m);
-  for (const ForceField* field : m_fields) field->addDiagonalBlock(j, block);
-  return withFixedRows(j, block);
+  return sumOfBlocks(j, &ForceField::addDiagonalBlock);
 }
 
 Eigen::Matrix3d SystemOperator::preconditionerBlock(Eigen::Index j) const {
-  Eigen::Matrix3d block = Eigen::Matrix3d::Identity() * (m_massWeight * m_mass_kg[j] + m_shift_N_m);
-  for (const ForceField* field : m_fields) field->addPreconditionerBlock(j, block);
-  return withFixedRows(j, block);
+  return sumOfBlocks(j, &ForceField::addPreconditionerBlock);
 }
 
-Eigen::Matrix3d SystemOperator::withFixedRows(Eigen::Index j, Eigen::Matrix3d block) const {
+Eigen::Matrix3d SystemOperator::sumOfBlocks(Eigen::Index j, AddBlock addBlock) const {
+  Eigen::Matrix3d block = Eigen::Matrix3d::Identity() * (m_massWeight * m_mass_kg[j] + m_shift_N_m);
+  for (const ForceField* field : m_fields) (field->*addBlock)(j, block);
   const auto node = static_cast<std::size_t>(j);
   for (int c = 0; c < 3; ++c) {
     if (m_isFixed[3 * node + static_cast<std::size_t>(c)] == 0) continue;

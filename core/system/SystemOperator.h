@@ -51,8 +51,10 @@ class SystemOperator final : public BlockLinearOperator {
   double largestDiagonalEntry() const;
 
  private:
-  /// block with each fixed DOF's row and column those of the identity.
-  Eigen::Matrix3d withFixedRows(Eigen::Index j, Eigen::Matrix3d block) const;
+  using AddBlock = void (ForceField::*)(Eigen::Index, Eigen::Matrix3d&) const;
+  /// The mass's block and every field's addBlock at node j, each fixed DOF's row and column
+  /// then those of the identity.
+  Eigen::Matrix3d sumOfBlocks(Eigen::Index j, AddBlock addBlock) const;
   const Eigen::VectorXd& m_mass_kg;
   std::vector<const ForceField*> m_fields;
   PartBounds m_bounds{};
