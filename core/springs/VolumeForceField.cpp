@@ -205,7 +205,9 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
   std::array<VolumeFieldReport, kParts> parts;
   // Per cell: g summed over its tets, J, k and the pressure; each tet's sign for the report.
   const auto cellPass = [&](int p) {
-    VolumeFieldReport& report = parts[static_cast<std::size_t>(p)];
+    // Counted in a local and stored once: the parts' reports share a cache line, and updated
+    // per cell from two threads they bounced it between the cores.
+    VolumeFieldReport report;
     std::vector<int>& guarded = m_guardedTets[static_cast<std::size_t>(p)];
     guarded.clear();
     const Eigen::Index end = cells * (p + 1) / kParts;
@@ -259,15 +261,20 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
       g[kVolumeBlockRows - 1] = m_bulkModulus_Pa * inverseRestVolume;
       m_pressure_Pa[c] = m_bulkModulus_Pa * (ratio - 1.0);  // dE/dV
     }
+    parts[static_cast<std::size_t>(p)] = report;
   };
   runParts(m_pool, kParts, cellPass);
-  // Each node gathers -p_c g_i from its cells.
+  // Each node gathers -p_c g_i from its cells, on the pool at any size: a node here reads about
+  // eight cells' entries, where the node passes that wait for kParallelNodePassMinimum nodes
+  // read one column each.
   const int* const start = m_incidence.start.data();
   const int* const entries = m_incidence.entries.data();
   const double* const pressure = m_pressure_Pa.data();
   const double* const blockData = out.data();
-  forEachNodeRange(m_pool, m_mesh.nodeCount(), [&](int, Eigen::Index begin, Eigen::Index end) {
-    for (Eigen::Index j = begin; j < end; ++j) {
+  const Eigen::Index nodes = m_mesh.nodeCount();
+  runParts(m_pool, kNodeRanges, [&](int r) {
+    const Eigen::Index end = nodeRangeStart(nodes, r + 1);
+    for (Eigen::Index j = nodeRangeStart(nodes, r); j < end; ++j) {
       double f0 = 0.0, f1 = 0.0, f2 = 0.0;
       for (int e = start[j]; e < start[j + 1]; ++e) {
         const int c = entries[e] / VolumeCells::kMaxNodes;
@@ -308,12 +315,12 @@ double VolumeForceField::addCubeVolumeGradient(const Eigen::Matrix3Xd& x, Eigen:
   const auto corners = m_cells.cubeSlots.col(c);
   const Eigen::Vector3d low = x.col(column[corners[0]]);
   const Eigen::Vector3d d = x.col(column[corners[7]]) - low;
-  // The loop with its ends wrapped: around[k + 1] = h_k, around[0] = h_5, around[7] = h_0.
-  std::array<Eigen::Vector3d, 8> around;
-  for (Eigen::Index k = 0; k < 6; ++k)
-    around[static_cast<std::size_t>(k) + 1] = x.col(column[corners[k + 1]]) - low;
-  around[0] = around[6];
-  around[7] = around[1];
+  // h_k is read from x as the loop reaches it, and rolled through locals: a stack array of the
+  // six h_k, written lane by lane and read as vectors, stalled on every read (a store the
+  // processor cannot forward to a wider load).
+  const auto h = [&](Eigen::Index k) -> Eigen::Vector3d {
+    return x.col(column[corners[k + 1]]) - low;
+  };
   const auto firstTet = static_cast<std::size_t>(m_cells.tetStart[static_cast<std::size_t>(c)]);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Vector3d ringSum = Eigen::Vector3d::Zero();
@@ -324,16 +331,22 @@ double VolumeForceField::addCubeVolumeGradient(const Eigen::Matrix3Xd& x, Eigen:
     gy[static_cast<std::size_t>(slot)] = gi.y();
     gz[static_cast<std::size_t>(slot)] = gi.z();
   };
+  const Eigen::Vector3d first = h(0);
+  Eigen::Vector3d before = h(5);  // h_k-1
+  Eigen::Vector3d here = first;   // h_k
   for (std::size_t k = 0; k < 6; ++k) {
-    const Eigen::Vector3d a = around[k + 1].cross(around[k + 2]);
+    const Eigen::Vector3d after = k < 5 ? h(static_cast<Eigen::Index>(k) + 1) : first;  // h_k+1
+    const Eigen::Vector3d a = here.cross(after);
     sum += a;
     const double tetVolume = d.dot(a) * kSixth;
     volume += tetVolume;
     inverted += tetVolume <= 0.0 ? 1 : 0;
     if (tetVolume < m_guardVolume_m3[firstTet + k]) guarded.push_back(m_cells.tets[firstTet + k]);
-    const Eigen::Vector3d gk = d.cross(around[k] - around[k + 2]) * kSixth;
+    const Eigen::Vector3d gk = d.cross(before - after) * kSixth;
     ringSum += gk;
     addAt(corners[static_cast<Eigen::Index>(k) + 1], gk);
+    before = here;
+    here = after;
   }
   report.invertedTetCount += inverted;
   const Eigen::Vector3d high = sum * kSixth;
