@@ -50,10 +50,6 @@ SceneDescription sceneOf(const SceneDescription& bundled, const TradeRow& row) {
   scene.threads = row.threads;
   scene.model = row.model;
   if (row.model == "fem") scene.isSoftening = false;
-  if (row.isWithoutGravity) {
-    scene.gravity_m_s2.setZero();
-    scene.tray.reset();
-  }
   return scene;
 }
 
@@ -233,8 +229,7 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
     row.knob = "integrator";
     row.integrator = "quasi-newton";
     row.newtonIterations = std::max(base.newtonIterations, 2);
-    row.isWithoutGravity = true;
-    row.name = "quasi-newton (no gravity, no tray)" + at;
+    row.name = "quasi-newton, " + std::to_string(row.newtonIterations) + " iterations" + at;
     rows.push_back(row);
   }
   for (const int springs : settings.tetResolutions) {

@@ -42,7 +42,6 @@ struct TradeRow {
   int newtonIterations = 1;
   double cgTolerance = 1e-3;
   int threads = 2;
-  bool isWithoutGravity = false;  ///< quasi-Newton takes no gravity and no tray
   /// "springs", or "fem": the tets' FEM on the same lattice (effects.model fem), its volume term
   /// at bulkModulus_Pa, no softening.
   std::string model = "springs";

@@ -51,6 +51,10 @@ struct PenaltyContact {
   /// A support's (the tray under the organ), not the instrument's: left out of what the
   /// instrument feels (reaction) and out of the terms CG's preconditioner inverts exactly.
   bool isSupport = false;
+  /// A support's point this contact stands for (its index in the support's list), the same from
+  /// step to step, so that an integrator can keep a support's unchanging terms factorised
+  /// (QuasiNewtonSolver); -1 for any other contact.
+  int supportPoint = -1;
   /// One of a grasp's springs (Grasp.h), which pull as well as push: its force counts in what
   /// the instrument feels (reaction), its delta not as penetration.
   bool isTether = false;

@@ -12,46 +12,57 @@ void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWe
                                 const Eigen::Matrix3Xd& x) {
   const bool isSame = m_preparedFor == &system && m_preparedWeight == inertiaWeight &&
                       m_preparedRevision == system.constraintRevision();
-  if (isSame && !m_isRefreshWanted) return;
+  // A refactorisation that happens anyway takes the step's supports with it.
+  const bool isRefoldWanted =
+      !isSame || m_isRefreshWanted || supportChanges(system) > kMaxSupportChanges;
+  if (!isRefoldWanted) return;
   const SpringMesh& mesh = system.mesh();
   const Eigen::Index dofs = 3 * mesh.nodeCount();
   if (!isSame) {
     m_h0 = std::make_unique<NodeBlockMatrix>(system.makeMatrix());
+    m_h0Base = std::make_unique<NodeBlockMatrix>(*m_h0);
     m_isAnalysed = false;
   }
-  NodeBlockMatrix& h0 = *m_h0;
-  h0.setZero();
-  if (m_isRefreshWanted) {
-    // The fields' stiffness at x (the PSD projection), the contacts left to the Woodbury terms.
-    m_force.resize(3, mesh.nodeCount());
-    for (const ForceField* field : system.fields()) {
-      if (field != &system.contacts)
-        addStiffnessAt(*field, x, true, h0, m_force, &system.fixedDofs());
+  if (!isSame || m_isRefreshWanted) {
+    NodeBlockMatrix& base = *m_h0Base;
+    base.setZero();
+    if (m_isRefreshWanted) {
+      // The fields' stiffness at x (the PSD projection), the contacts left to the Woodbury terms.
+      m_force.resize(3, mesh.nodeCount());
+      for (const ForceField* field : system.fields()) {
+        if (field != &system.contacts)
+          addStiffnessAt(*field, x, true, base, m_force, &system.fixedDofs());
+      }
+    } else {
+      const double restSlope = system.springs().law().evaluate(1.0, 1.0).slope;  // P'(1) (Pa)
+      for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+        const double k =
+            mesh.volume_m3[s] * restSlope / (mesh.restLength_m[s] * mesh.restLength_m[s]);
+        base.addEdgeStiffness(mesh.springs(0, s), mesh.springs(1, s),
+                              k * Eigen::Matrix3d::Identity());
+      }
+      if (const VolumeForceField* volume = system.volume()) {
+        // The volume term's stiffness at rest, (kappa / V0) g g^T per cell: kappa is tens of
+        // times the springs' modulus, far more than L-BFGS's few pairs can learn.
+        Eigen::Matrix3Xd restForces = Eigen::Matrix3Xd::Zero(3, mesh.nodeCount());
+        addStiffnessAt(*volume, mesh.restPositions_m, true, base, restForces);
+      }
     }
-  } else {
-    const double restSlope = system.springs().law().evaluate(1.0, 1.0).slope;  // P'(1) (Pa)
-    for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
-      const double k =
-          mesh.volume_m3[s] * restSlope / (mesh.restLength_m[s] * mesh.restLength_m[s]);
-      h0.addEdgeStiffness(mesh.springs(0, s), mesh.springs(1, s), k * Eigen::Matrix3d::Identity());
-    }
-    if (const VolumeForceField* volume = system.volume()) {
-      // The volume term's stiffness at rest, (kappa / V0) g g^T per cell: kappa is tens of
-      // times the springs' modulus, far more than L-BFGS's few pairs can learn.
-      Eigen::Matrix3Xd restForces = Eigen::Matrix3Xd::Zero(3, mesh.nodeCount());
-      addStiffnessAt(*volume, mesh.restPositions_m, true, h0, restForces);
+    m_isRefreshWanted = false;
+    for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
+      base.addToDiagonal(static_cast<int>(i), inertiaWeight * mesh.nodeMass_kg[i]);
     }
   }
-  m_isRefreshWanted = false;
-  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
-    h0.addToDiagonal(static_cast<int>(i), inertiaWeight * mesh.nodeMass_kg[i]);
-  }
-  h0.applyFixedDofs(system.fixedDofs());
+  foldSupports(system);
+  *m_h0 = *m_h0Base;
+  addRankOneTerms(m_foldedTerms, *m_h0);
+  m_h0->applyFixedDofs(system.fixedDofs());
   if (!m_isAnalysed) {
-    m_initialHessian.analyzePattern(h0.matrix());
+    m_initialHessian.analyzePattern(m_h0->matrix());
     m_isAnalysed = true;
   }
-  m_initialHessian.factorize(h0.matrix());
+  m_initialHessian.factorize(m_h0->matrix());
+  ++m_factorisationCount;
   if (isSame) return;
 
   const auto history = static_cast<Eigen::Index>(std::max(1, m_settings.historySize));
@@ -66,6 +77,40 @@ void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWe
   m_preparedRevision = system.constraintRevision();
 }
 
+int QuasiNewtonSolver::supportChanges(const MechanicalSystem& system) {
+  std::fill(m_isFoldedPresent.begin(), m_isFoldedPresent.end(), 0);
+  int changes = 0;
+  for (const PenaltyContact& c : system.contacts.contacts()) {
+    if (!c.isSupport) continue;
+    const auto point = static_cast<std::size_t>(c.supportPoint);
+    if (c.supportPoint >= 0 && point < m_foldedSlot.size() && m_foldedSlot[point] >= 0) {
+      m_isFoldedPresent[static_cast<std::size_t>(m_foldedSlot[point])] = 1;
+    } else {
+      ++changes;
+    }
+  }
+  for (const char present : m_isFoldedPresent) changes += present != 0 ? 0 : 1;
+  return changes;
+}
+
+void QuasiNewtonSolver::foldSupports(const MechanicalSystem& system) {
+  // Only a refactorising step comes here, and Eigen's factorisation allocates anyway.
+  for (const PenaltyContact& c : m_folded)
+    m_foldedSlot[static_cast<std::size_t>(c.supportPoint)] = -1;
+  m_folded.clear();
+  m_foldedTerms.clear();
+  for (const PenaltyContact& c : system.contacts.contacts()) {
+    if (!c.isSupport || c.supportPoint < 0) continue;
+    const auto point = static_cast<std::size_t>(c.supportPoint);
+    if (point >= m_foldedSlot.size()) m_foldedSlot.resize(point + 1, -1);
+    m_foldedSlot[point] = static_cast<int>(m_folded.size());
+    m_folded.push_back(c);
+    m_foldedTerms.push_back(
+        pointTerm(c.nodes, c.weights, c.normal, c.stiffness_N_m, &system.fixedDofs()));
+  }
+  m_isFoldedPresent.assign(m_folded.size(), 1);
+}
+
 void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
   // Every contact found, touching yet or not: one that comes into touch during the step but is
   // missing here is an explicit 10^4 N/m spring to L-BFGS, and with one or two iterations the
@@ -73,18 +118,28 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
   // within the detection margin (half the tool's radius) while the iterations are few.
   const std::vector<PenaltyContact>& contacts = system.contacts.contacts();
   const std::vector<char>& fixed = system.fixedDofs();
-  const auto count = static_cast<Eigen::Index>(contacts.size());
+  // The columns: each contact H0 does not carry (+), then each carried one the step lacks (-),
+  // as supportChanges() or foldSupports() marked them.
+  const auto isCarried = [&](const PenaltyContact& c) {
+    const auto point = static_cast<std::size_t>(c.supportPoint);
+    return c.isSupport && c.supportPoint >= 0 && point < m_foldedSlot.size() &&
+           m_foldedSlot[point] >= 0;
+  };
+  Eigen::Index count = 0;
+  for (const PenaltyContact& c : contacts) count += isCarried(c) ? 0 : 1;
+  for (const char present : m_isFoldedPresent) count += present != 0 ? 0 : 1;
   // Resized only when the count changes (a new contact, not every step); then no allocation.
   if (m_contactU.cols() != count) {
     m_contactU.resize(m_x.size(), count);
     m_contactV.resize(m_x.size(), count);
     m_capacitanceMatrix.resize(count, count);
+    m_columnSign.resize(count);
     m_projected.resize(count);
     m_contactScratch.resize(count);
   }
   m_contactU.setZero();
-  for (Eigen::Index column = 0; column < count; ++column) {
-    const PenaltyContact& c = contacts[static_cast<std::size_t>(column)];
+  Eigen::Index column = 0;
+  const auto addColumn = [&](const PenaltyContact& c, double sign) {
     const double root = std::sqrt(c.stiffness_N_m);
     for (int k = 0; k < static_cast<int>(kMaxTermNodes); ++k) {
       for (int axis = 0; axis < 3; ++axis) {
@@ -93,10 +148,18 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
           m_contactU(d, column) += root * c.weights[k] * c.normal[axis];
       }
     }
+    m_columnSign[column] = sign;
+    ++column;
+  };
+  for (const PenaltyContact& c : contacts) {
+    if (!isCarried(c)) addColumn(c, 1.0);
+  }
+  for (std::size_t f = 0; f < m_folded.size(); ++f) {
+    if (m_isFoldedPresent[f] == 0) addColumn(m_folded[f], -1.0);
   }
   if (count == 0) return;
   m_contactV = m_initialHessian.solve(m_contactU);
-  m_capacitanceMatrix.setIdentity();
+  m_capacitanceMatrix = m_columnSign.asDiagonal();
   m_capacitanceMatrix.noalias() += m_contactU.transpose() * m_contactV;
   m_capacitance.compute(m_capacitanceMatrix);
 }
@@ -137,6 +200,7 @@ StepReport QuasiNewtonSolver::step(MechanicalSystem& system, MechanicalState& st
     m_x[d] = fixed[static_cast<std::size_t>(d)] != 0 ? x0[d] : m_xHat[d];
   }
   report.residual_N = residual(system, m_x, m_r, &report.forces);
+  report.initialResidual_N = report.residual_N;
   prepareContacts(system);
 
   const Eigen::Index capacity = m_s.cols();

@@ -278,14 +278,6 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     if (assessment.has("damage_stretch"))
       scene.assessment.damageStretch = assessment.number("damage_stretch", 0.0, 1.0, true);
   }
-  // Quasi-Newton inverts its contacts' stiffness as dense columns beside a fixed initial Hessian,
-  // one solve with it per contact a step: fine for the instrument's few, not for a tray's
-  // hundreds, which leave a poke far from real time (docs/scene-file.md).
-  if (scene.tray && scene.integrator == "quasi-newton") {
-    fields.fail("tray",
-                "cannot be used with physics.integrator \"quasi-newton\"; use implicit or "
-                "explicit");
-  }
   // Its fixed initial Hessian is built from the springs' rest stiffness.
   if (scene.model == "fem" && scene.integrator == "quasi-newton") {
     fields.fail("physics.integrator",

@@ -43,7 +43,8 @@ TraySupport::TraySupport(const SceneGeometry& geometry, const SceneTray& tray)
 }
 
 void TraySupport::findContacts(const Eigen::Matrix3Xd& x, PenaltyContactSet& contacts) const {
-  for (const CarriedSurfacePoint& point : m_points) {
+  for (std::size_t p = 0; p < m_points.size(); ++p) {
+    const CarriedSurfacePoint& point = m_points[p];
     const Eigen::Vector3d drawn = point.drawn(x);
     const double height = m_up.dot(drawn);
     if (!(height < m_height_m + kDetectionMargin_m)) continue;
@@ -56,6 +57,7 @@ void TraySupport::findContacts(const Eigen::Matrix3Xd& x, PenaltyContactSet& con
     contact.stiffness_N_m = point.stiffness_N_m;
     contact.damping_N_s_m = kDampingPerStiffness_s * point.stiffness_N_m;
     contact.isSupport = true;
+    contact.supportPoint = static_cast<int>(p);
     contacts.add(contact);
   }
 }

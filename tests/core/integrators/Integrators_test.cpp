@@ -300,6 +300,106 @@ TEST(QuasiNewton, ConvergesToImplicitEulerAsIterationsGrow) {
   EXPECT_LT(previousError, 1e-9);
 }
 
+/// The block's nodes at height z (m), but the first `skipped`, as a support's contacts: a plane
+/// at z = 0 under them, point p of the support being node p.
+void addSupportContacts(MechanicalSystem& system, const SpringMesh& mesh, double z,
+                        int skipped = 0) {
+  for (Eigen::Index node = 0; node < mesh.nodeCount(); ++node) {
+    if (std::abs(mesh.restPositions_m(2, node) - z) > 1e-9) continue;
+    if (skipped-- > 0) continue;
+    PenaltyContact contact;
+    contact.nodes.fill(static_cast<int>(node));
+    contact.weights = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+    contact.normal = -Eigen::Vector3d::UnitZ();  // out of the tissue, into the plane
+    contact.stiffness_N_m = 2e3;
+    contact.isSupport = true;
+    contact.supportPoint = static_cast<int>(node);
+    system.contacts.add(contact);
+  }
+}
+
+TEST(QuasiNewton, ASupportThatDoesNotChangeIsFactorisedOnce) {
+  // A block resting on a plane under gravity: the support's contacts are the same every step,
+  // so H0, factorised with them at the first step, serves every step after.
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
+  block.system.gravity.acceleration_m_s2 = kGravity;
+  addSupportContacts(block.system, block.mesh, 0.0);
+  IntegratorSettings settings;
+  settings.maxIterations = 20;
+  settings.forceTolerance_N = 1e-12;
+  QuasiNewtonSolver solver(settings);
+  MechanicalState state = block.system.restState();
+  for (int n = 0; n < 50; ++n) ASSERT_TRUE(solver.step(block.system, state, 1e-3).isFinite);
+  EXPECT_EQ(solver.factorisationCount(), 1);
+  // And it lands as implicit Euler lands it (falling through the plane, the block would be
+  // 1.2 mm down after 50 ms).
+  IntegratorSettings exactSettings;
+  exactSettings.forceTolerance_N = 1e-12;
+  exactSettings.maxIterations = 20;
+  ImplicitEulerSolver exact(exactSettings, LinearSolverKind::Cholesky);
+  MechanicalState reference = block.system.restState();
+  for (int n = 0; n < 50; ++n) ASSERT_TRUE(exact.step(block.system, reference, 1e-3).isFinite);
+  const double sunk_m = -reference.x.row(2).minCoeff();
+  EXPECT_GT(sunk_m, 1e-6);
+  EXPECT_LT(sunk_m, 1e-4);
+  EXPECT_LT((state.x - reference.x).cwiseAbs().maxCoeff(), 0.02 * sunk_m);
+}
+
+TEST(QuasiNewton, SupportContactsTheFactorisationLacksOrHasInExcessAreExactWoodburyTerms) {
+  // H0 factorised with the bottom layer's contacts; then the step's support is the bottom layer
+  // with some points gone and the middle layer's added. The Woodbury terms (+ for what H0 lacks,
+  // - for what it carries that the step has not) must give the step a solver factorised with
+  // the step's own contacts takes. One iteration a step, no tolerance: the step is H^-1 applied
+  // to the residual, so any error in H^-1 (a wrong sign) moves the result.
+  test::BlockSystem block({0.02, 0.02, 0.02}, {2, 2, 2});
+  block.system.gravity.acceleration_m_s2 = kGravity;
+  IntegratorSettings settings;
+  settings.maxIterations = 1;
+  settings.forceTolerance_N = 0.0;
+  const auto stepWith = [&](QuasiNewtonSolver& solver, MechanicalState& state, int dropped,
+                            bool withMiddle) {
+    block.system.contacts.clear();
+    addSupportContacts(block.system, block.mesh, 0.0, dropped);
+    if (withMiddle) addSupportContacts(block.system, block.mesh, 0.01);
+    return solver.step(block.system, state, 1e-3);
+  };
+  for (const auto& [dropped, withMiddle] :
+       {std::pair{3, false}, std::pair{0, true}, std::pair{4, true}}) {
+    QuasiNewtonSolver kept(settings);
+    MechanicalState state = block.system.restState();
+    for (int n = 0; n < 5; ++n) stepWith(kept, state, 0, false);
+    ASSERT_EQ(kept.factorisationCount(), 1);
+    MechanicalState fresh = state;
+    QuasiNewtonSolver refactorised(settings);
+    stepWith(kept, state, dropped, withMiddle);
+    stepWith(refactorised, fresh, dropped, withMiddle);
+    EXPECT_EQ(kept.factorisationCount(), 1) << dropped;  // 3 to 13 changes: through Woodbury
+    const double moved = (state.x - block.mesh.restPositions_m).cwiseAbs().maxCoeff();
+    EXPECT_GT(moved, 1e-7);
+    EXPECT_LT((state.x - fresh.x).cwiseAbs().maxCoeff(), 1e-9 * moved)
+        << dropped << " dropped, middle layer " << withMiddle;
+  }
+}
+
+TEST(QuasiNewton, MoreSupportChangesThanTheLimitRefactoriseH0) {
+  test::BlockSystem block({0.03, 0.03, 0.03}, {3, 3, 3});
+  block.system.gravity.acceleration_m_s2 = kGravity;
+  IntegratorSettings settings;
+  settings.maxIterations = 2;
+  QuasiNewtonSolver solver(settings);
+  MechanicalState state = block.system.restState();
+  addSupportContacts(block.system, block.mesh, 0.0);  // 16 points
+  solver.step(block.system, state, 1e-3);
+  addSupportContacts(block.system, block.mesh, 0.01);  // 16 more: at the limit
+  solver.step(block.system, state, 1e-3);
+  EXPECT_EQ(solver.factorisationCount(), 1);
+  addSupportContacts(block.system, block.mesh, 0.02);  // 32 changes
+  solver.step(block.system, state, 1e-3);
+  EXPECT_EQ(solver.factorisationCount(), 2);
+  solver.step(block.system, state, 1e-3);  // the same support again: carried
+  EXPECT_EQ(solver.factorisationCount(), 2);
+}
+
 TEST(VolumeTerm, CompressedToSeventyPercentTheBlockRecoversWithNoInvertedTet) {
   const double height = 0.01;
   test::BlockSystem block({0.01, 0.01, height}, {2, 2, 2}, SpringLaw::Eesm, false, 20e3);

@@ -57,11 +57,13 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   const SceneDescription assessed = loadSceneFile(scenePath("assessment.json"));
   EXPECT_EQ(assessed.assessment.toolForceThreshold_N, 3.5);
   EXPECT_EQ(assessed.assessment.damageStretch, 1.25);
-  // Quasi-Newton takes gravity (Simulation.QuasiNewtonPokesTheLiverAsImplicitEulerDoes), not a
-  // tray (refused above).
+  // Quasi-Newton takes gravity and a tray (Simulation.QuasiNewtonPokesTheLiverAsImplicitEulerDoes).
   const SceneDescription heavy = loadSceneFile(scenePath("quasi-newton-gravity.json"));
   EXPECT_EQ(heavy.integrator, "quasi-newton");
   EXPECT_EQ(heavy.gravity_m_s2, Eigen::Vector3d(0.0, -9.81, 0.0));
+  const SceneDescription onTray = loadSceneFile(scenePath("quasi-newton-tray.json"));
+  EXPECT_EQ(onTray.integrator, "quasi-newton");
+  ASSERT_TRUE(onTray.tray.has_value());
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
@@ -105,7 +107,6 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"tray-no-height.json", "field 'tray.height_m' is missing"},
         BadScene{"tray-zero-stiffness.json", "field 'tray.stiffness_pa_per_m' = 0 is out of range"},
         BadScene{"tray-negative-friction.json", "field 'tray.friction' = -0.2 is out of range"},
-        BadScene{"tray-quasi-newton.json", "field 'tray' cannot be used with physics.integrator"},
         BadScene{"unknown-model.json", "field 'effects.model' = \"mpm\"; expected springs or fem"},
         BadScene{"fem-softening.json",
                  "field 'effects.softening' must be false with model fem, which has no softening"},
