@@ -36,7 +36,7 @@
 // event, as Newton's do.
 //
 // A support's contacts (the tray under the organ) are hundreds, and one solve each a step left
-// the bundled poke at 62 steps/s. They hardly change from step to step, so H0 carries them:
+// a poke on the tray far from real time. They hardly change from step to step, so H0 carries them:
 // factorised with the support contacts of the step that factorised it, and the Woodbury terms
 // take only the differences since (+u u^T for a support contact H0 lacks, -u u^T for one it has
 // that the step does not), with the signs in the capacitance, S + U^T V. When the differences
@@ -76,7 +76,7 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   /// U, V and the factorised capacitance S + U^T V for the contacts H0 does not carry as the
   /// step has them (S: each column's sign).
   void prepareContacts(const MechanicalSystem& system);
-  /// z = (H0 + U U^T)^-1 q.
+  /// z = (H0 + U S U^T)^-1 q.
   void applyInitialInverse(const Eigen::VectorXd& q, Eigen::VectorXd& z);
   double residual(const MechanicalSystem& system, const Eigen::VectorXd& x, Eigen::VectorXd& r,
                   ForceReport* report);
@@ -103,9 +103,8 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   Eigen::MatrixXd m_contactU, m_contactV;  ///< 3#V by #C (Woodbury)
   Eigen::VectorXd m_columnSign;            ///< S: +1, or -1 for a carried term taken out
   Eigen::MatrixXd m_capacitanceMatrix;     ///< S + U^T V, #C by #C
-  Eigen::PartialPivLU<Eigen::MatrixXd>
-      m_capacitance;                              ///< its factorisation (S makes it indefinite)
-  Eigen::VectorXd m_projected, m_contactScratch;  ///< #C: U^T z and the capacitance solve
+  Eigen::PartialPivLU<Eigen::MatrixXd> m_capacitance;  ///< its LU (S makes it indefinite)
+  Eigen::VectorXd m_projected, m_contactScratch;       ///< #C: U^T z and the capacitance solve
 };
 
 }  // namespace tissuesim

@@ -87,12 +87,9 @@ IntegratorSettings realTimeIntegratorSettings(const SceneDescription& scene) {
   settings.forceTolerance_N = 1e-6;
   // A step whose budget leaves a residual that counts as an event takes up to eight more
   // iterations first: few steps need them (a poke's hardest moments: the tissue springing back
-  // against the retreating tool, contacts coming and going within the step), and the physics
-  // loop's catch-up window absorbs them. With two, contact on the drawn surface left 16 such
-  // steps on the bundled poke (residuals of 1.5-300 mN as the liver rebounded from 7 N); with
-  // four, none there, but a shaft 5-6 cm deep swept 8 cm sideways left two or three where the
-  // organ, dragged at 65-82 N, slipped off it (65-268 mN, from 0.6-11 N at the step's start);
-  // with eight, none.
+  // against the retreating tool, contacts coming and going within the step, the organ slipping
+  // off a shaft that drags it), and the physics loop's catch-up window absorbs them. Fewer left
+  // such steps unconverged (docs/performance-details.md, "The integrators on the bundled poke").
   settings.extraIterations = kExtraNewtonIterations;
   settings.extraIterationResidual_N = kUnconvergedResidual_N;
   return settings;
