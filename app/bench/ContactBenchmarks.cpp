@@ -54,7 +54,6 @@ void registerContactBenchmarks(const std::string& scenePath) {
   // Speed against accuracy on the real task: the bundled poke (the tool 4 cm down over 1 s),
   // each setting against implicit Euler converged (8 Newton iterations, CG 1e-8): the largest
   // node distance from it at the deepest point and over the way down, and the tool force there.
-  // Quasi-Newton is not on it: a scene with a tray refuses it (SceneFile.cpp).
   struct Setting {
     const char* name;
     const char* integrator;
@@ -101,7 +100,8 @@ void registerContactBenchmarks(const std::string& scenePath) {
         Setting{"Trade/Poke/implicit_newton1_cg1e-3/threads:2", "implicit", 1, 1e-3, 2},
         Setting{"Trade/Poke/implicit_newton1_cg1e-2", "implicit", 1, 1e-2, 1},
         Setting{"Trade/Poke/explicit", "explicit", 2, 1e-6, 1},
-        Setting{"Trade/Poke/explicit/threads:2", "explicit", 2, 1e-6, 2}}) {
+        Setting{"Trade/Poke/explicit/threads:2", "explicit", 2, 1e-6, 2},
+        Setting{"Trade/Poke/quasi_newton2", "quasi-newton", 2, 1e-6, 1}}) {
     benchmark::RegisterBenchmark(
         setting.name,
         [=](benchmark::State& state) {

@@ -260,8 +260,8 @@ TEST(Simulation, EveryIntegratorPokesTheLiverAlike) {
   // go, with peaks of 6.5 N). Same poke, the same force over its last 50 ms down within 10 %,
   // the contact held from first touch to the deepest point, no step lost. (The mean over 50
   // steps, not the peak: the tip rests on one to four of the drawn surface's small triangles,
-  // and the force of one step differs from the next by up to 20 %.) The quasi-Newton
-  // integrator is not here: it refuses gravity and a tray (SceneFile.cpp).
+  // and the force of one step differs from the next by up to 20 %.) Quasi-Newton has its own
+  // test against implicit Euler (QuasiNewtonPokesTheLiverAsImplicitEulerDoes).
   std::vector<double> peaks;
   for (const std::string integrator : {"implicit", "explicit"}) {
     SceneDescription bundled = pokeScene();
