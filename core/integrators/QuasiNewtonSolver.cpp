@@ -77,14 +77,20 @@ void QuasiNewtonSolver::prepare(const MechanicalSystem& system, double inertiaWe
   m_preparedRevision = system.constraintRevision();
 }
 
+int QuasiNewtonSolver::carriedIndex(const PenaltyContact& c) const {
+  const auto point = static_cast<std::size_t>(c.supportPoint);
+  if (!c.isSupport || c.supportPoint < 0 || point >= m_foldedSlot.size()) return -1;
+  return m_foldedSlot[point];
+}
+
 int QuasiNewtonSolver::supportChanges(const MechanicalSystem& system) {
   std::fill(m_isFoldedPresent.begin(), m_isFoldedPresent.end(), 0);
   int changes = 0;
   for (const PenaltyContact& c : system.contacts.contacts()) {
     if (!c.isSupport) continue;
-    const auto point = static_cast<std::size_t>(c.supportPoint);
-    if (c.supportPoint >= 0 && point < m_foldedSlot.size() && m_foldedSlot[point] >= 0) {
-      m_isFoldedPresent[static_cast<std::size_t>(m_foldedSlot[point])] = 1;
+    const int index = carriedIndex(c);
+    if (index >= 0) {
+      m_isFoldedPresent[static_cast<std::size_t>(index)] = 1;
     } else {
       ++changes;
     }
@@ -95,20 +101,19 @@ int QuasiNewtonSolver::supportChanges(const MechanicalSystem& system) {
 
 void QuasiNewtonSolver::foldSupports(const MechanicalSystem& system) {
   // Only a refactorising step comes here, and Eigen's factorisation allocates anyway.
-  for (const PenaltyContact& c : m_folded)
-    m_foldedSlot[static_cast<std::size_t>(c.supportPoint)] = -1;
-  m_folded.clear();
+  for (const int point : m_foldedPoints) m_foldedSlot[static_cast<std::size_t>(point)] = -1;
+  m_foldedPoints.clear();
   m_foldedTerms.clear();
   for (const PenaltyContact& c : system.contacts.contacts()) {
     if (!c.isSupport || c.supportPoint < 0) continue;
     const auto point = static_cast<std::size_t>(c.supportPoint);
     if (point >= m_foldedSlot.size()) m_foldedSlot.resize(point + 1, -1);
-    m_foldedSlot[point] = static_cast<int>(m_folded.size());
-    m_folded.push_back(c);
+    m_foldedSlot[point] = static_cast<int>(m_foldedTerms.size());
+    m_foldedPoints.push_back(c.supportPoint);
     m_foldedTerms.push_back(
         pointTerm(c.nodes, c.weights, c.normal, c.stiffness_N_m, &system.fixedDofs()));
   }
-  m_isFoldedPresent.assign(m_folded.size(), 1);
+  m_isFoldedPresent.assign(m_foldedTerms.size(), 1);
 }
 
 void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
@@ -120,13 +125,8 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
   const std::vector<char>& fixed = system.fixedDofs();
   // The columns: each contact H0 does not carry (+), then each carried one the step lacks (-),
   // as supportChanges() or foldSupports() marked them.
-  const auto isCarried = [&](const PenaltyContact& c) {
-    const auto point = static_cast<std::size_t>(c.supportPoint);
-    return c.isSupport && c.supportPoint >= 0 && point < m_foldedSlot.size() &&
-           m_foldedSlot[point] >= 0;
-  };
   Eigen::Index count = 0;
-  for (const PenaltyContact& c : contacts) count += isCarried(c) ? 0 : 1;
+  for (const PenaltyContact& c : contacts) count += carriedIndex(c) >= 0 ? 0 : 1;
   for (const char present : m_isFoldedPresent) count += present != 0 ? 0 : 1;
   // Resized only when the count changes (a new contact, not every step); then no allocation.
   if (m_contactU.cols() != count) {
@@ -139,23 +139,22 @@ void QuasiNewtonSolver::prepareContacts(const MechanicalSystem& system) {
   }
   m_contactU.setZero();
   Eigen::Index column = 0;
-  const auto addColumn = [&](const PenaltyContact& c, double sign) {
-    const double root = std::sqrt(c.stiffness_N_m);
-    for (int k = 0; k < static_cast<int>(kMaxTermNodes); ++k) {
-      for (int axis = 0; axis < 3; ++axis) {
-        const Eigen::Index d = 3 * c.nodes[static_cast<std::size_t>(k)] + axis;
-        if (fixed[static_cast<std::size_t>(d)] == 0)
-          m_contactU(d, column) += root * c.weights[k] * c.normal[axis];
-      }
+  // Column sqrt(k) u of term k u u^T (u zero on fixed DOFs), with its sign.
+  const auto addColumn = [&](const RankOneTerm& term, double sign) {
+    const double root = std::sqrt(term.stiffness_N_m);
+    for (std::size_t k = 0; k < kMaxTermNodes; ++k) {
+      for (int axis = 0; axis < 3; ++axis)
+        m_contactU(3 * term.nodes[k] + axis, column) += root * term.blocks[k][axis];
     }
     m_columnSign[column] = sign;
     ++column;
   };
   for (const PenaltyContact& c : contacts) {
-    if (!isCarried(c)) addColumn(c, 1.0);
+    if (carriedIndex(c) < 0)
+      addColumn(pointTerm(c.nodes, c.weights, c.normal, c.stiffness_N_m, &fixed), 1.0);
   }
-  for (std::size_t f = 0; f < m_folded.size(); ++f) {
-    if (m_isFoldedPresent[f] == 0) addColumn(m_folded[f], -1.0);
+  for (std::size_t f = 0; f < m_foldedTerms.size(); ++f) {
+    if (m_isFoldedPresent[f] == 0) addColumn(m_foldedTerms[f], -1.0);
   }
   if (count == 0) return;
   m_contactV = m_initialHessian.solve(m_contactU);

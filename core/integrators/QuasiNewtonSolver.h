@@ -69,6 +69,8 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   /// H0 for this weight and the system's constraints (refactorised from the fields' stiffness
   /// at x when the last step asked for it).
   void prepare(const MechanicalSystem& system, double inertiaWeight, const Eigen::Matrix3Xd& x);
+  /// The index among the carried terms of the support contact `c` stands for, or -1.
+  int carriedIndex(const PenaltyContact& c) const;
   /// Support contacts of the step that H0 lacks, plus those H0 carries that the step lacks.
   int supportChanges(const MechanicalSystem& system);
   /// Makes the step's support contacts the ones H0 carries.
@@ -88,10 +90,10 @@ class QuasiNewtonSolver final : public TimeIntegrator {
   std::unique_ptr<NodeBlockMatrix> m_h0;      ///< H0 assembled (its pattern: the system's)
   std::unique_ptr<NodeBlockMatrix> m_h0Base;  ///< the same without the support contacts
   int m_factorisationCount = 0;
-  // The support contacts H0 carries (their terms, as of its factorisation), each support point's
-  // index among them (-1: not carried), and whether the current step has each.
-  std::vector<PenaltyContact> m_folded;
+  // The support contacts H0 carries: their terms (as of its factorisation) and support points,
+  // each support point's index among them (-1: not carried), and whether the step has each.
   std::vector<RankOneTerm> m_foldedTerms;
+  std::vector<int> m_foldedPoints;
   std::vector<int> m_foldedSlot;
   std::vector<char> m_isFoldedPresent;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_initialHessian;

@@ -39,14 +39,16 @@ inline bool allRanges(const NodeRangeFlags& flags) {
 inline Eigen::Index nodeRangeStart(Eigen::Index count, int r) { return count * r / kNodeRanges; }
 
 /// Calls task(r, begin, end) once for every range r, on `pool` when there is one and the pass
-/// is large enough, else in order on the caller. The same rules as ForkJoinPool::run: the task
-/// must not throw or use the pool itself.
+/// has at least `poolMinimum` nodes, else in order on the caller. A pass that does more per node
+/// than read a column or two (a gather over each node's cells) lowers the minimum. The same
+/// rules as ForkJoinPool::run: the task must not throw or use the pool itself.
 template <typename Task>
-void forEachNodeRange(ForkJoinPool* pool, Eigen::Index count, const Task& task) {
+void forEachNodeRange(ForkJoinPool* pool, Eigen::Index count, const Task& task,
+                      Eigen::Index poolMinimum = kParallelNodePassMinimum) {
   const auto range = [&](int r) {
     task(r, nodeRangeStart(count, r), nodeRangeStart(count, r + 1));
   };
-  runParts(count >= kParallelNodePassMinimum ? pool : nullptr, kNodeRanges, range);
+  runParts(count >= poolMinimum ? pool : nullptr, kNodeRanges, range);
 }
 
 }  // namespace tissuesim

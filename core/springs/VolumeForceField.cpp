@@ -265,16 +265,13 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
   };
   runParts(m_pool, kParts, cellPass);
   // Each node gathers -p_c g_i from its cells, on the pool at any size: a node here reads about
-  // eight cells' entries, where the node passes that wait for kParallelNodePassMinimum nodes
-  // read one column each.
+  // eight cells' entries, where the plain node passes read a column or two.
   const int* const start = m_incidence.start.data();
   const int* const entries = m_incidence.entries.data();
   const double* const pressure = m_pressure_Pa.data();
   const double* const blockData = out.data();
-  const Eigen::Index nodes = m_mesh.nodeCount();
-  runParts(m_pool, kNodeRanges, [&](int r) {
-    const Eigen::Index end = nodeRangeStart(nodes, r + 1);
-    for (Eigen::Index j = nodeRangeStart(nodes, r); j < end; ++j) {
+  const auto gather = [&](int, Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index j = begin; j < end; ++j) {
       double f0 = 0.0, f1 = 0.0, f2 = 0.0;
       for (int e = start[j]; e < start[j + 1]; ++e) {
         const int c = entries[e] / VolumeCells::kMaxNodes;
@@ -288,7 +285,8 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
       forces(1, j) -= f1;
       forces(2, j) -= f2;
     }
-  });
+  };
+  forEachNodeRange(m_pool, m_mesh.nodeCount(), gather, 0);
   // The guard, after the cells' forces (on this thread, in the parts' order: the same sums for
   // any thread count).
   const std::size_t guardSlot = &out == &m_slots[0] ? 0 : &out == &m_slots[1] ? 1 : 2;
