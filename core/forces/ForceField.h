@@ -79,6 +79,9 @@ class ForceField {
   }
   /// matrix += K (its pattern: the system's makeMatrix()).
   virtual void addStiffness(NodeBlockMatrix& matrix) const = 0;
+  /// The node pairs K couples beyond the mesh's springs (2 by #P, each pair once, either
+  /// order; springs among them are fine): what the system's matrix adds to its pattern.
+  virtual Eigen::Matrix2Xi couplings() const { return Eigen::Matrix2Xi(2, 0); }
 
  protected:
   ForceField() = default;

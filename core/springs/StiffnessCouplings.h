@@ -13,4 +13,8 @@ namespace tissuesim {
 /// term's `cells` (null: none), the other pairs that share a cell.
 Eigen::Matrix2Xi stiffnessCouplings(const SpringMesh& mesh, const VolumeCells* cells);
 
+/// The springs (first, in their order) and the pairs of `others` (2 by #P, either order) that are
+/// not springs, each once.
+Eigen::Matrix2Xi stiffnessCouplings(const SpringMesh& mesh, const Eigen::Matrix2Xi& others);
+
 }  // namespace tissuesim

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "system/MechanicalSystem.h"
 
+#include <vector>
+
 #include "parallel/NodeRanges.h"
 #include "springs/StiffnessCouplings.h"
 
@@ -29,8 +31,21 @@ void MechanicalSystem::prepareProducts(const ForceField::PartBounds& bounds) {
 }
 
 NodeBlockMatrix MechanicalSystem::makeMatrix() const {
-  return NodeBlockMatrix(mesh().nodeCount(),
-                         stiffnessCouplings(mesh(), m_volume ? &m_volume->cells() : nullptr));
+  std::vector<Eigen::Matrix2Xi> others;
+  if (m_volume) others.push_back(m_volume->cells().nodePairs());
+  Eigen::Index count = 0;
+  for (const ForceField* field : m_fields) {
+    if (field == m_volume) continue;
+    others.push_back(field->couplings());
+  }
+  for (const Eigen::Matrix2Xi& pairs : others) count += pairs.cols();
+  Eigen::Matrix2Xi all(2, count);
+  count = 0;
+  for (const Eigen::Matrix2Xi& pairs : others) {
+    all.middleCols(count, pairs.cols()) = pairs;
+    count += pairs.cols();
+  }
+  return NodeBlockMatrix(mesh().nodeCount(), stiffnessCouplings(mesh(), all));
 }
 
 MechanicalState MechanicalSystem::restState() const {

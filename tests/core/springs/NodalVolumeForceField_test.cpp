@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "springs/NodalVolumeForceField.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "fem/TetIsochoricForceField.h"
+#include "mesh/BlockMesher.h"
+#include "mesh/TetMesh.h"
+#include "mesh/TetMeshFile.h"
+#include "numerics/NodeBlockMatrix.h"
+#include "parallel/NodeRanges.h"
+#include "springs/StiffnessCouplings.h"
+#include "springs/VolumeForceField.h"
+#include "support/TestSystems.h"
+#include "system/NewtonSolver.h"
+
+namespace tissuesim {
+namespace {
+
+// A 20 x 20 x 10 mm block meshed by Gmsh (unstructured, 5 mm edges: no lattice cubes).
+TetMesh unstructuredBlock() {
+  return readTetMesh(std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/block-unstructured.msh");
+}
+
+// The energy from its definition: each node's quarter of its tets' volumes.
+double nodalEnergy(const TetMesh& mesh, const Eigen::Matrix3Xd& x, double kappa) {
+  Eigen::VectorXd volume = Eigen::VectorXd::Zero(x.cols());
+  Eigen::VectorXd rest = Eigen::VectorXd::Zero(x.cols());
+  for (Eigen::Index t = 0; t < mesh.tets.cols(); ++t) {
+    for (int c = 0; c < 4; ++c) {
+      volume[mesh.tets(c, t)] += signedTetVolume(x, mesh.tets, t) / 4;
+      rest[mesh.tets(c, t)] += signedTetVolume(mesh.nodes_m, mesh.tets, t) / 4;
+    }
+  }
+  double energy = 0.0;
+  for (Eigen::Index a = 0; a < x.cols(); ++a) {
+    const double j = volume[a] / rest[a];
+    energy += 0.5 * kappa * rest[a] * (j - 1) * (j - 1);
+  }
+  return energy;
+}
+
+Eigen::MatrixXd assembled(const NodalVolumeForceField& field, const TetMesh& mesh,
+                          const SpringMesh& springs, const Eigen::Matrix3Xd& x, bool isProjected) {
+  NodeBlockMatrix matrix(mesh.nodes_m.cols(), stiffnessCouplings(springs, field.couplings()));
+  matrix.setZero();
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  ForcePass pass;
+  pass.stiffness = StiffnessSlot::Current;
+  pass.isProjected = isProjected;
+  ForceReport report;
+  field.addForces(x, f, pass, report);
+  field.addStiffness(matrix);
+  return Eigen::MatrixXd(matrix.matrix());
+}
+
+Eigen::Matrix3Xd forcesAt(const NodalVolumeForceField& field, const Eigen::Matrix3Xd& x) {
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  ForceReport report;
+  field.addForces(x, f, ForcePass{}, report);
+  return f;
+}
+
+TEST(NodalVolumeForceField, ForceIsMinusTheEnergyGradient) {
+  const TetMesh mesh = unstructuredBlock();
+  ASSERT_GT(mesh.tets.cols(), 100);
+  const double kappa = 5e4;
+  const NodalVolumeForceField field(mesh.nodes_m, mesh.tets, kappa);
+  const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 3, 4e-4);
+  const Eigen::Matrix3Xd& x = deformed.x;
+  const double energy = nodalEnergy(mesh, x, kappa);
+  ASSERT_GT(energy, 0.0);
+  EXPECT_NEAR(field.energy(x), energy, 1e-12 * energy);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  ForceReport report;
+  field.addForces(x, f, ForcePass{}, report);
+  EXPECT_GT(report.volume.maxVolumeRatio, 1.0);
+  EXPECT_LT(report.volume.minVolumeRatio, report.volume.maxVolumeRatio);
+  EXPECT_EQ(report.volume.invertedTetCount, 0);
+  const double step = 1e-9;
+  const double scale = f.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0.0);
+  for (Eigen::Index d = 0; d < x.size(); d += 7) {
+    Eigen::Matrix3Xd up = x, down = x;
+    up.data()[d] += step;
+    down.data()[d] -= step;
+    const double gradient =
+        (nodalEnergy(mesh, up, kappa) - nodalEnergy(mesh, down, kappa)) / (2 * step);
+    EXPECT_NEAR(f.data()[d], -gradient, 1e-6 * scale) << "DOF " << d;
+  }
+}
+
+TEST(NodalVolumeForceField, TheStiffnessIsTheForcesDerivativeInEveryForm) {
+  // Asked for the exact Hessian the assembled matrix is -df/dx; asked for the PSD part it is
+  // sum_a k_a g_a g_a^T alone, which the products and diagonal blocks apply too.
+  const TetMesh mesh = unstructuredBlock();
+  const SpringMesh springs = buildSpringMesh(mesh, 1000.0);
+  const NodalVolumeForceField field(mesh.nodes_m, mesh.tets, 5e4);
+  const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 5, 4e-4);
+  const Eigen::Matrix3Xd& x = deformed.x;
+  const Eigen::MatrixXd exact = assembled(field, mesh, springs, x, false);
+  const Eigen::MatrixXd gaussNewton = assembled(field, mesh, springs, x, true);
+  Eigen::MatrixXd differences(x.size(), x.size());
+  const double step = 1e-8;
+  for (Eigen::Index d = 0; d < x.size(); ++d) {
+    Eigen::Matrix3Xd up = x, down = x;
+    up.data()[d] += step;
+    down.data()[d] -= step;
+    const Eigen::Matrix3Xd change = forcesAt(field, up) - forcesAt(field, down);
+    differences.col(d) = -Eigen::Map<const Eigen::VectorXd>(change.data(), x.size()) / (2 * step);
+  }
+  const double scale = differences.cwiseAbs().maxCoeff();
+  EXPECT_LT((exact - differences).cwiseAbs().maxCoeff(), 1e-6 * scale);
+  EXPECT_LT((exact - exact.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
+  EXPECT_GT((gaussNewton - differences).cwiseAbs().maxCoeff(), 1e-3 * scale);
+
+  // The products and the diagonal blocks read the last pass's slot: the Gauss-Newton one.
+  const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(deformed.direction.data(), x.size());
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
+  for (int part = 0; part < ForceField::kParts; ++part)
+    field.addStiffnessProduct(part, v.data(), y.data());
+  const Eigen::VectorXd expected = gaussNewton * v;
+  EXPECT_LT((y - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+  for (Eigen::Index j = 0; j < x.cols(); ++j) {
+    Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+    field.addDiagonalBlock(j, block);
+    EXPECT_LT((block - gaussNewton.block<3, 3>(3 * j, 3 * j)).cwiseAbs().maxCoeff(), 1e-12 * scale);
+  }
+}
+
+TEST(NodalVolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
+  const TetMesh mesh = unstructuredBlock();
+  const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 7, 4e-4);
+  const NodalVolumeForceField serial(mesh.nodes_m, mesh.tets, 3e5);
+  ForcePass pass;
+  pass.stiffness = StiffnessSlot::Current;
+  Eigen::VectorXd expectedBound = Eigen::VectorXd::Zero(mesh.nodes_m.cols());
+  pass.nodeStiffness = &expectedBound;
+  Eigen::Matrix3Xd expected = Eigen::Matrix3Xd::Zero(3, mesh.nodes_m.cols());
+  ForceReport expectedReport;
+  serial.addForces(deformed.x, expected, pass, expectedReport);
+  const double* v = deformed.direction.data();
+  Eigen::VectorXd expectedProduct = Eigen::VectorXd::Zero(deformed.x.size());
+  for (int part = 0; part < ForceField::kParts; ++part)
+    serial.addStiffnessProduct(part, v, expectedProduct.data());
+  ASSERT_GT(expectedBound.minCoeff(), 0.0);
+  for (const int threads : {1, 2, 3}) {
+    ForkJoinPool pool(threads);
+    NodalVolumeForceField pooled(mesh.nodes_m, mesh.tets, 3e5);
+    pooled.setThreadPool(&pool);
+    Eigen::VectorXd bound = Eigen::VectorXd::Zero(mesh.nodes_m.cols());
+    pass.nodeStiffness = &bound;
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, mesh.nodes_m.cols());
+    ForceReport report;
+    pooled.addForces(deformed.x, f, pass, report);
+    EXPECT_EQ(f, expected) << threads << " threads";
+    EXPECT_EQ(bound, expectedBound) << threads << " threads";
+    EXPECT_EQ(report.volume.minVolumeRatio, expectedReport.volume.minVolumeRatio);
+    Eigen::VectorXd product = Eigen::VectorXd::Zero(deformed.x.size());
+    pool.run(ForceField::kParts,
+             [&](int part) { pooled.addStiffnessProduct(part, v, product.data()); });
+    EXPECT_EQ(product, expectedProduct) << threads << " threads";
+  }
+}
+
+TEST(NodalVolumeForceField, PushesAnInvertedTetBackOutAndCountsIt) {
+  const TetMesh mesh = unstructuredBlock();
+  const NodalVolumeForceField field(mesh.nodes_m, mesh.tets, 1e5);
+  // An interior node of tet 0 pushed through its opposite face.
+  Eigen::Matrix3Xd x = mesh.nodes_m;
+  const Eigen::Vector4i tet = mesh.tets.col(0);
+  const Eigen::Vector3d centroid = (x.col(tet[1]) + x.col(tet[2]) + x.col(tet[3])) / 3.0;
+  const Eigen::Vector3d through = centroid - x.col(tet[0]);
+  x.col(tet[0]) += 1.5 * through;
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  ForceReport report;
+  field.addForces(x, f, ForcePass{}, report);
+  EXPECT_GE(report.volume.invertedTetCount, 1);
+  EXPECT_TRUE(f.allFinite());
+  // Its force points back the way it came.
+  EXPECT_LT(f.col(tet[0]).dot(through), 0.0);
+}
+
+// A block on its held bottom, the top's nodes within 5 mm of its centre pressed 1 mm down; the
+// tissue's isochoric energy in each tet and the volume term at bulk modulus kappa: the force on
+// the pressed nodes.
+double pressReaction(const TetMesh& mesh, bool isNodal, double kappa) {
+  const test::LiverMaterial& material = test::LiverMaterial::instance();
+  SpringMesh springs = buildSpringMesh(mesh, material.parameters.density_kg_m3);
+  springs.volume_m3.setZero();  // the tets carry the elasticity, as with effects.model fem
+  const SpringForceLaw law(SpringLaw::Eesm, material.table, material.parameters,
+                           3.0 * material.energy.initialShearModulus(), false);
+  SpringForceField springField(springs, law);
+  TetIsochoricForceField tets(mesh.nodes_m, mesh.tets, material.energy);
+  std::unique_ptr<VolumeForceField> cells;
+  std::unique_ptr<NodalVolumeForceField> nodes;
+  if (!isNodal) cells = std::make_unique<VolumeForceField>(springs, kappa);
+  MechanicalSystem system(springField, cells.get());
+  system.addField(tets);
+  if (isNodal) {
+    nodes = std::make_unique<NodalVolumeForceField>(mesh.nodes_m, mesh.tets, kappa);
+    system.addField(*nodes);
+  }
+  const Eigen::Vector3d top = mesh.nodes_m.rowwise().maxCoeff();
+  Eigen::Matrix3Xd x = mesh.nodes_m;
+  std::vector<int> pressed;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    if (x(2, i) < 1e-9) system.fixNode(static_cast<int>(i));
+    const double fromAxis = std::hypot(x(0, i) - 0.5 * top.x(), x(1, i) - 0.5 * top.y());
+    if (x(2, i) > top.z() - 1e-9 && fromAxis < 5e-3) {
+      system.fixNode(static_cast<int>(i));
+      x(2, i) -= 1e-3;
+      pressed.push_back(static_cast<int>(i));
+    }
+  }
+  NewtonSolver newton(LinearSolverKind::Cholesky);
+  const Eigen::Matrix3Xd start = x;
+  const NewtonReport report = newton.solve(system, x, start, 0.0, 0.0, 100, 1e-10);
+  EXPECT_TRUE(report.converged) << (isNodal ? "nodes" : "tets") << " at kappa " << kappa;
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  ForceReport seen;
+  for (const ForceField* field : system.fields()) field->addForces(x, f, ForcePass{}, seen);
+  double reaction = 0.0;
+  for (const int i : pressed) reaction += f(2, i);
+  return reaction;
+}
+
+TEST(NodalVolumeForceField, LinearTetsStiffenWithKappaFarLessUnderItThanUnderAVolumePerTet) {
+  // One volume constraint per linear tet (what VolumeForceField takes on a mesh with no lattice
+  // cubes) outnumbers the DOFs: the press's force grows about as kappa once kappa is past the
+  // shear modulus (locking). One per node leaves three DOFs for each: the force still grows
+  // with kappa on this coarse unstructured block (a node with few tets, on the boundary, is
+  // nearly a tet's constraint), but a hundred times kappa does not double it.
+  const TetMesh mesh = unstructuredBlock();
+  const double mu = test::LiverMaterial::instance().energy.initialShearModulus();
+  const double nodes = pressReaction(mesh, true, 1e3 * mu);
+  const double nodesStiff = pressReaction(mesh, true, 1e5 * mu);
+  const double tets = pressReaction(mesh, false, 1e3 * mu);
+  const double tetsStiff = pressReaction(mesh, false, 1e5 * mu);
+  ASSERT_GT(nodes, 0.0);
+  EXPECT_LT(nodesStiff / nodes, 2.0);
+  EXPECT_GT(tetsStiff / tets, 20.0);
+  EXPECT_GT(tetsStiff / nodesStiff, 20.0);
+}
+
+TEST(NodalVolumeForceField, OnALatticeItSettlesAsKappaGrowsAsTheCubeCellsDo) {
+  // On a Kuhn lattice, where VolumeForceField takes a cube per cell (Q1/P0), both settle: the
+  // force moves by under 10 % from 10^4 to 10^6 times the shear modulus, and the two agree
+  // within half.
+  const TetMesh lattice = makeBlockMesh({0.02, 0.02, 0.01}, {8, 8, 4});
+  const double mu = test::LiverMaterial::instance().energy.initialShearModulus();
+  const double nodes = pressReaction(lattice, true, 1e4 * mu);
+  const double nodesStiff = pressReaction(lattice, true, 1e6 * mu);
+  const double cubes = pressReaction(lattice, false, 1e4 * mu);
+  const double cubesStiff = pressReaction(lattice, false, 1e6 * mu);
+  ASSERT_GT(cubes, 0.0);
+  EXPECT_LT(nodesStiff / nodes, 1.1);
+  EXPECT_LT(cubesStiff / cubes, 1.1);
+  EXPECT_LT(std::abs(nodesStiff / cubesStiff - 1.0), 0.5);
+}
+
+}  // namespace
+}  // namespace tissuesim
