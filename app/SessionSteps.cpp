@@ -102,6 +102,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
   if (simulation->bulkModulus() > 0.0) {
     // The volume term's kappa and the range of tet volume ratios J = V / V0 it allowed.
     report["volume_term_kpa"] = simulation->bulkModulus() / 1000.0;
+    report["volume_cells"] = scene.volumeCells;
     report["min_volume_ratio"] = minVolumeRatio;
     report["max_volume_ratio"] = maxVolumeRatio;
   }

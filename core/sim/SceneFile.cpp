@@ -226,7 +226,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   if (fields.has("effects")) {
     const Fields effects(
         fields.at("effects"), "effects", source,
-        {"model", "softening", "volume_term_kpa", "spring_law", "stiffness_scale"});
+        {"model", "softening", "volume_term_kpa", "volume_cells", "spring_law", "stiffness_scale"});
     scene.model = effects.string("model", "springs");
     if (scene.model != "springs" && scene.model != "fem")
       effects.fail("effects.model", "= \"" + scene.model + "\"; expected springs or fem");
@@ -239,6 +239,12 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     if (isFem && !(scene.bulkModulus_Pa > 0.0))
       effects.fail("effects.volume_term_kpa",
                    "must be > 0 with model fem: it is the FEM's volumetric part");
+    scene.volumeCells = effects.string("volume_cells", "cubes");
+    if (scene.volumeCells != "cubes" && scene.volumeCells != "nodes")
+      effects.fail("effects.volume_cells",
+                   "= \"" + scene.volumeCells + "\"; expected cubes or nodes");
+    if (scene.volumeCells == "nodes" && !(scene.bulkModulus_Pa > 0.0))
+      effects.fail("effects.volume_cells", "= \"nodes\" needs volume_term_kpa above 0");
     scene.springLaw = effects.string("spring_law", "eesm");
     scene.stiffnessScale = effects.number("stiffness_scale", 0.0, 0.0, false);
     if (!springLawNamed(scene.springLaw)) {
@@ -283,6 +289,12 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     fields.fail("physics.integrator",
                 "= \"quasi-newton\" is for the springs model; use implicit or explicit with "
                 "effects.model fem");
+  }
+  // Its initial Hessian carries the volume term's cube cells (QuasiNewtonSolver.h).
+  if (scene.volumeCells == "nodes" && scene.integrator == "quasi-newton") {
+    fields.fail("physics.integrator",
+                "= \"quasi-newton\" takes the volume term per cube; use implicit or explicit with "
+                "effects.volume_cells nodes");
   }
   return scene;
 }

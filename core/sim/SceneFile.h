@@ -78,6 +78,9 @@ struct SceneDescription {
   std::optional<SceneInstrument> instrument;
   bool isSoftening = true;
   double bulkModulus_Pa = 0.0;  ///< > 0: volume term on
+  /// The volume term's cells: "cubes" (a lattice cube, else a tet; springs/VolumeForceField.h)
+  /// or "nodes" (each node's share of its tets; springs/NodalVolumeForceField.h).
+  std::string volumeCells = "cubes";
   double stiffnessScale = 0.0;  ///< > 0: V_e factor; 0: the lattice's small-strain calibration
   /// What carries the elasticity: "springs" (the EESM network) or "fem" (the tissue's
   /// isochoric energy per tet with the volume term per cube; fem/TetIsochoricForceField.h).

@@ -125,6 +125,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   m_system.reset();
   m_friction.reset();
   m_tets.reset();
+  m_nodalVolume.reset();
   m_volume.reset();
   m_springs.reset();
   m_law.reset();
@@ -151,11 +152,18 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_pool = std::make_unique<ForkJoinPool>(scene.threads);
     m_springs->setThreadPool(m_pool.get());
   }
-  if (bulkModulus_Pa > 0.0) {
+  const bool isNodal = scene.volumeCells == "nodes";
+  if (bulkModulus_Pa > 0.0 && !isNodal) {
     m_volume = std::make_unique<VolumeForceField>(*m_springMesh, bulkModulus_Pa);
     m_volume->setThreadPool(m_pool.get());
   }
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
+  if (bulkModulus_Pa > 0.0 && isNodal) {
+    m_nodalVolume = std::make_unique<NodalVolumeForceField>(m_springMesh->restPositions_m,
+                                                            m_springMesh->tets, bulkModulus_Pa);
+    m_nodalVolume->setThreadPool(m_pool.get());
+    m_system->addField(*m_nodalVolume);
+  }
   if (isFem) {
     m_tets = std::make_unique<TetIsochoricForceField>(m_geometry.mesh.nodes_m, m_geometry.mesh.tets,
                                                       *m_energy);
@@ -348,8 +356,9 @@ StepOutcome Simulation::step() {
   // Without the volume term nothing else counts inverted tets: look (O(#T), 30 us at the liver's
   // size on one thread; on the pool).
   const int inverted =
-      m_volume ? r.forces.volume.invertedTetCount
-               : VolumeForceField::inspect(*m_springMesh, m_state.x, m_pool.get()).invertedTetCount;
+      m_volume || m_nodalVolume
+          ? r.forces.volume.invertedTetCount
+          : VolumeForceField::inspect(*m_springMesh, m_state.x, m_pool.get()).invertedTetCount;
   check(inverted > 0, "inverted", [&] { return std::to_string(inverted) + " inverted tets"; });
   m_activeConditions.swap(m_conditionsNow);  // a condition that ended may fire again when it recurs
 

@@ -36,6 +36,7 @@
 #include "sim/SceneGeometry.h"
 #include "sim/SessionAssessment.h"
 #include "sim/TraySupport.h"
+#include "springs/NodalVolumeForceField.h"
 #include "springs/SpringForceField.h"
 
 namespace tissuesim {
@@ -147,8 +148,9 @@ class Simulation {
   std::unique_ptr<SpringForceLaw> m_law;
   std::unique_ptr<ForkJoinPool> m_pool;  ///< the spring passes' threads (scene physics.threads)
   std::unique_ptr<SpringForceField> m_springs;
-  std::unique_ptr<VolumeForceField> m_volume;
-  std::unique_ptr<TetIsochoricForceField> m_tets;  ///< effects.model fem
+  std::unique_ptr<VolumeForceField> m_volume;            ///< effects.volume_cells cubes
+  std::unique_ptr<NodalVolumeForceField> m_nodalVolume;  ///< effects.volume_cells nodes
+  std::unique_ptr<TetIsochoricForceField> m_tets;        ///< effects.model fem
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
   std::unique_ptr<SessionAssessment> m_assessment;

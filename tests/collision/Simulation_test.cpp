@@ -3,6 +3,7 @@
 
 #include "sim/Simulation.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -688,6 +689,43 @@ TEST(Simulation, TheFemModelPokesTheLiverAndItRecovers) {
   // The springs carry no stiffness there: the same poke without the tets' field would fall
   // through, so the push above is the FEM's.
   EXPECT_EQ(simulation.stiffnessScale(), 0.0);
+}
+
+TEST(Simulation, OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode) {
+  // The FEM on an unstructured mesh (Gmsh's, no lattice cubes) at a bulk modulus thousands of
+  // times the shear modulus: with a volume per tet (effects.volume_cells cubes falls back to it
+  // there) linear tets lock and the same poke meets many times the force; with a volume per node
+  // (nodes) they do not, and the liver returns to its start once the tool has left.
+  std::array<double, 2> peaks{};
+  for (const bool isNodal : {true, false}) {
+    SceneDescription description = pokeScene();
+    description.model = "fem";
+    description.isSoftening = false;
+    description.bulkModulus_Pa = 1e7;
+    description.volumeCells = isNodal ? "nodes" : "cubes";
+    description.tetMesh->file =
+        std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/liver-fem-coarse.msh";
+    description.tetMesh->metresPerUnit = 1.0;
+    // 2 cm from 1.7 cm above the surface: 3 mm into it.
+    ScriptedPoke scene(0.02, 0.5, description);
+    Simulation& simulation = scene.simulation;
+    const Eigen::Matrix3Xd settled = simulation.startState().x;
+    double& peak = peaks[isNodal ? 0 : 1];
+    for (int n = 0; n < 1000; ++n) {
+      const StepOutcome outcome = simulation.step();
+      ASSERT_TRUE(outcome.isGood) << "step " << n;
+      peak = std::max(peak, outcome.contact.toolForce_N.norm());
+    }
+    if (!isNodal) continue;
+    EXPECT_GT(peak, 0.1) << "the tool pushed";
+    for (int n = 0; n < 3000 && simulation.state().v.colwise().norm().maxCoeff() > 1e-4; ++n)
+      ASSERT_TRUE(simulation.step().isGood);
+    EXPECT_LT((simulation.state().x - settled).colwise().norm().maxCoeff(), 5e-4);
+    for (const InstabilityEvent& event : simulation.events()) {
+      ADD_FAILURE() << event.kind << ": " << event.detail;
+    }
+  }
+  EXPECT_GT(peaks[1], 4.0 * peaks[0]);
 }
 
 /// After the input jumps 4 cm sideways with the tip 2 cm deep in the liver (the window's mouse

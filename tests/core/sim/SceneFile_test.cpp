@@ -64,6 +64,9 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   const SceneDescription onTray = loadSceneFile(scenePath("quasi-newton-tray.json"));
   EXPECT_EQ(onTray.integrator, "quasi-newton");
   ASSERT_TRUE(onTray.tray.has_value());
+  const SceneDescription nodal = loadSceneFile(scenePath("fem-nodal-volume.json"));
+  EXPECT_EQ(nodal.volumeCells, "nodes");
+  EXPECT_EQ(loadSceneFile(scenePath("fem.json")).volumeCells, "cubes");
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
@@ -114,6 +117,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "field 'effects.volume_term_kpa' must be > 0 with model fem"},
         BadScene{"fem-quasi-newton.json",
                  "field 'physics.integrator' = \"quasi-newton\" is for the springs model"},
+        BadScene{"nodal-volume-unknown.json",
+                 "field 'effects.volume_cells' = \"tets\"; expected cubes or nodes"},
+        BadScene{"nodal-volume-no-kappa.json",
+                 "field 'effects.volume_cells' = \"nodes\" needs volume_term_kpa above 0"},
+        BadScene{"nodal-volume-quasi-newton.json",
+                 "field 'physics.integrator' = \"quasi-newton\" takes the volume term per cube"},
         BadScene{"assessment-zero-force.json",
                  "field 'assessment.force_threshold_n' = 0 is out of range"},
         BadScene{"assessment-damage-below-one.json",
