@@ -103,6 +103,7 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
     lastForce = force;
   }
   poke.events = static_cast<long>(simulation.eventCount());
+  poke.eventKinds = eventKindSummary(simulation.events());
   poke.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return poke;
 }

@@ -35,6 +35,9 @@ struct SimulatorPoke {
   std::vector<double> force_N;  ///< along the axis, at each depth
   double seconds = 0.0;         ///< wall time, start-up included
   long events = 0;              ///< instability events
+  /// The kinds of the events the simulation kept (its first 100), with counts
+  /// (eventKindSummary).
+  std::string eventKinds;
 };
 
 /// The simulator's force along the probe's axis at each depth below where the axis meets the

@@ -124,15 +124,10 @@ void runSoak(const SoakOptions& options) {
     minRate = std::min(minRate, w.stepsPerSecond);
     maxRate = std::max(maxRate, w.stepsPerSecond);
   }
-  std::size_t nonFinite = 0;
-  std::map<std::string, int> eventsByKind;
-  for (const InstabilityEvent& event : simulation->events()) {
-    nonFinite += event.kind == std::string("non-finite") ? 1 : 0;
-    ++eventsByKind[event.kind];
-  }
-  std::string eventSummary;
-  for (const auto& [kind, count] : eventsByKind)
-    eventSummary += (eventSummary.empty() ? "" : ", ") + std::to_string(count) + " " + kind;
+  const std::map<std::string, int> eventsByKind = countEventsByKind(simulation->events());
+  const auto nonFiniteKind = eventsByKind.find("non-finite");
+  const int nonFinite = nonFiniteKind == eventsByKind.end() ? 0 : nonFiniteKind->second;
+  const std::string eventSummary = eventKindSummary(simulation->events());
 
   nlohmann::json report;
   report["scene"] = options.scenePath;

@@ -208,6 +208,19 @@ const char* eventKindWords(const char* kind) {
   return kind;
 }
 
+std::map<std::string, int> countEventsByKind(const std::vector<InstabilityEvent>& events) {
+  std::map<std::string, int> counts;
+  for (const InstabilityEvent& event : events) ++counts[event.kind];
+  return counts;
+}
+
+std::string eventKindSummary(const std::vector<InstabilityEvent>& events) {
+  std::string summary;
+  for (const auto& [kind, count] : countEventsByKind(events))
+    summary += (summary.empty() ? "" : ", ") + std::to_string(count) + " " + kind;
+  return summary;
+}
+
 Simulation::~Simulation() = default;
 
 void Simulation::settle() {

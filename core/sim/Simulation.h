@@ -22,6 +22,7 @@
 // or non-finite step leaves the last good state in place, so the simulation stays usable.
 // Deterministic: no clocks, no threads, no randomness inside.
 
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -54,6 +55,11 @@ IntegratorSettings realTimeIntegratorSettings(const SceneDescription& scene);
 
 /// An event kind in a few words for a status line ("inverted tets"); the kind itself when unknown.
 const char* eventKindWords(const char* kind);
+
+/// How many of `events` are of each kind.
+std::map<std::string, int> countEventsByKind(const std::vector<InstabilityEvent>& events);
+/// Those counts on one line, kinds in name order ("1 inverted, 2 unconverged"); empty for none.
+std::string eventKindSummary(const std::vector<InstabilityEvent>& events);
 
 struct StepOutcome {
   StepReport integrator;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -217,6 +218,13 @@ TEST(Simulation, EventsPastTheFirstHundredAreCountedNotKept) {
   EXPECT_STREQ(eventKindWords(simulation.latestEventKind()), "a non-finite step, rolled back");
   EXPECT_STREQ(eventKindWords("inverted"), "inverted tets");
   EXPECT_STREQ(eventKindWords("something new"), "something new");
+  EXPECT_EQ(eventKindSummary(simulation.events()), "100 non-finite");
+  const std::vector<InstabilityEvent> mixed{
+      {1, 0.001, "unconverged", ""}, {2, 0.002, "inverted", ""}, {3, 0.003, "unconverged", ""}};
+  EXPECT_EQ(countEventsByKind(mixed),
+            (std::map<std::string, int>{{"inverted", 1}, {"unconverged", 2}}));
+  EXPECT_EQ(eventKindSummary(mixed), "1 inverted, 2 unconverged");
+  EXPECT_EQ(eventKindSummary({}), "");
   simulation.reset();
   EXPECT_EQ(simulation.eventCount(), 0u);
   EXPECT_EQ(simulation.latestEventKind(), nullptr);
