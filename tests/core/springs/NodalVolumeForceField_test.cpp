@@ -11,10 +11,10 @@
 #include "mesh/BlockMesher.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TetMeshFile.h"
-#include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
 #include "springs/StiffnessCouplings.h"
 #include "springs/VolumeForceField.h"
+#include "support/ForceFieldChecks.h"
 #include "support/TestSystems.h"
 #include "system/NewtonSolver.h"
 
@@ -42,27 +42,6 @@ double nodalEnergy(const TetMesh& mesh, const Eigen::Matrix3Xd& x, double kappa)
     energy += 0.5 * kappa * rest[a] * (j - 1) * (j - 1);
   }
   return energy;
-}
-
-Eigen::MatrixXd assembled(const NodalVolumeForceField& field, const TetMesh& mesh,
-                          const SpringMesh& springs, const Eigen::Matrix3Xd& x, bool isProjected) {
-  NodeBlockMatrix matrix(mesh.nodes_m.cols(), stiffnessCouplings(springs, field.couplings()));
-  matrix.setZero();
-  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-  ForcePass pass;
-  pass.stiffness = StiffnessSlot::Current;
-  pass.isProjected = isProjected;
-  ForceReport report;
-  field.addForces(x, f, pass, report);
-  field.addStiffness(matrix);
-  return Eigen::MatrixXd(matrix.matrix());
-}
-
-Eigen::Matrix3Xd forcesAt(const NodalVolumeForceField& field, const Eigen::Matrix3Xd& x) {
-  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-  ForceReport report;
-  field.addForces(x, f, ForcePass{}, report);
-  return f;
 }
 
 TEST(NodalVolumeForceField, ForceIsMinusTheEnergyGradient) {
@@ -102,17 +81,10 @@ TEST(NodalVolumeForceField, TheStiffnessIsTheForcesDerivativeInEveryForm) {
   const NodalVolumeForceField field(mesh.nodes_m, mesh.tets, 5e4);
   const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 5, 4e-4);
   const Eigen::Matrix3Xd& x = deformed.x;
-  const Eigen::MatrixXd exact = assembled(field, mesh, springs, x, false);
-  const Eigen::MatrixXd gaussNewton = assembled(field, mesh, springs, x, true);
-  Eigen::MatrixXd differences(x.size(), x.size());
-  const double step = 1e-8;
-  for (Eigen::Index d = 0; d < x.size(); ++d) {
-    Eigen::Matrix3Xd up = x, down = x;
-    up.data()[d] += step;
-    down.data()[d] -= step;
-    const Eigen::Matrix3Xd change = forcesAt(field, up) - forcesAt(field, down);
-    differences.col(d) = -Eigen::Map<const Eigen::VectorXd>(change.data(), x.size()) / (2 * step);
-  }
+  const Eigen::Matrix2Xi couplings = stiffnessCouplings(springs, field.couplings());
+  const Eigen::MatrixXd exact = test::assembledStiffness(field, x, couplings, false);
+  const Eigen::MatrixXd gaussNewton = test::assembledStiffness(field, x, couplings, true);
+  const Eigen::MatrixXd differences = test::forceDerivative(field, x, 1e-8);
   const double scale = differences.cwiseAbs().maxCoeff();
   EXPECT_LT((exact - differences).cwiseAbs().maxCoeff(), 1e-6 * scale);
   EXPECT_LT((exact - exact.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
@@ -229,38 +201,40 @@ double pressReaction(const TetMesh& mesh, bool isNodal, double kappa) {
   return reaction;
 }
 
+// pressReaction with a volume per node and with VolumeForceField's cells, at kappa `low` and
+// `high` times the tissue's shear modulus.
+struct PressUnderTwoKappas {
+  double nodes, nodesStiff, cells, cellsStiff;
+};
+PressUnderTwoKappas pressUnderTwoKappas(const TetMesh& mesh, double low, double high) {
+  const double mu = test::LiverMaterial::instance().energy.initialShearModulus();
+  return {pressReaction(mesh, true, low * mu), pressReaction(mesh, true, high * mu),
+          pressReaction(mesh, false, low * mu), pressReaction(mesh, false, high * mu)};
+}
+
 TEST(NodalVolumeForceField, LinearTetsStiffenWithKappaFarLessUnderItThanUnderAVolumePerTet) {
   // One volume constraint per linear tet (what VolumeForceField takes on a mesh with no lattice
   // cubes) outnumbers the DOFs: the press's force grows about as kappa once kappa is past the
   // shear modulus (locking). One per node leaves three DOFs for each: the force still grows
   // with kappa on this coarse unstructured block (a node with few tets, on the boundary, is
   // nearly a tet's constraint), but a hundred times kappa does not double it.
-  const TetMesh mesh = unstructuredBlock();
-  const double mu = test::LiverMaterial::instance().energy.initialShearModulus();
-  const double nodes = pressReaction(mesh, true, 1e3 * mu);
-  const double nodesStiff = pressReaction(mesh, true, 1e5 * mu);
-  const double tets = pressReaction(mesh, false, 1e3 * mu);
-  const double tetsStiff = pressReaction(mesh, false, 1e5 * mu);
-  ASSERT_GT(nodes, 0.0);
-  EXPECT_LT(nodesStiff / nodes, 2.0);
-  EXPECT_GT(tetsStiff / tets, 20.0);
-  EXPECT_GT(tetsStiff / nodesStiff, 20.0);
+  const PressUnderTwoKappas press = pressUnderTwoKappas(unstructuredBlock(), 1e3, 1e5);
+  ASSERT_GT(press.nodes, 0.0);
+  EXPECT_LT(press.nodesStiff / press.nodes, 2.0);
+  EXPECT_GT(press.cellsStiff / press.cells, 20.0);
+  EXPECT_GT(press.cellsStiff / press.nodesStiff, 20.0);
 }
 
 TEST(NodalVolumeForceField, OnALatticeItSettlesAsKappaGrowsAsTheCubeCellsDo) {
   // On a Kuhn lattice, where VolumeForceField takes a cube per cell (Q1/P0), both settle: the
   // force moves by under 10 % from 10^4 to 10^6 times the shear modulus, and the two agree
   // within half.
-  const TetMesh lattice = makeBlockMesh({0.02, 0.02, 0.01}, {8, 8, 4});
-  const double mu = test::LiverMaterial::instance().energy.initialShearModulus();
-  const double nodes = pressReaction(lattice, true, 1e4 * mu);
-  const double nodesStiff = pressReaction(lattice, true, 1e6 * mu);
-  const double cubes = pressReaction(lattice, false, 1e4 * mu);
-  const double cubesStiff = pressReaction(lattice, false, 1e6 * mu);
-  ASSERT_GT(cubes, 0.0);
-  EXPECT_LT(nodesStiff / nodes, 1.1);
-  EXPECT_LT(cubesStiff / cubes, 1.1);
-  EXPECT_LT(std::abs(nodesStiff / cubesStiff - 1.0), 0.5);
+  const PressUnderTwoKappas press =
+      pressUnderTwoKappas(makeBlockMesh({0.02, 0.02, 0.01}, {8, 8, 4}), 1e4, 1e6);
+  ASSERT_GT(press.cells, 0.0);
+  EXPECT_LT(press.nodesStiff / press.nodes, 1.1);
+  EXPECT_LT(press.cellsStiff / press.cells, 1.1);
+  EXPECT_LT(std::abs(press.nodesStiff / press.cellsStiff - 1.0), 0.5);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
 #include "springs/StiffnessCouplings.h"
+#include "support/ForceFieldChecks.h"
 #include "support/TestSystems.h"
 
 namespace tissuesim {
@@ -105,33 +106,10 @@ TEST(VolumeForceField, TheAssembledExactHessianIsMinusTheForcesDerivative) {
   x.row(0) *= 1.2;
   x(2, 7) -= 0.003;
   x(1, 3) += 0.002;
-  const auto assembled = [&](bool isProjected) {
-    NodeBlockMatrix matrix(mesh.nodeCount(), stiffnessCouplings(mesh, &field.cells()));
-    matrix.setZero();
-    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-    ForcePass pass;
-    pass.stiffness = StiffnessSlot::Current;
-    pass.isProjected = isProjected;
-    ForceReport report;
-    field.addForces(x, f, pass, report);
-    field.addStiffness(matrix);
-    return Eigen::MatrixXd(matrix.matrix());
-  };
-  const Eigen::MatrixXd exact = assembled(false);
-  const Eigen::MatrixXd gaussNewton = assembled(true);
-  Eigen::MatrixXd differences(x.size(), x.size());
-  const double step = 1e-7;
-  for (Eigen::Index d = 0; d < x.size(); ++d) {
-    Eigen::Matrix3Xd up = x, down = x;
-    up.data()[d] += step;
-    down.data()[d] -= step;
-    Eigen::Matrix3Xd fUp = Eigen::Matrix3Xd::Zero(3, x.cols());
-    Eigen::Matrix3Xd fDown = Eigen::Matrix3Xd::Zero(3, x.cols());
-    field.addForces(up, fUp, nullptr);
-    field.addForces(down, fDown, nullptr);
-    const Eigen::Matrix3Xd change = fUp - fDown;
-    differences.col(d) = -Eigen::Map<const Eigen::VectorXd>(change.data(), x.size()) / (2 * step);
-  }
+  const Eigen::Matrix2Xi couplings = stiffnessCouplings(mesh, &field.cells());
+  const Eigen::MatrixXd exact = test::assembledStiffness(field, x, couplings, false);
+  const Eigen::MatrixXd gaussNewton = test::assembledStiffness(field, x, couplings, true);
+  const Eigen::MatrixXd differences = test::forceDerivative(field, x, 1e-7);
   const double scale = differences.cwiseAbs().maxCoeff();
   EXPECT_LT((exact - differences).cwiseAbs().maxCoeff(), 1e-6 * scale);
   EXPECT_LT((exact - exact.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
