@@ -7,7 +7,6 @@
 #include <string>
 
 #include "numerics/NodeBlockMatrix.h"
-#include "parallel/NodeRanges.h"
 #include "springs/VolumeForceField.h"
 
 namespace tissuesim {
@@ -109,6 +108,7 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
   }
 
   m_tetVolume_m3.setZero(tetCount);
+  m_gradientNorm_m2.setZero(nodeCount);
   m_tetGradient_m2.setZero(12, tetCount);
   for (Slot& slot : m_slots) {
     slot.starGradient_m2.setZero(3, static_cast<Eigen::Index>(m_starNode.size()));
@@ -198,6 +198,11 @@ void NodalVolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
                   0.25 * m_tetGradient_m2.block<3, 1>(3 * n, t);
             }
           }
+          if (pass.nodeStiffness != nullptr) {
+            m_gradientNorm_m2[a] =
+                slot.starGradient_m2.middleCols(m_starStart[u], m_starStart[u + 1] - m_starStart[u])
+                    .norm();
+          }
           const double inverse = m_inverseNodeRestVolume_1_m3[a];
           if (inverse == 0.0) {
             slot.pressure_Pa[a] = 0.0;
@@ -224,13 +229,8 @@ void NodalVolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
             const int a = m_starNode[static_cast<std::size_t>(e)];
             const auto g = slot.starGradient_m2.col(m_mirror[static_cast<std::size_t>(e)]);
             sum += slot.pressure_Pa[a] * g;
-            if (pass.nodeStiffness != nullptr) {
-              const auto star = static_cast<std::size_t>(a);
-              bound += kappa * m_inverseNodeRestVolume_1_m3[a] * g.norm() *
-                       slot.starGradient_m2
-                           .middleCols(m_starStart[star], m_starStart[star + 1] - m_starStart[star])
-                           .norm();
-            }
+            if (pass.nodeStiffness != nullptr)
+              bound += kappa * m_inverseNodeRestVolume_1_m3[a] * g.norm() * m_gradientNorm_m2[a];
           }
           f.col(j) -= sum;
           if (pass.nodeStiffness != nullptr) (*pass.nodeStiffness)[j] += bound;

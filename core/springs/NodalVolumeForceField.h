@@ -33,6 +33,7 @@
 
 #include "forces/ForceField.h"
 #include "parallel/ForkJoinPool.h"
+#include "parallel/NodeRanges.h"
 
 namespace tissuesim {
 
@@ -90,7 +91,8 @@ class NodalVolumeForceField final : public ForceField {
   mutable Eigen::VectorXd m_tetVolume_m3;                              ///< #T
   mutable Eigen::Matrix<double, 12, Eigen::Dynamic> m_tetGradient_m2;  ///< dV_t/dx, 12 by #T
   mutable std::array<int, kTetRanges> m_partInverted{};
-  mutable std::array<VolumeFieldReport, 4> m_rangeReport{};
+  mutable std::array<VolumeFieldReport, kNodeRanges> m_rangeReport{};
+  mutable Eigen::VectorXd m_gradientNorm_m2;  ///< #V, |g_a| (for the explicit integrator's bound)
   mutable std::array<Slot, 3> m_slots;  ///< current, trial; the third for a pass that keeps none
   mutable int m_current = 0;
   // Products: each part's nodes' stars' centres (sorted), and their s_a (#V each, by node).

@@ -90,6 +90,20 @@ TEST(NodalVolumeForceField, TheStiffnessIsTheForcesDerivativeInEveryForm) {
   EXPECT_LT((exact - exact.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
   EXPECT_GT((gaussNewton - differences).cwiseAbs().maxCoeff(), 1e-3 * scale);
 
+  // The explicit integrator's bound on each node's row of K holds the row (its norm, at most).
+  Eigen::VectorXd bound = Eigen::VectorXd::Zero(x.cols());
+  ForcePass boundPass;
+  boundPass.stiffness = StiffnessSlot::Current;
+  boundPass.nodeStiffness = &bound;
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+  ForceReport report;
+  field.addForces(x, f, boundPass, report);
+  for (Eigen::Index j = 0; j < x.cols(); ++j) {
+    const double row = gaussNewton.middleRows<3>(3 * j).norm();
+    EXPECT_GE(bound[j], (1 - 1e-12) * row) << "node " << j;
+    EXPECT_LT(bound[j], 20.0 * row) << "node " << j;
+  }
+
   // The products and the diagonal blocks read the last pass's slot: the Gauss-Newton one.
   const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(deformed.direction.data(), x.size());
   Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
