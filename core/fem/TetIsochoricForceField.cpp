@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/LU>
 
 #include "fem/IsochoricMaterialPoint.h"
+#include "mesh/TetMesh.h"
 #include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
 
@@ -102,45 +104,24 @@ TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPosit
     }
     m_gradients.block<3, 1>(0, t) = -sum;
   }
-  std::vector<int> count(static_cast<std::size_t>(nodeCount), 0);
-  for (Eigen::Index t = 0; t < tetCount; ++t) {
-    for (int a = 0; a < 4; ++a) ++count[static_cast<std::size_t>(tets(a, t))];
-  }
-  m_incidenceStart.assign(static_cast<std::size_t>(nodeCount) + 1, 0);
-  for (Eigen::Index j = 0; j < nodeCount; ++j) {
-    const auto u = static_cast<std::size_t>(j);
-    m_incidenceStart[u + 1] = m_incidenceStart[u] + count[u];
-  }
-  m_incidence.resize(static_cast<std::size_t>(4 * tetCount));
-  std::vector<int> next(m_incidenceStart.begin(), m_incidenceStart.end() - 1);
-  for (Eigen::Index t = 0; t < tetCount; ++t) {
-    for (int a = 0; a < 4; ++a) {
-      m_incidence[static_cast<std::size_t>(next[static_cast<std::size_t>(tets(a, t))]++)] =
-          static_cast<int>(4 * t + a);
-    }
-  }
-  // Each node's neighbours through its tets, and where each incidence's four blocks go.
-  m_rowStart.assign(static_cast<std::size_t>(nodeCount) + 1, 0);
-  std::vector<int> neighbours;
+  // Each node's tets, its neighbours through them (its row of K), and where each incidence's
+  // four blocks go.
+  NodeTetIncidence incidence = nodeTetIncidence(tets, nodeCount);
+  NodeStars neighbours = nodeStars(tets, incidence);
+  m_incidenceStart = std::move(incidence.start);
+  m_incidence = std::move(incidence.entries);
+  m_rowStart = std::move(neighbours.start);
+  m_rowNode = std::move(neighbours.nodes);
   m_incidenceSlot.resize(4 * m_incidence.size());
   for (Eigen::Index j = 0; j < nodeCount; ++j) {
     const auto u = static_cast<std::size_t>(j);
-    neighbours.clear();
-    for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
-      const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
-      for (int n = 0; n < 4; ++n) neighbours.push_back(tets(n, t));
-    }
-    std::sort(neighbours.begin(), neighbours.end());
-    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
-    const int first = static_cast<int>(m_rowNode.size());
-    m_rowNode.insert(m_rowNode.end(), neighbours.begin(), neighbours.end());
-    m_rowStart[u + 1] = static_cast<int>(m_rowNode.size());
+    const auto first = m_rowNode.begin() + m_rowStart[u];
+    const auto last = m_rowNode.begin() + m_rowStart[u + 1];
     for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
       const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
       for (int n = 0; n < 4; ++n) {
-        const auto at = std::lower_bound(neighbours.begin(), neighbours.end(), tets(n, t));
         m_incidenceSlot[4 * static_cast<std::size_t>(e) + static_cast<std::size_t>(n)] =
-            first + static_cast<int>(at - neighbours.begin());
+            static_cast<int>(std::lower_bound(first, last, tets(n, t)) - m_rowNode.begin());
       }
     }
   }

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 namespace tissuesim {
 
@@ -158,6 +159,44 @@ void validateTetMesh(const TetMesh& mesh, const std::string& name) {
       }
     }
   }
+}
+
+NodeTetIncidence nodeTetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount) {
+  const auto count = static_cast<std::size_t>(nodeCount);
+  NodeTetIncidence incidence;
+  incidence.start.assign(count + 1, 0);
+  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
+    for (int c = 0; c < 4; ++c) ++incidence.start[static_cast<std::size_t>(tets(c, t)) + 1];
+  }
+  for (std::size_t j = 0; j < count; ++j) incidence.start[j + 1] += incidence.start[j];
+  incidence.entries.resize(static_cast<std::size_t>(4 * tets.cols()));
+  std::vector<int> next(incidence.start.begin(), incidence.start.end() - 1);
+  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
+    for (int c = 0; c < 4; ++c) {
+      incidence.entries[static_cast<std::size_t>(next[static_cast<std::size_t>(tets(c, t))]++)] =
+          static_cast<int>(4 * t + c);
+    }
+  }
+  return incidence;
+}
+
+NodeStars nodeStars(const Eigen::Matrix4Xi& tets, const NodeTetIncidence& incidence) {
+  const std::size_t count = incidence.start.size() - 1;
+  NodeStars stars;
+  stars.start.assign(count + 1, 0);
+  std::vector<int> star;
+  for (std::size_t j = 0; j < count; ++j) {
+    star.assign(1, static_cast<int>(j));
+    for (int e = incidence.start[j]; e < incidence.start[j + 1]; ++e) {
+      const int t = incidence.entries[static_cast<std::size_t>(e)] / 4;
+      for (int n = 0; n < 4; ++n) star.push_back(tets(n, t));
+    }
+    std::sort(star.begin(), star.end());
+    star.erase(std::unique(star.begin(), star.end()), star.end());
+    stars.nodes.insert(stars.nodes.end(), star.begin(), star.end());
+    stars.start[j + 1] = static_cast<int>(stars.nodes.size());
+  }
+  return stars;
 }
 
 }  // namespace tissuesim

@@ -35,6 +35,42 @@ inline double signedTetVolume(const Eigen::Matrix3Xd& positions, const Eigen::Ma
                          positions.col(tets(2, t)), positions.col(tets(3, t)));
 }
 
+/// Signed volume of tet t of x (m^3) and its gradient into `gradient` (12 values: the 3 by 4
+/// column-major dV/dx_0 .. dV/dx_3, m^2): g_1 = (x_2 - x_0) x (x_3 - x_0) / 6 and cyclically,
+/// g_0 = -(g_1 + g_2 + g_3), V = (x_1 - x_0) . g_1.
+inline double signedTetVolumeGradient(const Eigen::Matrix3Xd& x, const Eigen::Matrix4Xi& tets,
+                                      Eigen::Index t, double* gradient) {
+  const Eigen::Vector3d origin = x.col(tets(0, t));
+  const Eigen::Vector3d e1 = x.col(tets(1, t)) - origin;
+  const Eigen::Vector3d e2 = x.col(tets(2, t)) - origin;
+  const Eigen::Vector3d e3 = x.col(tets(3, t)) - origin;
+  const Eigen::Vector3d g1 = e2.cross(e3) / 6.0;
+  const Eigen::Vector3d g2 = e3.cross(e1) / 6.0;
+  const Eigen::Vector3d g3 = e1.cross(e2) / 6.0;
+  Eigen::Map<Eigen::Matrix<double, 3, 4>> g(gradient);
+  g.col(0) = -(g1 + g2 + g3);
+  g.col(1) = g1;
+  g.col(2) = g2;
+  g.col(3) = g3;
+  return e1.dot(g1);
+}
+
+/// Each node's tets, as entries 4 t + c (c: the node's corner in tet t) in tet order, at
+/// entries[start[j] .. start[j + 1]) for node j (start: #V + 1).
+struct NodeTetIncidence {
+  std::vector<int> start;
+  std::vector<int> entries;
+};
+NodeTetIncidence nodeTetIncidence(const Eigen::Matrix4Xi& tets, Eigen::Index nodeCount);
+
+/// Each node's star: the nodes of its tets, itself among them, sorted, at
+/// nodes[start[j] .. start[j + 1]) (a node in no tet: itself alone).
+struct NodeStars {
+  std::vector<int> start;
+  std::vector<int> nodes;
+};
+NodeStars nodeStars(const Eigen::Matrix4Xi& tets, const NodeTetIncidence& incidence);
+
 /// What is wrong with a mesh's tets, for refusing or repairing it.
 struct TetQualityReport {
   std::vector<Eigen::Index> invertedTets;  ///< signed volume < 0

@@ -5,33 +5,13 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "mesh/TetMesh.h"
 #include "numerics/NodeBlockMatrix.h"
 #include "springs/VolumeForceField.h"
 
 namespace tissuesim {
-
-namespace {
-
-/// Tet t's signed volume at x (m^3) and its gradient (12: dV/dx_0 .. dV/dx_3, m^2).
-double tetVolumeAndGradient(const Eigen::Matrix3Xd& x, const Eigen::Matrix4Xi& tets, Eigen::Index t,
-                            double* gradient) {
-  const Eigen::Vector3d origin = x.col(tets(0, t));
-  const Eigen::Vector3d e1 = x.col(tets(1, t)) - origin;
-  const Eigen::Vector3d e2 = x.col(tets(2, t)) - origin;
-  const Eigen::Vector3d e3 = x.col(tets(3, t)) - origin;
-  const Eigen::Vector3d g1 = e2.cross(e3) / 6.0;
-  const Eigen::Vector3d g2 = e3.cross(e1) / 6.0;
-  const Eigen::Vector3d g3 = e1.cross(e2) / 6.0;
-  Eigen::Map<Eigen::Matrix<double, 3, 4>> g(gradient);
-  g.col(0) = -(g1 + g2 + g3);
-  g.col(1) = g1;
-  g.col(2) = g2;
-  g.col(3) = g3;
-  return e1.dot(g1);
-}
-
-}  // namespace
 
 NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositions_m,
                                              const Eigen::Matrix4Xi& tets, double bulkModulus_Pa)
@@ -45,7 +25,7 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
   Eigen::VectorXd restVolume_m3 = Eigen::VectorXd::Zero(nodeCount);
   double gradient[12];
   for (Eigen::Index t = 0; t < tetCount; ++t) {
-    const double volume = tetVolumeAndGradient(restPositions_m, tets, t, gradient);
+    const double volume = signedTetVolumeGradient(restPositions_m, tets, t, gradient);
     if (!(volume > 0.0)) {
       throw std::invalid_argument("tet " + std::to_string(t) +
                                   " is not positively oriented at rest");
@@ -58,36 +38,13 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
     m_inverseNodeRestVolume_1_m3[a] = restVolume_m3[a] > 0.0 ? 1.0 / restVolume_m3[a] : 0.0;
   }
 
-  // Incidence, tet by tet.
-  m_incidenceStart.assign(count + 1, 0);
-  for (Eigen::Index t = 0; t < tetCount; ++t) {
-    for (int c = 0; c < 4; ++c) ++m_incidenceStart[static_cast<std::size_t>(tets(c, t)) + 1];
-  }
-  for (std::size_t a = 0; a < count; ++a) m_incidenceStart[a + 1] += m_incidenceStart[a];
-  m_incidence.resize(static_cast<std::size_t>(4 * tetCount));
-  std::vector<int> next(m_incidenceStart.begin(), m_incidenceStart.end() - 1);
-  for (Eigen::Index t = 0; t < tetCount; ++t) {
-    for (int c = 0; c < 4; ++c) {
-      m_incidence[static_cast<std::size_t>(next[static_cast<std::size_t>(tets(c, t))]++)] =
-          static_cast<int>(4 * t + c);
-    }
-  }
-
-  // Stars: each node's tets' nodes, sorted.
-  m_starStart.assign(count + 1, 0);
-  std::vector<int> star;
-  for (std::size_t a = 0; a < count; ++a) {
-    star.clear();
-    for (int e = m_incidenceStart[a]; e < m_incidenceStart[a + 1]; ++e) {
-      const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
-      for (int n = 0; n < 4; ++n) star.push_back(tets(n, t));
-    }
-    if (star.empty()) star.push_back(static_cast<int>(a));
-    std::sort(star.begin(), star.end());
-    star.erase(std::unique(star.begin(), star.end()), star.end());
-    m_starNode.insert(m_starNode.end(), star.begin(), star.end());
-    m_starStart[a + 1] = static_cast<int>(m_starNode.size());
-  }
+  // Each node's tets and its star.
+  NodeTetIncidence incidence = nodeTetIncidence(tets, nodeCount);
+  NodeStars stars = nodeStars(tets, incidence);
+  m_incidenceStart = std::move(incidence.start);
+  m_incidence = std::move(incidence.entries);
+  m_starStart = std::move(stars.start);
+  m_starNode = std::move(stars.nodes);
   const auto entryOf = [&](int a, int b) {
     const auto first = m_starNode.begin() + m_starStart[static_cast<std::size_t>(a)];
     const auto last = m_starNode.begin() + m_starStart[static_cast<std::size_t>(a) + 1];
@@ -144,7 +101,7 @@ double NodalVolumeForceField::energy(const Eigen::Matrix3Xd& x) const {
   Eigen::VectorXd volume_m3 = Eigen::VectorXd::Zero(x.cols());
   double gradient[12];
   for (Eigen::Index t = 0; t < m_tets.cols(); ++t) {
-    const double v = tetVolumeAndGradient(x, m_tets, t, gradient);
+    const double v = signedTetVolumeGradient(x, m_tets, t, gradient);
     for (int c = 0; c < 4; ++c) volume_m3[m_tets(c, t)] += 0.25 * v;
   }
   double total = 0.0;
@@ -164,7 +121,7 @@ void NodalVolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
     int inverted = 0;
     for (Eigen::Index t = tetCount * part / kTetRanges; t < tetCount * (part + 1) / kTetRanges;
          ++t) {
-      const double v = tetVolumeAndGradient(x, m_tets, t, m_tetGradient_m2.col(t).data());
+      const double v = signedTetVolumeGradient(x, m_tets, t, m_tetGradient_m2.col(t).data());
       m_tetVolume_m3[t] = v;
       if (!(v > 0.0)) ++inverted;
     }
@@ -249,7 +206,7 @@ void NodalVolumeForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) 
 }
 
 void NodalVolumeForceField::prepareProducts(const PartBounds& bounds) {
-  if (bounds == m_bounds && !m_partStars[0].empty()) return;
+  if (bounds == m_bounds) return;
   m_bounds = bounds;
   const auto nodeCount = static_cast<Eigen::Index>(m_starStart.size()) - 1;
   for (std::size_t p = 0; p < static_cast<std::size_t>(kParts); ++p) {

@@ -224,26 +224,15 @@ VolumeFieldReport VolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::
         for (int k = m_cells.tetStart[static_cast<std::size_t>(c)];
              k < m_cells.tetStart[static_cast<std::size_t>(c) + 1]; ++k) {
           const int t = m_cells.tets[static_cast<std::size_t>(k)];
-          const Eigen::Vector3d a = x.col(m_mesh.tets(0, t));
-          const Eigen::Vector3d ab = x.col(m_mesh.tets(1, t)) - a;
-          const Eigen::Vector3d ac = x.col(m_mesh.tets(2, t)) - a;
-          const Eigen::Vector3d ad = x.col(m_mesh.tets(3, t)) - a;
-          const Eigen::Vector3d g1 = ac.cross(ad) / 6.0;
-          const Eigen::Vector3d g2 = ad.cross(ab) / 6.0;
-          const Eigen::Vector3d g3 = ab.cross(ac) / 6.0;
-          const Eigen::Vector3d g0 = -(g1 + g2 + g3);
-          const double tetVolume = ab.dot(g1);  // V = (x_b - x_a) . g_b
+          Eigen::Matrix<double, 3, 4> tetGradient;
+          const double tetVolume = signedTetVolumeGradient(x, m_mesh.tets, t, tetGradient.data());
           volume += tetVolume;
-          const auto addAt = [&](int i, const Eigen::Vector3d& gi) {
+          for (int i = 0; i < 4; ++i) {
             const auto slot = static_cast<std::size_t>(m_cells.tetSlots(i, t));
-            gx[slot] += gi.x();
-            gy[slot] += gi.y();
-            gz[slot] += gi.z();
-          };
-          addAt(0, g0);
-          addAt(1, g1);
-          addAt(2, g2);
-          addAt(3, g3);
+            gx[slot] += tetGradient(0, i);
+            gy[slot] += tetGradient(1, i);
+            gz[slot] += tetGradient(2, i);
+          }
           report.invertedTetCount += tetVolume <= 0.0 ? 1 : 0;
           if (tetVolume < m_guardVolume_m3[static_cast<std::size_t>(k)]) guarded.push_back(t);
         }

@@ -116,6 +116,8 @@ class VolumeForceField final : public ForceField {
   /// the same, only the path to it shorter.
   void addPreconditionerBlock(Eigen::Index j, Eigen::Matrix3d& block) const override;
   void addStiffness(NodeBlockMatrix& matrix) const override;
+  /// The node pairs that share a cell.
+  Eigen::Matrix2Xi couplings() const override { return m_cells.nodePairs(); }
 
  private:
   /// addDiagonalBlock's sum, each cell's part weighed by sqrt(n) when IsWeighed.

@@ -31,21 +31,19 @@ void MechanicalSystem::prepareProducts(const ForceField::PartBounds& bounds) {
 }
 
 NodeBlockMatrix MechanicalSystem::makeMatrix() const {
-  std::vector<Eigen::Matrix2Xi> others;
-  if (m_volume) others.push_back(m_volume->cells().nodePairs());
+  std::vector<Eigen::Matrix2Xi> fieldPairs;
   Eigen::Index count = 0;
   for (const ForceField* field : m_fields) {
-    if (field == m_volume) continue;
-    others.push_back(field->couplings());
+    fieldPairs.push_back(field->couplings());
+    count += fieldPairs.back().cols();
   }
-  for (const Eigen::Matrix2Xi& pairs : others) count += pairs.cols();
-  Eigen::Matrix2Xi all(2, count);
+  Eigen::Matrix2Xi pairs(2, count);
   count = 0;
-  for (const Eigen::Matrix2Xi& pairs : others) {
-    all.middleCols(count, pairs.cols()) = pairs;
-    count += pairs.cols();
+  for (const Eigen::Matrix2Xi& each : fieldPairs) {
+    pairs.middleCols(count, each.cols()) = each;
+    count += each.cols();
   }
-  return NodeBlockMatrix(mesh().nodeCount(), stiffnessCouplings(mesh(), all));
+  return NodeBlockMatrix(mesh().nodeCount(), stiffnessCouplings(mesh(), pairs));
 }
 
 MechanicalState MechanicalSystem::restState() const {

@@ -86,8 +86,9 @@ class MechanicalSystem {
   void assembleStiffness(NodeBlockMatrix& matrix) const;
 
   /// A matrix with this system's pattern: the springs' edges (first, in order), then the node
-  /// pairs a volume cell joins that no spring does, plus the diagonal (a contact's nodes are a
-  /// tet's, joined by springs).
+  /// pairs its fields couple that no spring joins (ForceField::couplings: a volume cell's, a
+  /// nodal volume term's star), plus the diagonal (a contact's nodes are a tet's, joined by
+  /// springs).
   NodeBlockMatrix makeMatrix() const;
 
   /// Total energy (J) at a state: kinetic plus every field's (springs without softening).
