@@ -85,6 +85,7 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
   // A refused step leaves the time, and so the probe, where it was: count attempts, not steps.
   const long attemptLimit =
       2 * static_cast<long>(std::ceil(travel_m / speed_m_s / simulation.timeStep_s()));
+  const auto stepping = std::chrono::steady_clock::now();
   for (long attempt = 0; poke.force_N.size() < depths_m.size(); ++attempt) {
     if (attempt > attemptLimit) {
       throw CommandError("the simulator of " + scene.source.string() + " did not reach " +
@@ -92,6 +93,7 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
                          std::to_string(simulation.eventCount()) + " instability events)");
     }
     const StepOutcome outcome = simulation.step();
+    ++poke.steps;
     const double depth = (simulation.instrumentPose().tip_m - entry).dot(tool.direction);
     const double force = -outcome.contact.toolForce_N.dot(tool.direction);
     while (poke.force_N.size() < depths_m.size() && depth >= depths_m[poke.force_N.size()]) {
@@ -102,9 +104,11 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
     lastDepth = depth;
     lastForce = force;
   }
+  const auto end = std::chrono::steady_clock::now();
+  poke.stepping_s = std::chrono::duration<double>(end - stepping).count();
   poke.events = static_cast<long>(simulation.eventCount());
   poke.eventKinds = eventKindSummary(simulation.events());
-  poke.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  poke.seconds = std::chrono::duration<double>(end - start).count();
   return poke;
 }
 

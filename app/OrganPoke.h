@@ -34,6 +34,8 @@ std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& 
 struct SimulatorPoke {
   std::vector<double> force_N;  ///< along the axis, at each depth
   double seconds = 0.0;         ///< wall time, start-up included
+  long steps = 0;               ///< steps taken (refused ones included)
+  double stepping_s = 0.0;      ///< wall time of the steps alone: stepping_s / steps a step
   long events = 0;              ///< instability events
   /// The kinds of the events the simulation kept (its first 100), with counts
   /// (eventKindSummary).

@@ -132,8 +132,11 @@ void runOrganPoke(const OrganPokeOptions& options) {
     const SimulatorPoke poke = pokeSimulator(row.scene, depths_m, options.speed_mm_s / 1000.0);
     const std::vector<double>& simulator = poke.force_N;
     const std::string kinds = poke.eventKinds.empty() ? "" : " (" + poke.eventKinds + ")";
-    std::fprintf(stderr, "simulator (%s): %.1f s, %ld instability events%s, the probe at %g mm/s\n",
-                 row.mesh.c_str(), poke.seconds, poke.events, kinds.c_str(), options.speed_mm_s);
+    std::fprintf(stderr,
+                 "simulator (%s): %.1f s, %ld steps at %.3g ms a step, %ld instability events%s, "
+                 "the probe at %g mm/s\n",
+                 row.mesh.c_str(), poke.seconds, poke.steps, 1e3 * poke.stepping_s / poke.steps,
+                 poke.events, kinds.c_str(), options.speed_mm_s);
     for (std::size_t d = 0; d < depths_m.size(); ++d) {
       const double error = 100.0 * (simulator[d] / femForce_N[d] - 1.0);
       std::fprintf(stderr, "%5.1f mm: fem %.4f N, simulator %.4f N (%+.0f %%)\n",

@@ -77,6 +77,12 @@ TEST(OrganPoke, TheMapsLiverPokeIsOrganPokesSimulatorAndIsMeasuredOnceForAnyThre
   const SimulatorPoke poke =
       pokeSimulator(lattice, settings.organDepths_m, settings.organSpeed_m_s);
   EXPECT_EQ(poke.force_N, twoThreads.organForce_N);
+  // Its steps: at least those from 1 mm above the surface to the deepest depth, timed apart from
+  // the start-up.
+  EXPECT_GE(static_cast<double>(poke.steps),
+            (0.001 + settings.organDepths_m.back()) / settings.organSpeed_m_s / lattice.timeStep_s);
+  EXPECT_GT(poke.stepping_s, 0.0);
+  EXPECT_LT(poke.stepping_s, poke.seconds);
 }
 
 }  // namespace
