@@ -68,6 +68,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
   double minVolumeRatio = 1.0;
   double maxVolumeRatio = 1.0;
   long linearIterations = 0;
+  long newtonIterations = 0;
   long badSteps = 0;
   const auto start = std::chrono::steady_clock::now();
   for (long n = 0; n < steps; ++n) {
@@ -80,6 +81,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
     minVolumeRatio = std::min(minVolumeRatio, outcome.integrator.forces.volume.minVolumeRatio);
     maxVolumeRatio = std::max(maxVolumeRatio, outcome.integrator.forces.volume.maxVolumeRatio);
     linearIterations += outcome.integrator.linearIterations;
+    newtonIterations += outcome.integrator.iterations;
     badSteps += outcome.isGood ? 0 : 1;
     if (exporter && simulation->time_s() >= nextExport_s) exportFrame();
     if (outputs.afterStep) outputs.afterStep(n);
@@ -108,6 +110,10 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
   }
   report["cg_products_per_step"] =
       steps > 0 ? static_cast<double>(linearIterations) / static_cast<double>(steps) : 0.0;
+  // Past the scene's newton_iterations where a step's residual stays above an event's (the
+  // real-time integrator's extra iterations): the cost of a stiff or finely meshed scene.
+  report["newton_iterations_per_step"] =
+      steps > 0 ? static_cast<double>(newtonIterations) / static_cast<double>(steps) : 0.0;
   report["model"] = scene.model;
   report["springs"] = simulation->springMesh().springCount();
   report["tets"] = simulation->geometry().mesh.tetCount();

@@ -51,6 +51,12 @@ TEST(Replay, ARecordedRunReplaysToTheSameReport) {
               1e-9);
   EXPECT_GT(assessment.at("tool_path_length_mm").get<double>(), 10.0);
   EXPECT_GT(assessment.at("contact_time_s").get<double>(), 0.0);
+  // The implicit step's work: the scene's one Newton iteration a step where the step does not
+  // start in balance, at most eight extra ones more, each taking at least one CG product.
+  const double newton = run.at("newton_iterations_per_step").get<double>();
+  EXPECT_GT(newton, 0.5);
+  EXPECT_LE(newton, 9.0);
+  EXPECT_GE(run.at("cg_products_per_step").get<double>(), newton);
   for (const char* timing : {"physics_hz", "realtime_factor", "wall_seconds"}) {
     ASSERT_TRUE(run.contains(timing));
     run.erase(timing);
