@@ -4,6 +4,7 @@
 # (Debian's gmsh package): ./make-liver-fem.sh OUTPUT.msh [GMSH OPTIONS], e.g.
 #   ./make-liver-fem.sh liver-fem.msh
 #   ./make-liver-fem.sh liver-fem-fine.msh -setnumber finest 0.0005
+#   ./make-liver-fem.sh graded.msh -setnumber finest 0.001 -setnumber growth 0.1 -setnumber coarsest 0.006
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 output=$1
