@@ -110,8 +110,8 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
   }
   report["cg_products_per_step"] =
       steps > 0 ? static_cast<double>(linearIterations) / static_cast<double>(steps) : 0.0;
-  // Past the scene's newton_iterations where a step's residual stays above an event's (the
-  // real-time integrator's extra iterations): the cost of a stiff or finely meshed scene.
+  // The real-time integrator's extra iterations included (taken where a step's residual stays
+  // above an event's): where a stiff or finely meshed scene's steps spend their time.
   report["newton_iterations_per_step"] =
       steps > 0 ? static_cast<double>(newtonIterations) / static_cast<double>(steps) : 0.0;
   report["model"] = scene.model;
