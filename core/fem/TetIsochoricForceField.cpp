@@ -106,28 +106,25 @@ TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPosit
   }
   // Each node's tets, its neighbours through them (its row of K), and where each incidence's
   // four blocks go.
-  NodeTetIncidence incidence = nodeTetIncidence(tets, nodeCount);
-  NodeStars neighbours = nodeStars(tets, incidence);
-  m_incidenceStart = std::move(incidence.start);
-  m_incidence = std::move(incidence.entries);
-  m_rowStart = std::move(neighbours.start);
-  m_rowNode = std::move(neighbours.nodes);
-  m_incidenceSlot.resize(4 * m_incidence.size());
+  m_tetsOfNode = nodeTetIncidence(tets, nodeCount);
+  m_neighbours = nodeStars(tets, m_tetsOfNode);
+  m_incidenceSlot.resize(4 * m_tetsOfNode.entries.size());
   for (Eigen::Index j = 0; j < nodeCount; ++j) {
     const auto u = static_cast<std::size_t>(j);
-    const auto first = m_rowNode.begin() + m_rowStart[u];
-    const auto last = m_rowNode.begin() + m_rowStart[u + 1];
-    for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
-      const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
+    const auto first = m_neighbours.nodes.begin() + m_neighbours.start[u];
+    const auto last = m_neighbours.nodes.begin() + m_neighbours.start[u + 1];
+    for (int e = m_tetsOfNode.start[u]; e < m_tetsOfNode.start[u + 1]; ++e) {
+      const int t = m_tetsOfNode.entries[static_cast<std::size_t>(e)] / 4;
       for (int n = 0; n < 4; ++n) {
         m_incidenceSlot[4 * static_cast<std::size_t>(e) + static_cast<std::size_t>(n)] =
-            static_cast<int>(std::lower_bound(first, last, tets(n, t)) - m_rowNode.begin());
+            static_cast<int>(std::lower_bound(first, last, tets(n, t)) -
+                             m_neighbours.nodes.begin());
       }
     }
   }
   m_tetForces_N.setZero(12, tetCount);
   m_tetStiffness.setZero(144, tetCount);
-  const auto entries = static_cast<Eigen::Index>(m_rowNode.size());
+  const auto entries = static_cast<Eigen::Index>(m_neighbours.nodes.size());
   m_rows[0].setZero(9, entries);
   m_rows[1].setZero(9, entries);
   for (Eigen::Index p = 0; p <= kParts; ++p) {
@@ -221,11 +218,13 @@ void TetIsochoricForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       double bound = 0.0;
       if (rowBlocks != nullptr) {
-        rowBlocks->middleCols(m_rowStart[u], m_rowStart[u + 1] - m_rowStart[u]).setZero();
+        rowBlocks
+            ->middleCols(m_neighbours.start[u], m_neighbours.start[u + 1] - m_neighbours.start[u])
+            .setZero();
       }
-      for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
-        const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
-        const int a = m_incidence[static_cast<std::size_t>(e)] % 4;
+      for (int e = m_tetsOfNode.start[u]; e < m_tetsOfNode.start[u + 1]; ++e) {
+        const int t = m_tetsOfNode.entries[static_cast<std::size_t>(e)] / 4;
+        const int a = m_tetsOfNode.entries[static_cast<std::size_t>(e)] % 4;
         sum += m_tetForces_N.block<3, 1>(3 * a, t);
         const Eigen::Map<const Matrix12d> kt(k.col(t).data());
         if (pass.nodeStiffness != nullptr) bound += kt.norm();
@@ -248,8 +247,8 @@ void TetIsochoricForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3
 }
 
 void TetIsochoricForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
-  for (std::size_t j = 0; j + 1 < m_rowStart.size(); ++j) {
-    nodeWork[j] += 9 * (m_rowStart[j + 1] - m_rowStart[j]);
+  for (std::size_t j = 0; j + 1 < m_neighbours.start.size(); ++j) {
+    nodeWork[j] += 9 * (m_neighbours.start[j + 1] - m_neighbours.start[j]);
   }
 }
 
@@ -259,9 +258,10 @@ void TetIsochoricForceField::addStiffnessProduct(int part, const double* x, doub
   for (Eigen::Index j = m_bounds[p]; j < m_bounds[p + 1]; ++j) {
     const auto u = static_cast<std::size_t>(j);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int e = m_rowStart[u]; e < m_rowStart[u + 1]; ++e) {
+    for (int e = m_neighbours.start[u]; e < m_neighbours.start[u + 1]; ++e) {
       sum += Eigen::Map<const Eigen::Matrix3d>(blocks.col(e).data()) *
-             Eigen::Map<const Eigen::Vector3d>(x + 3 * m_rowNode[static_cast<std::size_t>(e)]);
+             Eigen::Map<const Eigen::Vector3d>(x +
+                                               3 * m_neighbours.nodes[static_cast<std::size_t>(e)]);
     }
     Eigen::Map<Eigen::Vector3d>(y + 3 * j) += sum;
   }
@@ -269,18 +269,18 @@ void TetIsochoricForceField::addStiffnessProduct(int part, const double* x, doub
 
 void TetIsochoricForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
   const auto u = static_cast<std::size_t>(j);
-  const auto first = m_rowNode.begin() + m_rowStart[u];
-  const auto last = m_rowNode.begin() + m_rowStart[u + 1];
+  const auto first = m_neighbours.nodes.begin() + m_neighbours.start[u];
+  const auto last = m_neighbours.nodes.begin() + m_neighbours.start[u + 1];
   const auto self = std::lower_bound(first, last, static_cast<int>(j));
   block += Eigen::Map<const Eigen::Matrix3d>(
-      currentRows().col(static_cast<Eigen::Index>(self - m_rowNode.begin())).data());
+      currentRows().col(static_cast<Eigen::Index>(self - m_neighbours.nodes.begin())).data());
 }
 
 void TetIsochoricForceField::addStiffness(NodeBlockMatrix& matrix) const {
   const RowBlocks& blocks = currentRows();
-  for (std::size_t j = 0; j + 1 < m_rowStart.size(); ++j) {
-    for (int e = m_rowStart[j]; e < m_rowStart[j + 1]; ++e) {
-      matrix.addBlock(static_cast<int>(j), m_rowNode[static_cast<std::size_t>(e)],
+  for (std::size_t j = 0; j + 1 < m_neighbours.start.size(); ++j) {
+    for (int e = m_neighbours.start[j]; e < m_neighbours.start[j + 1]; ++e) {
+      matrix.addBlock(static_cast<int>(j), m_neighbours.nodes[static_cast<std::size_t>(e)],
                       Eigen::Map<const Eigen::Matrix3d>(blocks.col(e).data()));
     }
   }

@@ -33,6 +33,7 @@
 
 #include "forces/ForceField.h"
 #include "material/StrainEnergy.h"
+#include "mesh/TetMesh.h"
 #include "parallel/ForkJoinPool.h"
 
 namespace tissuesim {
@@ -77,12 +78,10 @@ class TetIsochoricForceField final : public ForceField {
   double m_limitShift = 0.0;  ///< I1bar - 3 at the end of the usable range
   Eigen::Matrix<double, 12, Eigen::Dynamic> m_gradients;  ///< g_a of each tet (1/m)
   Eigen::VectorXd m_restVolume_m3;
-  std::vector<int> m_incidenceStart;  ///< #V + 1 into m_incidence
-  std::vector<int> m_incidence;       ///< 4 t + a for each tet t that holds the node as a
-  // K by node rows: node j's neighbours (j among them, sorted) m_rowNode[m_rowStart[j] ..
-  // m_rowStart[j + 1]), and the K_(j n) block of each in m_rows' column of the same index.
-  std::vector<int> m_rowStart;
-  std::vector<int> m_rowNode;
+  NodeTetIncidence m_tetsOfNode;  ///< entries: 4 t + a for each tet t that holds the node as a
+  // K by node rows: node j's neighbours (j among them, sorted) m_neighbours.nodes[start[j] ..
+  // start[j + 1]), and the K_(j n) block of each in m_rows' column of the same index.
+  NodeStars m_neighbours;
   std::vector<int> m_incidenceSlot;  ///< 4 per incidence: the row entry of the tet's node n
   ForkJoinPool* m_pool = nullptr;
   PartBounds m_bounds{};

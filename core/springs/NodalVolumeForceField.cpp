@@ -39,22 +39,18 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
   }
 
   // Each node's tets and its star.
-  NodeTetIncidence incidence = nodeTetIncidence(tets, nodeCount);
-  NodeStars stars = nodeStars(tets, incidence);
-  m_incidenceStart = std::move(incidence.start);
-  m_incidence = std::move(incidence.entries);
-  m_starStart = std::move(stars.start);
-  m_starNode = std::move(stars.nodes);
+  m_tetsOfNode = nodeTetIncidence(tets, nodeCount);
+  m_stars = nodeStars(tets, m_tetsOfNode);
   const auto entryOf = [&](int a, int b) {
-    const auto first = m_starNode.begin() + m_starStart[static_cast<std::size_t>(a)];
-    const auto last = m_starNode.begin() + m_starStart[static_cast<std::size_t>(a) + 1];
-    return static_cast<int>(std::lower_bound(first, last, b) - m_starNode.begin());
+    const auto first = m_stars.nodes.begin() + m_stars.start[static_cast<std::size_t>(a)];
+    const auto last = m_stars.nodes.begin() + m_stars.start[static_cast<std::size_t>(a) + 1];
+    return static_cast<int>(std::lower_bound(first, last, b) - m_stars.nodes.begin());
   };
-  m_mirror.resize(m_starNode.size());
+  m_mirror.resize(m_stars.nodes.size());
   for (std::size_t a = 0; a < count; ++a) {
-    for (int e = m_starStart[a]; e < m_starStart[a + 1]; ++e) {
+    for (int e = m_stars.start[a]; e < m_stars.start[a + 1]; ++e) {
       m_mirror[static_cast<std::size_t>(e)] =
-          entryOf(m_starNode[static_cast<std::size_t>(e)], static_cast<int>(a));
+          entryOf(m_stars.nodes[static_cast<std::size_t>(e)], static_cast<int>(a));
     }
   }
   m_tetStarEntry.resize(16, tetCount);
@@ -68,7 +64,7 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
   m_gradientNorm_m2.setZero(nodeCount);
   m_tetGradient_m2.setZero(12, tetCount);
   for (Slot& slot : m_slots) {
-    slot.starGradient_m2.setZero(3, static_cast<Eigen::Index>(m_starNode.size()));
+    slot.starGradient_m2.setZero(3, static_cast<Eigen::Index>(m_stars.nodes.size()));
     slot.pressure_Pa.setZero(nodeCount);
     slot.positions_m.setZero(3, nodeCount);
   }
@@ -79,11 +75,12 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
 
 Eigen::Matrix2Xi NodalVolumeForceField::couplings() const {
   std::vector<std::uint64_t> keys;
-  for (std::size_t a = 0; a + 1 < m_starStart.size(); ++a) {
-    for (int e = m_starStart[a]; e < m_starStart[a + 1]; ++e) {
-      for (int f = e + 1; f < m_starStart[a + 1]; ++f) {
-        keys.push_back(static_cast<std::uint64_t>(m_starNode[static_cast<std::size_t>(e)]) << 32 |
-                       static_cast<std::uint64_t>(m_starNode[static_cast<std::size_t>(f)]));
+  for (std::size_t a = 0; a + 1 < m_stars.start.size(); ++a) {
+    for (int e = m_stars.start[a]; e < m_stars.start[a + 1]; ++e) {
+      for (int f = e + 1; f < m_stars.start[a + 1]; ++f) {
+        keys.push_back(static_cast<std::uint64_t>(m_stars.nodes[static_cast<std::size_t>(e)])
+                           << 32 |
+                       static_cast<std::uint64_t>(m_stars.nodes[static_cast<std::size_t>(f)]));
       }
     }
   }
@@ -143,12 +140,12 @@ void NodalVolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
         VolumeFieldReport seen;
         for (Eigen::Index a = begin; a < end; ++a) {
           const auto u = static_cast<std::size_t>(a);
-          slot.starGradient_m2.middleCols(m_starStart[u], m_starStart[u + 1] - m_starStart[u])
+          slot.starGradient_m2.middleCols(m_stars.start[u], m_stars.start[u + 1] - m_stars.start[u])
               .setZero();
           double volume = 0.0;
-          for (int e = m_incidenceStart[u]; e < m_incidenceStart[u + 1]; ++e) {
-            const int t = m_incidence[static_cast<std::size_t>(e)] / 4;
-            const int c = m_incidence[static_cast<std::size_t>(e)] % 4;
+          for (int e = m_tetsOfNode.start[u]; e < m_tetsOfNode.start[u + 1]; ++e) {
+            const int t = m_tetsOfNode.entries[static_cast<std::size_t>(e)] / 4;
+            const int c = m_tetsOfNode.entries[static_cast<std::size_t>(e)] % 4;
             volume += 0.25 * m_tetVolume_m3[t];
             for (int n = 0; n < 4; ++n) {
               slot.starGradient_m2.col(m_tetStarEntry(4 * c + n, t)) +=
@@ -157,7 +154,8 @@ void NodalVolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
           }
           if (pass.nodeStiffness != nullptr) {
             m_gradientNorm_m2[a] =
-                slot.starGradient_m2.middleCols(m_starStart[u], m_starStart[u + 1] - m_starStart[u])
+                slot.starGradient_m2
+                    .middleCols(m_stars.start[u], m_stars.start[u + 1] - m_stars.start[u])
                     .norm();
           }
           const double inverse = m_inverseNodeRestVolume_1_m3[a];
@@ -182,8 +180,8 @@ void NodalVolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
           const auto u = static_cast<std::size_t>(j);
           Eigen::Vector3d sum = Eigen::Vector3d::Zero();
           double bound = 0.0;
-          for (int e = m_starStart[u]; e < m_starStart[u + 1]; ++e) {
-            const int a = m_starNode[static_cast<std::size_t>(e)];
+          for (int e = m_stars.start[u]; e < m_stars.start[u + 1]; ++e) {
+            const int a = m_stars.nodes[static_cast<std::size_t>(e)];
             const auto g = slot.starGradient_m2.col(m_mirror[static_cast<std::size_t>(e)]);
             sum += slot.pressure_Pa[a] * g;
             if (pass.nodeStiffness != nullptr)
@@ -200,22 +198,22 @@ void NodalVolumeForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3X
 }
 
 void NodalVolumeForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
-  for (std::size_t j = 0; j + 1 < m_starStart.size(); ++j) {
-    nodeWork[j] += 12 * (m_starStart[j + 1] - m_starStart[j]);
+  for (std::size_t j = 0; j + 1 < m_stars.start.size(); ++j) {
+    nodeWork[j] += 12 * (m_stars.start[j + 1] - m_stars.start[j]);
   }
 }
 
 void NodalVolumeForceField::prepareProducts(const PartBounds& bounds) {
   if (bounds == m_bounds) return;
   m_bounds = bounds;
-  const auto nodeCount = static_cast<Eigen::Index>(m_starStart.size()) - 1;
+  const auto nodeCount = static_cast<Eigen::Index>(m_stars.start.size()) - 1;
   for (std::size_t p = 0; p < static_cast<std::size_t>(kParts); ++p) {
     std::vector<int>& centres = m_partStars[p];
     centres.clear();
     for (Eigen::Index j = bounds[p]; j < bounds[p + 1]; ++j) {
       const auto u = static_cast<std::size_t>(j);
-      centres.insert(centres.end(), m_starNode.begin() + m_starStart[u],
-                     m_starNode.begin() + m_starStart[u + 1]);
+      centres.insert(centres.end(), m_stars.nodes.begin() + m_stars.start[u],
+                     m_stars.nodes.begin() + m_stars.start[u + 1]);
     }
     std::sort(centres.begin(), centres.end());
     centres.erase(std::unique(centres.begin(), centres.end()), centres.end());
@@ -231,17 +229,17 @@ void NodalVolumeForceField::addStiffnessProduct(int part, const double* x, doubl
   for (const int a : m_partStars[p]) {
     const auto u = static_cast<std::size_t>(a);
     double dot = 0.0;
-    for (int e = m_starStart[u]; e < m_starStart[u + 1]; ++e) {
+    for (int e = m_stars.start[u]; e < m_stars.start[u + 1]; ++e) {
       dot += slot.starGradient_m2.col(e).dot(
-          Eigen::Map<const Eigen::Vector3d>(x + 3 * m_starNode[static_cast<std::size_t>(e)]));
+          Eigen::Map<const Eigen::Vector3d>(x + 3 * m_stars.nodes[static_cast<std::size_t>(e)]));
     }
     projection[a] = m_bulkModulus_Pa * m_inverseNodeRestVolume_1_m3[a] * dot;
   }
   for (Eigen::Index j = m_bounds[p]; j < m_bounds[p + 1]; ++j) {
     const auto u = static_cast<std::size_t>(j);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int e = m_starStart[u]; e < m_starStart[u + 1]; ++e) {
-      sum += projection[m_starNode[static_cast<std::size_t>(e)]] *
+    for (int e = m_stars.start[u]; e < m_stars.start[u + 1]; ++e) {
+      sum += projection[m_stars.nodes[static_cast<std::size_t>(e)]] *
              slot.starGradient_m2.col(m_mirror[static_cast<std::size_t>(e)]);
     }
     Eigen::Map<Eigen::Vector3d>(y + 3 * j) += sum;
@@ -251,8 +249,8 @@ void NodalVolumeForceField::addStiffnessProduct(int part, const double* x, doubl
 void NodalVolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
   const Slot& slot = currentSlot();
   const auto u = static_cast<std::size_t>(j);
-  for (int e = m_starStart[u]; e < m_starStart[u + 1]; ++e) {
-    const int a = m_starNode[static_cast<std::size_t>(e)];
+  for (int e = m_stars.start[u]; e < m_stars.start[u + 1]; ++e) {
+    const int a = m_stars.nodes[static_cast<std::size_t>(e)];
     const Eigen::Vector3d g = slot.starGradient_m2.col(m_mirror[static_cast<std::size_t>(e)]);
     block += (m_bulkModulus_Pa * m_inverseNodeRestVolume_1_m3[a]) * g * g.transpose();
   }
@@ -260,13 +258,13 @@ void NodalVolumeForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& bl
 
 void NodalVolumeForceField::addStiffness(NodeBlockMatrix& matrix) const {
   const Slot& slot = currentSlot();
-  for (std::size_t a = 0; a + 1 < m_starStart.size(); ++a) {
+  for (std::size_t a = 0; a + 1 < m_stars.start.size(); ++a) {
     const double k = m_bulkModulus_Pa * m_inverseNodeRestVolume_1_m3[static_cast<Eigen::Index>(a)];
     if (k == 0.0) continue;
-    for (int e = m_starStart[a]; e < m_starStart[a + 1]; ++e) {
-      for (int f = m_starStart[a]; f < m_starStart[a + 1]; ++f) {
-        matrix.addBlock(m_starNode[static_cast<std::size_t>(e)],
-                        m_starNode[static_cast<std::size_t>(f)],
+    for (int e = m_stars.start[a]; e < m_stars.start[a + 1]; ++e) {
+      for (int f = m_stars.start[a]; f < m_stars.start[a + 1]; ++f) {
+        matrix.addBlock(m_stars.nodes[static_cast<std::size_t>(e)],
+                        m_stars.nodes[static_cast<std::size_t>(f)],
                         k * slot.starGradient_m2.col(e) * slot.starGradient_m2.col(f).transpose());
       }
     }

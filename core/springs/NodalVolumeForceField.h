@@ -32,6 +32,7 @@
 #include <Eigen/Core>
 
 #include "forces/ForceField.h"
+#include "mesh/TetMesh.h"
 #include "parallel/ForkJoinPool.h"
 #include "parallel/NodeRanges.h"
 
@@ -76,14 +77,12 @@ class NodalVolumeForceField final : public ForceField {
   double m_bulkModulus_Pa;
   ForkJoinPool* m_pool = nullptr;
   Eigen::VectorXd m_inverseNodeRestVolume_1_m3;  ///< #V, 1 / V0_a
-  // Node a's star: its nodes (sorted, a among them) at m_starNode[m_starStart[a] ..
-  // m_starStart[a + 1]). m_mirror[e]: for entry e (node b in a's star), the entry of a in b's.
-  std::vector<int> m_starStart;
-  std::vector<int> m_starNode;
+  // Node a's star: its nodes (sorted, a among them) at m_stars.nodes[start[a] .. start[a + 1]).
+  // m_mirror[e]: for entry e (node b in a's star), the entry of a in b's.
+  NodeStars m_stars;
   std::vector<int> m_mirror;
   // Node a's tets: 4 t + (a's corner in t), in tet order.
-  std::vector<int> m_incidenceStart;
-  std::vector<int> m_incidence;
+  NodeTetIncidence m_tetsOfNode;
   /// For tet t, corner c's star entry of corner n at (4 c + n, t).
   Eigen::Matrix<int, 16, Eigen::Dynamic> m_tetStarEntry;
 
