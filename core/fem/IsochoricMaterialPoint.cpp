@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "fem/IsochoricMaterialPoint.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -97,6 +98,51 @@ StressTangent projectedIsochoricTangent(const Eigen::Matrix3d& f, double dEnergy
     }
   }
   return tangent;
+}
+
+EnergyInI1 continuedIsochoricEnergy(const StrainEnergy& energy, double shift, double limitShift,
+                                    bool withEnergy) {
+  const double at = std::clamp(shift, 0.0, limitShift);
+  EnergyInI1 w = withEnergy ? energy.atInvariantShift(at) : energy.slopesAtInvariantShift(at);
+  if (shift <= limitShift) return w;
+  w.energy += withEnergy ? w.dEnergy * (shift - limitShift) : 0.0;
+  w.d2Energy = 0.0;
+  return w;
+}
+
+namespace {
+
+/// F's entries in the tangent's order (index 3 i + J of F_iJ).
+Eigen::Matrix<double, 9, 1> rowMajor(const Eigen::Matrix3d& m) {
+  Eigen::Matrix<double, 9, 1> v;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) v(3 * i + j) = m(i, j);
+  }
+  return v;
+}
+
+}  // namespace
+
+StressTangent exactIsochoricTangent(const Eigen::Matrix3d& f, const Eigen::Matrix3d& a, double i1,
+                                    double scale, const EnergyInI1& w) {
+  const Eigen::Matrix3d inverseTranspose = f.inverse().transpose();
+  const Eigen::Matrix<double, 9, 1> av = rowMajor(a);
+  const Eigen::Matrix<double, 9, 1> fv = rowMajor(f);
+  const Eigen::Matrix<double, 9, 1> hv = rowMajor(inverseTranspose);
+  StressTangent hessian = 2.0 * StressTangent::Identity() -
+                          (4.0 / 3.0) * (fv * hv.transpose() + hv * fv.transpose()) +
+                          (4.0 / 9.0) * i1 * hv * hv.transpose();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      for (int k = 0; k < 3; ++k) {
+        for (int l = 0; l < 3; ++l) {
+          hessian(3 * i + j, 3 * k + l) +=
+              (2.0 / 3.0) * i1 * inverseTranspose(i, l) * inverseTranspose(k, j);
+        }
+      }
+    }
+  }
+  return (w.dEnergy * scale) * hessian + w.d2Energy * av * av.transpose();
 }
 
 }  // namespace tissuesim

@@ -48,4 +48,18 @@ IsochoricResponse evaluateIsochoric(const StrainEnergy& energy, const Eigen::Mat
 /// eigensolver per element cost several times the rest of a real-time force pass.
 StressTangent projectedIsochoricTangent(const Eigen::Matrix3d& f, double dEnergy, double d2Energy);
 
+/// W_T and its slopes at I1bar - 3 = shift, continued linearly in I1bar past `limitShift` (the
+/// end of the usable range), so an element driven past locking still gets a finite restoring
+/// force; below 0 (rounding at rest) W_T's value at 0. The energy itself only when `withEnergy`
+/// (a force pass needs the slopes alone).
+EnergyInI1 continuedIsochoricEnergy(const StrainEnergy& energy, double shift, double limitShift,
+                                    bool withEnergy);
+
+/// The exact dP/dF = W_T'' A (x) A + W_T' d2I1bar/dF2 at F (det F > 0), the latter
+///   J^(-2/3) [2 I - 4/3 (F (x) H + H (x) F) + 4/9 I1 H (x) H + 2/3 I1 H_iL H_kJ],
+/// H = F^-T, in closed form: the same as evaluateIsochoric's, whose loop over unit dF it avoids.
+/// `a` = A, `i1` = tr(F^T F), `scale` = J^(-2/3), `w` W_T's slopes at I1bar.
+StressTangent exactIsochoricTangent(const Eigen::Matrix3d& f, const Eigen::Matrix3d& a, double i1,
+                                    double scale, const EnergyInI1& w);
+
 }  // namespace tissuesim

@@ -15,63 +15,8 @@
 
 namespace tissuesim {
 
-namespace {
-
-using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Matrix9d = StressTangent;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;
-using Vector9d = Eigen::Matrix<double, 9, 1>;
-
-/// W_T and its derivatives at I1bar - 3 = shift, continued linearly past `limitShift`; the
-/// energy itself only `withEnergy` (a force pass needs the slopes alone).
-EnergyInI1 continuedEnergy(const StrainEnergy& energy, double shift, double limitShift,
-                           bool withEnergy) {
-  const double at = std::clamp(shift, 0.0, limitShift);
-  EnergyInI1 w = withEnergy ? energy.atInvariantShift(at) : energy.slopesAtInvariantShift(at);
-  if (shift <= limitShift) return w;
-  w.energy += withEnergy ? w.dEnergy * (shift - limitShift) : 0.0;
-  w.d2Energy = 0.0;
-  return w;
-}
-
-/// dP/dF = W_T'' A (x) A + W_T' d2I1bar/dF2, the latter (index 3 i + J of F_iJ)
-///   J^(-2/3) [2 I - 4/3 (F (x) H + H (x) F) + 4/9 I1 H (x) H + 2/3 I1 H_iL H_kJ],
-/// H = F^-T: symmetric in the pairs (iJ), (kL). The same as IsochoricMaterialPoint's, whose
-/// loop over unit dF it avoids.
-Matrix9d exactTangent(const Eigen::Matrix3d& f, const Eigen::Matrix3d& a, double i1, double scale,
-                      const EnergyInI1& w);
-
-/// F's entries in the tangent's order (index 3 i + J of F_iJ).
-Vector9d rowMajor(const Eigen::Matrix3d& m) {
-  Vector9d v;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) v(3 * i + j) = m(i, j);
-  }
-  return v;
-}
-
-Matrix9d exactTangent(const Eigen::Matrix3d& f, const Eigen::Matrix3d& a, double i1, double scale,
-                      const EnergyInI1& w) {
-  const Eigen::Matrix3d inverseTranspose = f.inverse().transpose();
-  const Vector9d av = rowMajor(a);
-  const Vector9d fv = rowMajor(f);
-  const Vector9d hv = rowMajor(inverseTranspose);
-  Matrix9d hessian = 2.0 * Matrix9d::Identity() -
-                     (4.0 / 3.0) * (fv * hv.transpose() + hv * fv.transpose()) +
-                     (4.0 / 9.0) * i1 * hv * hv.transpose();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      for (int k = 0; k < 3; ++k) {
-        for (int l = 0; l < 3; ++l) {
-          hessian(3 * i + j, 3 * k + l) +=
-              (2.0 / 3.0) * i1 * inverseTranspose(i, l) * inverseTranspose(k, j);
-        }
-      }
-    }
-  }
-  return (w.dEnergy * scale) * hessian + w.d2Energy * av * av.transpose();
-}
-
-}  // namespace
 
 TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPositions_m,
                                                const Eigen::Matrix4Xi& tets,
@@ -111,14 +56,11 @@ TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPosit
   m_incidenceSlot.resize(4 * m_tetsOfNode.entries.size());
   for (Eigen::Index j = 0; j < nodeCount; ++j) {
     const auto u = static_cast<std::size_t>(j);
-    const auto first = m_neighbours.nodes.begin() + m_neighbours.start[u];
-    const auto last = m_neighbours.nodes.begin() + m_neighbours.start[u + 1];
     for (int e = m_tetsOfNode.start[u]; e < m_tetsOfNode.start[u + 1]; ++e) {
       const int t = m_tetsOfNode.entries[static_cast<std::size_t>(e)] / 4;
       for (int n = 0; n < 4; ++n) {
         m_incidenceSlot[4 * static_cast<std::size_t>(e) + static_cast<std::size_t>(n)] =
-            static_cast<int>(std::lower_bound(first, last, tets(n, t)) -
-                             m_neighbours.nodes.begin());
+            starEntry(m_neighbours, static_cast<int>(j), tets(n, t));
       }
     }
   }
@@ -142,7 +84,8 @@ double TetIsochoricForceField::energy(const Eigen::Matrix3Xd& x) const {
     const double j = f.determinant();
     if (!(j > 0.0)) continue;
     const double shift = std::pow(j, -2.0 / 3.0) * f.squaredNorm() - 3.0;
-    total += m_restVolume_m3[t] * continuedEnergy(m_energy, shift, m_limitShift, true).energy;
+    total +=
+        m_restVolume_m3[t] * continuedIsochoricEnergy(m_energy, shift, m_limitShift, true).energy;
   }
   return total;
 }
@@ -174,7 +117,7 @@ void TetIsochoricForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3
       const double scale = std::pow(j, -2.0 / 3.0);  // J^(-2/3)
       const double shift = scale * i1 - 3.0;
       if (shift > m_limitShift) ++beyondRange;
-      const EnergyInI1 w = continuedEnergy(m_energy, shift, m_limitShift, false);
+      const EnergyInI1 w = continuedIsochoricEnergy(m_energy, shift, m_limitShift, false);
       const Eigen::Matrix3d inverseTranspose = deformation.inverse().transpose();
       // A = dI1bar/dF; P = W_T' A.
       const Eigen::Matrix3d a = scale * (2.0 * deformation - (2.0 / 3.0) * i1 * inverseTranspose);
@@ -186,7 +129,7 @@ void TetIsochoricForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3
       if (!needsStiffness) continue;
       const Matrix9d tangent = pass.isProjected
                                    ? projectedIsochoricTangent(deformation, w.dEnergy, w.d2Energy)
-                                   : exactTangent(deformation, a, i1, scale, w);
+                                   : exactIsochoricTangent(deformation, a, i1, scale, w);
       // K_(a i)(b k) = V0 sum_JL T_(iJ)(kL) g_aJ g_bL, as (T B) then B^T (T B), B's sparsity
       // used (dF_iJ / dx_(b k) = delta_ik g_bJ).
       Eigen::Matrix<double, 9, 12> tb;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -197,6 +198,43 @@ NodeStars nodeStars(const Eigen::Matrix4Xi& tets, const NodeTetIncidence& incide
     stars.start[j + 1] = static_cast<int>(stars.nodes.size());
   }
   return stars;
+}
+
+int starEntry(const NodeStars& stars, int a, int b) {
+  const auto first = stars.nodes.begin() + stars.start[static_cast<std::size_t>(a)];
+  const auto last = stars.nodes.begin() + stars.start[static_cast<std::size_t>(a) + 1];
+  return static_cast<int>(std::lower_bound(first, last, b) - stars.nodes.begin());
+}
+
+std::vector<int> starMirror(const NodeStars& stars) {
+  std::vector<int> mirror(stars.nodes.size());
+  for (std::size_t a = 0; a + 1 < stars.start.size(); ++a) {
+    for (int e = stars.start[a]; e < stars.start[a + 1]; ++e) {
+      mirror[static_cast<std::size_t>(e)] =
+          starEntry(stars, stars.nodes[static_cast<std::size_t>(e)], static_cast<int>(a));
+    }
+  }
+  return mirror;
+}
+
+Eigen::Matrix2Xi starCouplings(const NodeStars& stars) {
+  std::vector<std::uint64_t> keys;
+  for (std::size_t a = 0; a + 1 < stars.start.size(); ++a) {
+    for (int e = stars.start[a]; e < stars.start[a + 1]; ++e) {
+      for (int f = e + 1; f < stars.start[a + 1]; ++f) {
+        keys.push_back(static_cast<std::uint64_t>(stars.nodes[static_cast<std::size_t>(e)]) << 32 |
+                       static_cast<std::uint64_t>(stars.nodes[static_cast<std::size_t>(f)]));
+      }
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  Eigen::Matrix2Xi pairs(2, static_cast<Eigen::Index>(keys.size()));
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    pairs(0, static_cast<Eigen::Index>(k)) = static_cast<int>(keys[k] >> 32);
+    pairs(1, static_cast<Eigen::Index>(k)) = static_cast<int>(keys[k] & 0xffffffffu);
+  }
+  return pairs;
 }
 
 }  // namespace tissuesim

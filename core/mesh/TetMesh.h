@@ -70,6 +70,12 @@ struct NodeStars {
   std::vector<int> nodes;
 };
 NodeStars nodeStars(const Eigen::Matrix4Xi& tets, const NodeTetIncidence& incidence);
+/// The index in stars.nodes of node b in a's star (b must be in it).
+int starEntry(const NodeStars& stars, int a, int b);
+/// For each entry e of stars.nodes (node b in a's star), the entry of a in b's star.
+std::vector<int> starMirror(const NodeStars& stars);
+/// The node pairs (a < b) that share a star, each once: what an element per star couples.
+Eigen::Matrix2Xi starCouplings(const NodeStars& stars);
 
 /// What is wrong with a mesh's tets, for refusing or repairing it.
 struct TetQualityReport {

@@ -2,7 +2,6 @@
 #include "springs/NodalVolumeForceField.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -19,7 +18,6 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
   if (!(bulkModulus_Pa > 0.0)) throw std::invalid_argument("the bulk modulus must be above 0");
   const Eigen::Index nodeCount = restPositions_m.cols();
   const Eigen::Index tetCount = tets.cols();
-  const auto count = static_cast<std::size_t>(nodeCount);
 
   // Each node's share of its tets' rest volume.
   Eigen::VectorXd restVolume_m3 = Eigen::VectorXd::Zero(nodeCount);
@@ -41,22 +39,12 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
   // Each node's tets and its star.
   m_tetsOfNode = nodeTetIncidence(tets, nodeCount);
   m_stars = nodeStars(tets, m_tetsOfNode);
-  const auto entryOf = [&](int a, int b) {
-    const auto first = m_stars.nodes.begin() + m_stars.start[static_cast<std::size_t>(a)];
-    const auto last = m_stars.nodes.begin() + m_stars.start[static_cast<std::size_t>(a) + 1];
-    return static_cast<int>(std::lower_bound(first, last, b) - m_stars.nodes.begin());
-  };
-  m_mirror.resize(m_stars.nodes.size());
-  for (std::size_t a = 0; a < count; ++a) {
-    for (int e = m_stars.start[a]; e < m_stars.start[a + 1]; ++e) {
-      m_mirror[static_cast<std::size_t>(e)] =
-          entryOf(m_stars.nodes[static_cast<std::size_t>(e)], static_cast<int>(a));
-    }
-  }
+  m_mirror = starMirror(m_stars);
   m_tetStarEntry.resize(16, tetCount);
   for (Eigen::Index t = 0; t < tetCount; ++t) {
     for (int c = 0; c < 4; ++c) {
-      for (int n = 0; n < 4; ++n) m_tetStarEntry(4 * c + n, t) = entryOf(tets(c, t), tets(n, t));
+      for (int n = 0; n < 4; ++n)
+        m_tetStarEntry(4 * c + n, t) = starEntry(m_stars, tets(c, t), tets(n, t));
     }
   }
 
@@ -73,26 +61,7 @@ NodalVolumeForceField::NodalVolumeForceField(const Eigen::Matrix3Xd& restPositio
   prepareProducts(bounds);
 }
 
-Eigen::Matrix2Xi NodalVolumeForceField::couplings() const {
-  std::vector<std::uint64_t> keys;
-  for (std::size_t a = 0; a + 1 < m_stars.start.size(); ++a) {
-    for (int e = m_stars.start[a]; e < m_stars.start[a + 1]; ++e) {
-      for (int f = e + 1; f < m_stars.start[a + 1]; ++f) {
-        keys.push_back(static_cast<std::uint64_t>(m_stars.nodes[static_cast<std::size_t>(e)])
-                           << 32 |
-                       static_cast<std::uint64_t>(m_stars.nodes[static_cast<std::size_t>(f)]));
-      }
-    }
-  }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  Eigen::Matrix2Xi pairs(2, static_cast<Eigen::Index>(keys.size()));
-  for (std::size_t k = 0; k < keys.size(); ++k) {
-    pairs(0, static_cast<Eigen::Index>(k)) = static_cast<int>(keys[k] >> 32);
-    pairs(1, static_cast<Eigen::Index>(k)) = static_cast<int>(keys[k] & 0xffffffffu);
-  }
-  return pairs;
-}
+Eigen::Matrix2Xi NodalVolumeForceField::couplings() const { return starCouplings(m_stars); }
 
 double NodalVolumeForceField::energy(const Eigen::Matrix3Xd& x) const {
   Eigen::VectorXd volume_m3 = Eigen::VectorXd::Zero(x.cols());
