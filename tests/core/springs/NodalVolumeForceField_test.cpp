@@ -14,6 +14,7 @@
 #include "parallel/NodeRanges.h"
 #include "springs/StiffnessCouplings.h"
 #include "springs/VolumeForceField.h"
+#include "support/BlockPress.h"
 #include "support/ForceFieldChecks.h"
 #include "support/TestSystems.h"
 #include "system/NewtonSolver.h"
@@ -171,59 +172,19 @@ TEST(NodalVolumeForceField, PushesAnInvertedTetBackOutAndCountsIt) {
   EXPECT_LT(f.col(tet[0]).dot(through), 0.0);
 }
 
-// A block on its held bottom, the top's nodes within 5 mm of its centre pressed 1 mm down; the
-// tissue's isochoric energy in each tet and the volume term at bulk modulus kappa: the force on
-// the pressed nodes.
-double pressReaction(const TetMesh& mesh, bool isNodal, double kappa) {
-  const test::LiverMaterial& material = test::LiverMaterial::instance();
-  SpringMesh springs = buildSpringMesh(mesh, material.parameters.density_kg_m3);
-  springs.volume_m3.setZero();  // the tets carry the elasticity, as with effects.model fem
-  const SpringForceLaw law(SpringLaw::Eesm, material.table, material.parameters,
-                           3.0 * material.energy.initialShearModulus(), false);
-  SpringForceField springField(springs, law);
-  TetIsochoricForceField tets(mesh.nodes_m, mesh.tets, material.energy);
-  std::unique_ptr<VolumeForceField> cells;
-  std::unique_ptr<NodalVolumeForceField> nodes;
-  if (!isNodal) cells = std::make_unique<VolumeForceField>(springs, kappa);
-  MechanicalSystem system(springField, cells.get());
-  system.addField(tets);
-  if (isNodal) {
-    nodes = std::make_unique<NodalVolumeForceField>(mesh.nodes_m, mesh.tets, kappa);
-    system.addField(*nodes);
-  }
-  const Eigen::Vector3d top = mesh.nodes_m.rowwise().maxCoeff();
-  Eigen::Matrix3Xd x = mesh.nodes_m;
-  std::vector<int> pressed;
-  for (Eigen::Index i = 0; i < x.cols(); ++i) {
-    if (x(2, i) < 1e-9) system.fixNode(static_cast<int>(i));
-    const double fromAxis = std::hypot(x(0, i) - 0.5 * top.x(), x(1, i) - 0.5 * top.y());
-    if (x(2, i) > top.z() - 1e-9 && fromAxis < 5e-3) {
-      system.fixNode(static_cast<int>(i));
-      x(2, i) -= 1e-3;
-      pressed.push_back(static_cast<int>(i));
-    }
-  }
-  NewtonSolver newton(LinearSolverKind::Cholesky);
-  const Eigen::Matrix3Xd start = x;
-  const NewtonReport report = newton.solve(system, x, start, 0.0, 0.0, 100, 1e-10);
-  EXPECT_TRUE(report.converged) << (isNodal ? "nodes" : "tets") << " at kappa " << kappa;
-  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
-  ForceReport seen;
-  for (const ForceField* field : system.fields()) field->addForces(x, f, ForcePass{}, seen);
-  double reaction = 0.0;
-  for (const int i : pressed) reaction += f(2, i);
-  return reaction;
-}
-
-// pressReaction with a volume per node and with VolumeForceField's cells, at kappa `low` and
+// test::pressReaction with a volume per node and with VolumeForceField's cells, at kappa `low` and
 // `high` times the tissue's shear modulus.
 struct PressUnderTwoKappas {
   double nodes, nodesStiff, cells, cellsStiff;
 };
 PressUnderTwoKappas pressUnderTwoKappas(const TetMesh& mesh, double low, double high) {
   const double mu = test::LiverMaterial::instance().energy.initialShearModulus();
-  return {pressReaction(mesh, true, low * mu), pressReaction(mesh, true, high * mu),
-          pressReaction(mesh, false, low * mu), pressReaction(mesh, false, high * mu)};
+  using test::BlockPress;
+  return {
+      test::pressReaction(mesh, {BlockPress::Strain::Tets, BlockPress::Volume::Nodes, low * mu}),
+      test::pressReaction(mesh, {BlockPress::Strain::Tets, BlockPress::Volume::Nodes, high * mu}),
+      test::pressReaction(mesh, {BlockPress::Strain::Tets, BlockPress::Volume::Cells, low * mu}),
+      test::pressReaction(mesh, {BlockPress::Strain::Tets, BlockPress::Volume::Cells, high * mu})};
 }
 
 TEST(NodalVolumeForceField, LinearTetsStiffenWithKappaFarLessUnderItThanUnderAVolumePerTet) {
