@@ -115,6 +115,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
   report["newton_iterations_per_step"] =
       steps > 0 ? static_cast<double>(newtonIterations) / static_cast<double>(steps) : 0.0;
   report["model"] = scene.model;
+  if (scene.model == "fem") report["strain_cells"] = scene.strainCells;
   report["springs"] = simulation->springMesh().springCount();
   report["tets"] = simulation->geometry().mesh.tetCount();
   report["nodes"] = simulation->springMesh().nodeCount();

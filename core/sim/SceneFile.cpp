@@ -224,9 +224,9 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     scene.instrument = instrument;
   }
   if (fields.has("effects")) {
-    const Fields effects(
-        fields.at("effects"), "effects", source,
-        {"model", "softening", "volume_term_kpa", "volume_cells", "spring_law", "stiffness_scale"});
+    const Fields effects(fields.at("effects"), "effects", source,
+                         {"model", "softening", "volume_term_kpa", "volume_cells", "strain_cells",
+                          "spring_law", "stiffness_scale"});
     scene.model = effects.string("model", "springs");
     if (scene.model != "springs" && scene.model != "fem")
       effects.fail("effects.model", "= \"" + scene.model + "\"; expected springs or fem");
@@ -245,6 +245,12 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                    "= \"" + scene.volumeCells + "\"; expected cubes or nodes");
     if (scene.volumeCells == "nodes" && !(scene.bulkModulus_Pa > 0.0))
       effects.fail("effects.volume_cells", "= \"nodes\" needs volume_term_kpa above 0");
+    scene.strainCells = effects.string("strain_cells", "tets");
+    if (scene.strainCells != "tets" && scene.strainCells != "faces" && scene.strainCells != "nodes")
+      effects.fail("effects.strain_cells",
+                   "= \"" + scene.strainCells + "\"; expected tets, faces or nodes");
+    if (scene.strainCells != "tets" && !isFem)
+      effects.fail("effects.strain_cells", "= \"" + scene.strainCells + "\" is for model fem");
     scene.springLaw = effects.string("spring_law", "eesm");
     scene.stiffnessScale = effects.number("stiffness_scale", 0.0, 0.0, false);
     if (!springLawNamed(scene.springLaw)) {

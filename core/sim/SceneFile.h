@@ -81,6 +81,10 @@ struct SceneDescription {
   /// The volume term's cells: "cubes" (a lattice cube, else a tet; springs/VolumeForceField.h)
   /// or "nodes" (each node's share of its tets; springs/NodalVolumeForceField.h).
   std::string volumeCells = "cubes";
+  /// Where the FEM takes the isochoric strain: "tets" (each tet's F; fem/TetIsochoricForceField.h),
+  /// "faces" or "nodes" (the mean F over each face's or node's share of its tets: FS-FEM, NS-FEM;
+  /// fem/SmoothedStrainForceField.h). With model fem only.
+  std::string strainCells = "tets";
   double stiffnessScale = 0.0;  ///< > 0: V_e factor; 0: the lattice's small-strain calibration
   /// What carries the elasticity: "springs" (the EESM network) or "fem" (the tissue's
   /// isochoric energy per tet with the volume term per cube; fem/TetIsochoricForceField.h).

@@ -125,6 +125,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   m_system.reset();
   m_friction.reset();
   m_tets.reset();
+  m_smoothedStrain.reset();
   m_nodalVolume.reset();
   m_volume.reset();
   m_springs.reset();
@@ -164,7 +165,15 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_nodalVolume->setThreadPool(m_pool.get());
     m_system->addField(*m_nodalVolume);
   }
-  if (isFem) {
+  if (isFem && scene.strainCells != "tets") {
+    const TetMesh& mesh = m_geometry.mesh;
+    m_smoothedStrain = std::make_unique<SmoothedStrainForceField>(
+        scene.strainCells == "faces" ? faceStrainCells(mesh.nodes_m, mesh.tets)
+                                     : nodeStrainCells(mesh.nodes_m, mesh.tets),
+        mesh.nodeCount(), *m_energy);
+    m_smoothedStrain->setThreadPool(m_pool.get());
+    m_system->addField(*m_smoothedStrain);
+  } else if (isFem) {
     m_tets = std::make_unique<TetIsochoricForceField>(m_geometry.mesh.nodes_m, m_geometry.mesh.tets,
                                                       *m_energy);
     m_tets->setThreadPool(m_pool.get());
@@ -353,9 +362,10 @@ StepOutcome Simulation::step() {
                  std::to_string(load_N) + " N (start " + std::to_string(r.initialResidual_N) + ")";
         });
   // The FEM's tets carry the material; its inert springs only measure stretch.
-  if (m_tets) {
+  if (m_tets || m_smoothedStrain) {
     check(r.forces.tets.beyondRangeCount > 0, "locking", [&] {
-      return std::to_string(r.forces.tets.beyondRangeCount) + " tets past the usable range";
+      return std::to_string(r.forces.tets.beyondRangeCount) + (m_tets ? " tets" : " strain cells") +
+             " past the usable range";
     });
   } else {
     check(r.forces.springs.beyondRangeCount > 0, "locking", [&] {

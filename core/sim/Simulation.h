@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "fem/SmoothedStrainForceField.h"
 #include "fem/TetIsochoricForceField.h"
 #include "forces/ContactProvider.h"
 #include "integrators/TimeIntegrator.h"
@@ -157,6 +158,8 @@ class Simulation {
   std::unique_ptr<VolumeForceField> m_volume;            ///< effects.volume_cells cubes
   std::unique_ptr<NodalVolumeForceField> m_nodalVolume;  ///< effects.volume_cells nodes
   std::unique_ptr<TetIsochoricForceField> m_tets;        ///< effects.model fem
+  /// The same with effects.strain_cells faces or nodes.
+  std::unique_ptr<SmoothedStrainForceField> m_smoothedStrain;
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
   std::unique_ptr<SessionAssessment> m_assessment;

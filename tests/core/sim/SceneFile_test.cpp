@@ -66,7 +66,9 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   ASSERT_TRUE(onTray.tray.has_value());
   const SceneDescription nodal = loadSceneFile(scenePath("fem-nodal-volume.json"));
   EXPECT_EQ(nodal.volumeCells, "nodes");
+  EXPECT_EQ(nodal.strainCells, "tets");
   EXPECT_EQ(loadSceneFile(scenePath("fem.json")).volumeCells, "cubes");
+  EXPECT_EQ(loadSceneFile(scenePath("fem-face-strain.json")).strainCells, "faces");
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
@@ -119,6 +121,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "field 'physics.integrator' = \"quasi-newton\" is for the springs model"},
         BadScene{"nodal-volume-unknown.json",
                  "field 'effects.volume_cells' = \"tets\"; expected cubes or nodes"},
+        BadScene{"strain-cells-unknown.json",
+                 "field 'effects.strain_cells' = \"cubes\"; expected tets, faces or nodes"},
+        BadScene{"strain-cells-springs.json",
+                 "field 'effects.strain_cells' = \"nodes\" is for model fem"},
         BadScene{"nodal-volume-no-kappa.json",
                  "field 'effects.volume_cells' = \"nodes\" needs volume_term_kpa above 0"},
         BadScene{"nodal-volume-quasi-newton.json",
