@@ -11,6 +11,7 @@
 
 #include "app/AssessmentReport.h"
 #include "app/CommandError.h"
+#include "app/ElasticModelWords.h"
 #include "app/OutputFile.h"
 #include "render/TimeSeriesExport.h"
 #include "sim/SceneFile.h"
@@ -143,7 +144,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
       report["physics_hz"].get<double>(), report["realtime_factor"].get<double>(),
       static_cast<long>(isFem ? simulation->geometry().mesh.tetCount()
                               : simulation->springMesh().springCount()),
-      isFem ? "tets (FEM)" : "springs", maxForce, maxPenetration * 1e3, maxStretch,
+      elasticModelWords(scene).c_str(), maxForce, maxPenetration * 1e3, maxStretch,
       simulation->eventCount());
   if (exporter) {
     std::printf("exported %d frames: %s\n", exporter->frameCount(),

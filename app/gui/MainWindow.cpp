@@ -29,6 +29,7 @@
 #include "analysis/UniaxialExperiment.h"
 #include "app/AssessmentReport.h"
 #include "app/CommandError.h"
+#include "app/ElasticModelWords.h"
 #include "app/SessionSteps.h"
 #include "app/gui/ForcePlotWidget.h"
 #include "app/gui/InstrumentInteractorStyle.h"
@@ -764,9 +765,11 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
                                    .arg(eventKindWords(snapshot.latestEventKind));
   // The model, and whether the physics keeps up with the clock (the FEM does not at the
   // bundled size): simulated time then runs slow, and the status says so.
-  const QString model = simulation.scene().model == "fem"
-                            ? QString("%1 tets (FEM)").arg(simulation.geometry().mesh.tetCount())
-                            : QString("%1 springs").arg(simulation.springMesh().springCount());
+  const QString model =
+      QString("%1 %2")
+          .arg(simulation.scene().model == "fem" ? simulation.geometry().mesh.tetCount()
+                                                 : simulation.springMesh().springCount())
+          .arg(QString::fromStdString(elasticModelWords(simulation.scene())));
   const bool isBehind =
       !isPaused() && m_physicsHz > 0.0 && m_physicsHz < 0.9 / simulation.timeStep_s();
   const QString state = m_playback ? QString("playback %1 / %2 s%3")

@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// How the window's status bar and `run` name what carries a scene's elasticity, after the count
+// of its elements: "springs", "tets (FEM)", or with the strain per face or per node
+// (effects.strain_cells) "tets (FEM, strain per face)".
+
+#include <string>
+
+#include "sim/SceneFile.h"
+
+namespace tissuesim {
+
+inline std::string elasticModelWords(const SceneDescription& scene) {
+  if (scene.model != "fem") return "springs";
+  if (scene.strainCells == "faces") return "tets (FEM, strain per face)";
+  if (scene.strainCells == "nodes") return "tets (FEM, strain per node)";
+  return "tets (FEM)";
+}
+
+}  // namespace tissuesim
