@@ -7,6 +7,7 @@
 
 #include <Eigen/LU>
 
+#include "fem/IsochoricMaterialPoint.h"
 #include "mesh/TetMesh.h"
 #include "numerics/NodeBlockMatrix.h"
 

@@ -31,7 +31,6 @@
 
 #include <Eigen/Core>
 
-#include "fem/IsochoricMaterialPoint.h"
 #include "fem/StrainCells.h"
 #include "forces/ForceField.h"
 #include "material/StrainEnergy.h"
