@@ -122,36 +122,13 @@ TEST(NodalVolumeForceField, TheStiffnessIsTheForcesDerivativeInEveryForm) {
 TEST(NodalVolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
   const TetMesh mesh = unstructuredBlock();
   const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 7, 4e-4);
-  const NodalVolumeForceField serial(mesh.nodes_m, mesh.tets, 3e5);
-  ForcePass pass;
-  pass.stiffness = StiffnessSlot::Current;
-  Eigen::VectorXd expectedBound = Eigen::VectorXd::Zero(mesh.nodes_m.cols());
-  pass.nodeStiffness = &expectedBound;
-  Eigen::Matrix3Xd expected = Eigen::Matrix3Xd::Zero(3, mesh.nodes_m.cols());
-  ForceReport expectedReport;
-  serial.addForces(deformed.x, expected, pass, expectedReport);
-  const double* v = deformed.direction.data();
-  Eigen::VectorXd expectedProduct = Eigen::VectorXd::Zero(deformed.x.size());
-  for (int part = 0; part < ForceField::kParts; ++part)
-    serial.addStiffnessProduct(part, v, expectedProduct.data());
-  ASSERT_GT(expectedBound.minCoeff(), 0.0);
-  for (const int threads : {1, 2, 3}) {
-    ForkJoinPool pool(threads);
-    NodalVolumeForceField pooled(mesh.nodes_m, mesh.tets, 3e5);
-    pooled.setThreadPool(&pool);
-    Eigen::VectorXd bound = Eigen::VectorXd::Zero(mesh.nodes_m.cols());
-    pass.nodeStiffness = &bound;
-    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, mesh.nodes_m.cols());
-    ForceReport report;
-    pooled.addForces(deformed.x, f, pass, report);
-    EXPECT_EQ(f, expected) << threads << " threads";
-    EXPECT_EQ(bound, expectedBound) << threads << " threads";
-    EXPECT_EQ(report.volume.minVolumeRatio, expectedReport.volume.minVolumeRatio);
-    Eigen::VectorXd product = Eigen::VectorXd::Zero(deformed.x.size());
-    pool.run(ForceField::kParts,
-             [&](int part) { pooled.addStiffnessProduct(part, v, product.data()); });
-    EXPECT_EQ(product, expectedProduct) << threads << " threads";
-  }
+  test::expectPoolPassesBitIdentical(
+      [&] { return NodalVolumeForceField(mesh.nodes_m, mesh.tets, 3e5); }, deformed.x,
+      deformed.direction,
+      [](const ForceReport& pooled, const ForceReport& serial) {
+        return pooled.volume.minVolumeRatio == serial.volume.minVolumeRatio &&
+               pooled.volume.maxVolumeRatio == serial.volume.maxVolumeRatio;
+      });
 }
 
 TEST(NodalVolumeForceField, PushesAnInvertedTetBackOutAndCountsIt) {
