@@ -21,12 +21,9 @@ using Matrix12d = Eigen::Matrix<double, 12, 12>;
 TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPositions_m,
                                                const Eigen::Matrix4Xi& tets,
                                                const StrainEnergy& energy)
-    : m_tets(tets), m_energy(energy) {
+    : m_tets(tets), m_energy(energy), m_limitShift(energy.usableInvariantShift()) {
   const Eigen::Index tetCount = tets.cols();
   const Eigen::Index nodeCount = restPositions_m.cols();
-  const double chainLimit =
-      3.0 * energy.parameters().chainSegmentsN * std::pow(1.0 - StrainEnergy::kLockingMargin, 2.0);
-  m_limitShift = chainLimit - 3.0;
   m_gradients.resize(12, tetCount);
   m_restVolume_m3.resize(tetCount);
   for (Eigen::Index t = 0; t < tetCount; ++t) {
