@@ -40,6 +40,7 @@ SpringForceField::SpringForceField(const SpringMesh& mesh, const SpringForceLaw&
     }
     touched.begin = std::min(touched.begin, touched.end);  // a part without springs: empty
   }
+  m_isInert = mesh.volume_m3.isZero(0.0);
   setBatched(true);
 }
 
@@ -49,7 +50,8 @@ void SpringForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                  const ForcePass& pass, ForceReport& report) const {
   if (pass.nodeStiffness != nullptr) {
     report.springs = accumulate<false, true>(x, f, nullptr, pass.nodeStiffness, true);
-  } else if (pass.stiffness == StiffnessSlot::None) {
+  } else if (pass.stiffness == StiffnessSlot::None || m_isInert) {
+    // An inert network's blocks stay the zeros they were made: only its stretches are wanted.
     report.springs = addForces(x, f);
   } else {
     const int slot = pass.stiffness == StiffnessSlot::Current ? m_current : m_current ^ 1;
@@ -64,6 +66,7 @@ void SpringForceField::prepareProducts(const PartBounds& bounds) {
 }
 
 void SpringForceField::addStiffness(NodeBlockMatrix& matrix) const {
+  if (m_isInert) return;
   // The matrix's edges are the springs, in order (MechanicalSystem::makeMatrix).
   matrix.addAxialEdgeStiffness(currentBlocks(), m_pool);
 }

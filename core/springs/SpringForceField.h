@@ -96,15 +96,18 @@ class SpringForceField final : public ForceField {
                  ForceReport& report) const override;
   void acceptTrialStiffness() const override { m_current ^= 1; }
   void addProductWork(std::vector<Eigen::Index>& nodeWork) const override {
-    SpringStiffnessProduct::addWork(m_mesh, nodeWork);
+    if (!m_isInert) SpringStiffnessProduct::addWork(m_mesh, nodeWork);
   }
   void prepareProducts(const PartBounds& bounds) override;
   void addStiffnessProduct(int part, const double* x, double* y) const override {
-    m_product->addPart(part, currentBlocks(), x, y);
+    if (!m_isInert) m_product->addPart(part, currentBlocks(), x, y);
   }
   void addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const override {
-    m_product->addDiagonalBlock(j, currentBlocks(), block);
+    if (!m_isInert) m_product->addDiagonalBlock(j, currentBlocks(), block);
   }
+  /// Whether every spring's V_e is zero (the FEM's network, kept for its stretches and the
+  /// grasp): then its forces and K are zero, and the passes, products and assembly skip them.
+  bool isInert() const { return m_isInert; }
   void addStiffness(NodeBlockMatrix& matrix) const override;
 
  private:
@@ -167,6 +170,7 @@ class SpringForceField final : public ForceField {
   mutable std::array<AxialBlocks, 2> m_slots;
   mutable int m_current = 0;
   std::unique_ptr<SpringStiffnessProduct> m_product;  ///< prepareProducts()'s
+  bool m_isInert = false;
 };
 
 }  // namespace tissuesim

@@ -2,6 +2,7 @@
 #include "springs/SpringForceField.h"
 #include "numerics/CpuFeatures.h"
 
+#include <algorithm>
 #include <random>
 #include <tuple>
 
@@ -230,6 +231,48 @@ TEST(SpringForceField, TheForceOnlyPassGivesTheSameForces) {
       EXPECT_GT(full.beyondRangeCount, 0);
     }
     EXPECT_LT(full.minStretch, 1.0);
+  }
+}
+
+TEST(SpringForceField, AnInertNetworkKeepsItsStretchesAndAddsNoStiffness) {
+  // The FEM's network (every V_e zero) is kept for its stretches: its passes must still report
+  // them, and its products, blocks and assembly add nothing, so the solvers do not pay for it.
+  SpringMesh mesh = buildSpringMesh(makeBlockMesh({0.02, 0.02, 0.02}, {2, 2, 2}),
+                                    test::LiverMaterial::instance().parameters.density_kg_m3);
+  test::BlockSystem live({0.02, 0.02, 0.02}, {2, 2, 2});
+  ASSERT_FALSE(live.springs.isInert());
+  mesh.volume_m3.setZero();
+  SpringForceField inert(mesh, live.law);
+  ASSERT_TRUE(inert.isInert());
+  const Eigen::Matrix3Xd x = deformed(mesh, 0.2, 7);
+  const Eigen::Index n = x.cols();
+  for (SpringForceField* field : {&live.springs, &inert}) {
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, x.cols());
+    ForcePass pass;
+    pass.stiffness = StiffnessSlot::Current;
+    ForceReport report;
+    field->addForces(x, f, pass, report);
+    EXPECT_GT(report.springs.maxStretch, 1.05) << "the stretches are reported";
+    field->prepareProducts({0, n / 4, n / 2, 3 * n / 4, n});
+    const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(3 * x.cols(), 1.0, 2.0);
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(v.size());
+    for (int part = 0; part < ForceField::kParts; ++part)
+      field->addStiffnessProduct(part, v.data(), y.data());
+    Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+    field->addDiagonalBlock(1, block);
+    std::vector<Eigen::Index> work(static_cast<std::size_t>(x.cols()), 0);
+    field->addProductWork(work);
+    if (field == &inert) {
+      EXPECT_TRUE(f.isZero(0.0));
+      EXPECT_TRUE(y.isZero(0.0));
+      EXPECT_TRUE(block.isZero(0.0));
+      EXPECT_EQ(*std::max_element(work.begin(), work.end()), 0);
+    } else {
+      EXPECT_GT(f.norm(), 0.0);
+      EXPECT_GT(y.norm(), 0.0);
+      EXPECT_GT(block.norm(), 0.0);
+      EXPECT_GT(*std::max_element(work.begin(), work.end()), 0);
+    }
   }
 }
 
