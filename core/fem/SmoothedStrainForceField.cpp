@@ -13,22 +13,6 @@
 
 namespace tissuesim {
 
-namespace {
-
-using RowMajor3d = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;  // F_iJ at 3 i + J
-
-/// The 3x3 block sum_JL T_(iJ)(kL) g_J h_L of a cell's tangent.
-Eigen::Matrix3d contract(const double* tangent, const Eigen::Vector3d& g,
-                         const Eigen::Vector3d& h) {
-  const Eigen::Map<const StressTangent> t(tangent);
-  Eigen::Matrix3d block;
-  for (int i = 0; i < 3; ++i) {
-    for (int k = 0; k < 3; ++k) block(i, k) = g.dot(t.block<3, 3>(3 * i, 3 * k) * h);
-  }
-  return block;
-}
-
-}  // namespace
 
 SmoothedStrainForceField::SmoothedStrainForceField(StrainCells cells, Eigen::Index nodeCount,
                                                    const StrainEnergy& energy)
@@ -54,12 +38,24 @@ SmoothedStrainForceField::SmoothedStrainForceField(StrainCells cells, Eigen::Ind
         static_cast<int>(e);
   }
 
+  // K's rows, and where each pair of a cell's nodes goes in them.
+  m_rows = NodeRowStiffness(cellNeighbours(m_cells.start, m_cells.nodes, nodeCount));
+  m_pairStart.resize(m_cells.nodes.size());
+  for (Eigen::Index c = 0; c < cellCount; ++c) {
+    const auto u = static_cast<std::size_t>(c);
+    for (int e = m_cells.start[u]; e < m_cells.start[u + 1]; ++e) {
+      m_pairStart[static_cast<std::size_t>(e)] = static_cast<int>(m_pairSlot.size());
+      for (int h = m_cells.start[u]; h < m_cells.start[u + 1]; ++h) {
+        m_pairSlot.push_back(m_rows.entry(m_cells.nodes[static_cast<std::size_t>(e)],
+                                          m_cells.nodes[static_cast<std::size_t>(h)]));
+      }
+    }
+  }
+
   m_cellStress_N_m2.setZero(9, cellCount);
   m_boundScale.setZero(cellCount);
-  for (CellTangents& slot : m_tangents) slot.setZero(81, cellCount);
-  PartBounds bounds;
-  for (int p = 0; p <= kParts; ++p) bounds[static_cast<std::size_t>(p)] = nodeCount * p / kParts;
-  prepareProducts(bounds);
+  m_tangents.setZero(81, cellCount);
+  for (int p = 0; p <= kParts; ++p) m_bounds[static_cast<std::size_t>(p)] = nodeCount * p / kParts;
 }
 
 Eigen::Matrix2Xi SmoothedStrainForceField::couplings() const {
@@ -92,12 +88,9 @@ double SmoothedStrainForceField::energy(const Eigen::Matrix3Xd& x) const {
 
 void SmoothedStrainForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
                                          const ForcePass& pass, ForceReport& report) const {
-  CellTangents* const tangents =
-      pass.stiffness == StiffnessSlot::None
-          ? nullptr
-          : &m_tangents[static_cast<std::size_t>(
-                pass.stiffness == StiffnessSlot::Current ? m_current : 1 - m_current)];
-  const bool needsTangent = tangents != nullptr || pass.nodeStiffness != nullptr;
+  NodeRowStiffness::Blocks* const rowBlocks =
+      pass.stiffness == StiffnessSlot::None ? nullptr : &m_rows.slot(pass.stiffness);
+  const bool needsTangent = rowBlocks != nullptr || pass.nodeStiffness != nullptr;
 
   // Each cell's F_c, V0_c P_c and V0_c T_c.
   forEachNodeRange(
@@ -107,7 +100,7 @@ void SmoothedStrainForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matri
         for (Eigen::Index c = begin; c < end; ++c) {
           Eigen::Map<Eigen::Matrix3d> stress(m_cellStress_N_m2.col(c).data());
           stress.setZero();
-          if (tangents != nullptr) tangents->col(c).setZero();
+          if (needsTangent) m_tangents.col(c).setZero();
           m_boundScale[c] = 0.0;
           const Eigen::Matrix3d deformation = deformationGradient(x, c);
           const double j = deformation.determinant();
@@ -131,7 +124,7 @@ void SmoothedStrainForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matri
               volume * (pass.isProjected
                             ? projectedIsochoricTangent(deformation, w.dEnergy, w.d2Energy)
                             : exactIsochoricTangent(deformation, a, i1, scale, w));
-          if (tangents != nullptr) Eigen::Map<StressTangent>(tangents->col(c).data()) = tangent;
+          Eigen::Map<StressTangent>(m_tangents.col(c).data()) = tangent;
           if (pass.nodeStiffness != nullptr) {
             const auto u = static_cast<std::size_t>(c);
             m_boundScale[c] =
@@ -145,7 +138,8 @@ void SmoothedStrainForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matri
       },
       0);
 
-  // f_j = -sum over the cells c that hold j of V0_c P_c G_cj.
+  // f_j = -sum over the cells c that hold j of V0_c P_c G_cj; K_jd = sum over the same cells of
+  // sum_JL V0_c T_(iJ)(kL) G_cj,J G_cd,L for each node d of c.
   forEachNodeRange(
       m_pool, x.cols(),
       [&](int, Eigen::Index begin, Eigen::Index end) {
@@ -153,12 +147,14 @@ void SmoothedStrainForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matri
           const auto u = static_cast<std::size_t>(j);
           Eigen::Vector3d sum = Eigen::Vector3d::Zero();
           double bound = 0.0;
+          if (rowBlocks != nullptr) m_rows.clearRow(*rowBlocks, j);
           for (int n = m_nodeEntryStart[u]; n < m_nodeEntryStart[u + 1]; ++n) {
             const int e = m_nodeEntries[static_cast<std::size_t>(n)];
             const int c = m_entryCell[static_cast<std::size_t>(e)];
             const auto g = m_cells.gradients_1_m.col(e);
             sum += Eigen::Map<const Eigen::Matrix3d>(m_cellStress_N_m2.col(c).data()) * g;
             if (pass.nodeStiffness != nullptr) bound += m_boundScale[c] * g.norm();
+            if (rowBlocks != nullptr) addCellRow(c, e, *rowBlocks);
           }
           f.col(j) -= sum;
           if (pass.nodeStiffness != nullptr) (*pass.nodeStiffness)[j] += bound;
@@ -169,86 +165,43 @@ void SmoothedStrainForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matri
   for (const TetFieldReport& seen : m_rangeReport) report.tets.include(seen);
 }
 
-void SmoothedStrainForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
-  // Each of its entries' share of its cell's gather, 9x9 product and scatter.
-  for (std::size_t j = 0; j + 1 < m_nodeEntryStart.size(); ++j) {
-    for (int n = m_nodeEntryStart[j]; n < m_nodeEntryStart[j + 1]; ++n) {
-      const auto c = static_cast<std::size_t>(
-          m_entryCell[static_cast<std::size_t>(m_nodeEntries[static_cast<std::size_t>(n)])]);
-      nodeWork[j] += 18 + 81 / (m_cells.start[c + 1] - m_cells.start[c]);
+void SmoothedStrainForceField::addCellRow(Eigen::Index c, int e,
+                                          NodeRowStiffness::Blocks& rowBlocks) const {
+  // tg(i, 3 k + L) = sum_J T_(iJ)(kL) G_cb,J, b entry e's node; then block (i, k) of each node d
+  // of the cell is sum_L tg(i, 3 k + L) G_cd,L.
+  const Eigen::Map<const StressTangent> tangent(m_tangents.col(c).data());
+  const Eigen::Vector3d g = m_cells.gradients_1_m.col(e);
+  Eigen::Matrix<double, 3, 9> tg;
+  for (int i = 0; i < 3; ++i) {
+    tg.row(i) = g(0) * tangent.row(3 * i) + g(1) * tangent.row(3 * i + 1) +
+                g(2) * tangent.row(3 * i + 2);
+  }
+  const auto u = static_cast<std::size_t>(c);
+  const int* slot = &m_pairSlot[static_cast<std::size_t>(m_pairStart[static_cast<std::size_t>(e)])];
+  for (int h = m_cells.start[u]; h < m_cells.start[u + 1]; ++h) {
+    const Eigen::Vector3d gd = m_cells.gradients_1_m.col(h);
+    Eigen::Map<Eigen::Matrix3d> block(rowBlocks.col(*slot++).data());
+    for (int k = 0; k < 3; ++k) {
+      block.col(k) += tg.middleCols<3>(3 * k) * gd;
     }
   }
 }
 
-void SmoothedStrainForceField::prepareProducts(const PartBounds& bounds) {
-  if (bounds == m_bounds) return;
-  m_bounds = bounds;
-  for (std::size_t p = 0; p < static_cast<std::size_t>(kParts); ++p) {
-    std::vector<int>& cells = m_partCells[p];
-    cells.clear();
-    for (Eigen::Index j = bounds[p]; j < bounds[p + 1]; ++j) {
-      const auto u = static_cast<std::size_t>(j);
-      for (int n = m_nodeEntryStart[u]; n < m_nodeEntryStart[u + 1]; ++n) {
-        cells.push_back(
-            m_entryCell[static_cast<std::size_t>(m_nodeEntries[static_cast<std::size_t>(n)])]);
-      }
-    }
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    m_partProjection[p].setZero(9, m_cells.cellCount());
-  }
+void SmoothedStrainForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
+  m_rows.addProductWork(nodeWork);
 }
 
 void SmoothedStrainForceField::addStiffnessProduct(int part, const double* x, double* y) const {
-  const CellTangents& tangents = currentTangents();
   const auto p = static_cast<std::size_t>(part);
-  Eigen::Matrix<double, 9, Eigen::Dynamic>& projection = m_partProjection[p];
-  // V0_c T_c : dF_c for each cell this part's nodes lie in.
-  for (const int c : m_partCells[p]) {
-    const auto u = static_cast<std::size_t>(c);
-    RowMajor3d dF = RowMajor3d::Zero();
-    for (int e = m_cells.start[u]; e < m_cells.start[u + 1]; ++e) {
-      dF += Eigen::Map<const Eigen::Vector3d>(x + 3 * m_cells.nodes[static_cast<std::size_t>(e)]) *
-            m_cells.gradients_1_m.col(e).transpose();
-    }
-    projection.col(c) = Eigen::Map<const StressTangent>(tangents.col(c).data()) *
-                        Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dF.data());
-  }
-  for (Eigen::Index j = m_bounds[p]; j < m_bounds[p + 1]; ++j) {
-    const auto u = static_cast<std::size_t>(j);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int n = m_nodeEntryStart[u]; n < m_nodeEntryStart[u + 1]; ++n) {
-      const int e = m_nodeEntries[static_cast<std::size_t>(n)];
-      sum += Eigen::Map<const RowMajor3d>(
-                 projection.col(m_entryCell[static_cast<std::size_t>(e)]).data()) *
-             m_cells.gradients_1_m.col(e);
-    }
-    Eigen::Map<Eigen::Vector3d>(y + 3 * j) += sum;
-  }
+  m_rows.addProduct(m_bounds[p], m_bounds[p + 1], x, y);
 }
 
 void SmoothedStrainForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
-  const CellTangents& tangents = currentTangents();
-  const auto u = static_cast<std::size_t>(j);
-  for (int n = m_nodeEntryStart[u]; n < m_nodeEntryStart[u + 1]; ++n) {
-    const int e = m_nodeEntries[static_cast<std::size_t>(n)];
-    const Eigen::Vector3d g = m_cells.gradients_1_m.col(e);
-    block += contract(tangents.col(m_entryCell[static_cast<std::size_t>(e)]).data(), g, g);
-  }
+  m_rows.addDiagonalBlock(j, block);
 }
 
 void SmoothedStrainForceField::addStiffness(NodeBlockMatrix& matrix) const {
-  const CellTangents& tangents = currentTangents();
-  for (std::size_t c = 0; c + 1 < m_cells.start.size(); ++c) {
-    const double* tangent = tangents.col(static_cast<Eigen::Index>(c)).data();
-    for (int e = m_cells.start[c]; e < m_cells.start[c + 1]; ++e) {
-      for (int h = m_cells.start[c]; h < m_cells.start[c + 1]; ++h) {
-        matrix.addBlock(
-            m_cells.nodes[static_cast<std::size_t>(e)], m_cells.nodes[static_cast<std::size_t>(h)],
-            contract(tangent, m_cells.gradients_1_m.col(e), m_cells.gradients_1_m.col(h)));
-      }
-    }
-  }
+  m_rows.addStiffness(matrix);
 }
 
 }  // namespace tissuesim

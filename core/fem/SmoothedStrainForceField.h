@@ -22,15 +22,17 @@
 // has det <= 0 adds nothing and is counted in tets.invertedCount; the volume term pushes it back.
 //
 // Passes: cell ranges compute each cell's F_c, V0_c P_c and, when asked, V0_c T_c; then node
-// ranges gather each node's force from the cells that hold it. A product computes
-// V0_c T_c : dF_c for each cell its part's nodes lie in, in that part's own scratch, then gathers
-// its nodes' rows. Bit-identical for any thread count; nothing in a pass allocates.
+// ranges gather each node's force from the cells that hold it and, when asked, its row of K
+// (NodeRowStiffness.h: a face cell's node meets about 15 others, where a product cell by cell
+// applied each of its 8 to 12 cells' 9x9 tangent and gradients). Bit-identical for any thread
+// count; nothing in a pass allocates.
 
 #include <array>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "fem/NodeRowStiffness.h"
 #include "fem/StrainCells.h"
 #include "forces/ForceField.h"
 #include "material/StrainEnergy.h"
@@ -51,9 +53,9 @@ class SmoothedStrainForceField final : public ForceField {
   double energy(const Eigen::Matrix3Xd& x) const override;
   void addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, const ForcePass& pass,
                  ForceReport& report) const override;
-  void acceptTrialStiffness() const override { m_current ^= 1; }
+  void acceptTrialStiffness() const override { m_rows.acceptTrial(); }
   void addProductWork(std::vector<Eigen::Index>& nodeWork) const override;
-  void prepareProducts(const PartBounds& bounds) override;
+  void prepareProducts(const PartBounds& bounds) override { m_bounds = bounds; }
   void addStiffnessProduct(int part, const double* x, double* y) const override;
   void addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const override;
   void addStiffness(NodeBlockMatrix& matrix) const override;
@@ -61,13 +63,10 @@ class SmoothedStrainForceField final : public ForceField {
   Eigen::Matrix2Xi couplings() const override;
 
  private:
-  using CellTangents = Eigen::Matrix<double, 81, Eigen::Dynamic>;  ///< V0_c T_c a cell
-
   /// F_c at positions x.
   Eigen::Matrix3d deformationGradient(const Eigen::Matrix3Xd& x, Eigen::Index c) const;
-  const CellTangents& currentTangents() const {
-    return m_tangents[static_cast<std::size_t>(m_current)];
-  }
+  /// += cell c's blocks of entry e's node's row of K (the pass's tangents).
+  void addCellRow(Eigen::Index c, int e, NodeRowStiffness::Blocks& rowBlocks) const;
 
   StrainCells m_cells;
   const StrainEnergy& m_energy;
@@ -77,18 +76,19 @@ class SmoothedStrainForceField final : public ForceField {
   std::vector<int> m_nodeEntryStart;
   std::vector<int> m_nodeEntries;
   std::vector<int> m_entryCell;
+  NodeRowStiffness m_rows;  ///< K by node rows: each node's neighbours through its cells
+  // For entry e (node b of cell c), the row entry of each of c's nodes in b's row, in c's order,
+  // at m_pairSlot[m_pairStart[e] ..].
+  std::vector<int> m_pairStart;
+  std::vector<int> m_pairSlot;
+  PartBounds m_bounds{};
   ForkJoinPool* m_pool = nullptr;
 
   // Scratch of the const passes, sized at construction.
   mutable Eigen::Matrix<double, 9, Eigen::Dynamic> m_cellStress_N_m2;  ///< V0_c P_c, column-major
-  mutable Eigen::VectorXd m_boundScale;            ///< ||V0_c T_c|| ||G_c|| (the explicit bound's)
-  mutable std::array<CellTangents, 2> m_tangents;  ///< the current and trial slots
-  mutable int m_current = 0;
+  mutable Eigen::VectorXd m_boundScale;  ///< ||V0_c T_c|| ||G_c|| (the explicit bound's)
+  mutable Eigen::Matrix<double, 81, Eigen::Dynamic> m_tangents;  ///< the pass's V0_c T_c a cell
   mutable std::array<TetFieldReport, kNodeRanges> m_rangeReport{};
-  // Products: the cells each part's nodes lie in (sorted), and V0_c T_c : dF_c (9 by #cells).
-  PartBounds m_bounds{};
-  std::array<std::vector<int>, kParts> m_partCells;
-  mutable std::array<Eigen::Matrix<double, 9, Eigen::Dynamic>, kParts> m_partProjection;
 };
 
 }  // namespace tissuesim

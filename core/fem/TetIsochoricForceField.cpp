@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "fem/TetIsochoricForceField.h"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -10,7 +9,6 @@
 
 #include "fem/IsochoricMaterialPoint.h"
 #include "mesh/TetMesh.h"
-#include "numerics/NodeBlockMatrix.h"
 #include "parallel/NodeRanges.h"
 
 namespace tissuesim {
@@ -49,7 +47,7 @@ TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPosit
   // Each node's tets, its neighbours through them (its row of K), and where each incidence's
   // four blocks go.
   m_tetsOfNode = nodeTetIncidence(tets, nodeCount);
-  m_neighbours = nodeStars(tets, m_tetsOfNode);
+  m_rows = NodeRowStiffness(nodeStars(tets, m_tetsOfNode));
   m_incidenceSlot.resize(4 * m_tetsOfNode.entries.size());
   for (Eigen::Index j = 0; j < nodeCount; ++j) {
     const auto u = static_cast<std::size_t>(j);
@@ -57,15 +55,12 @@ TetIsochoricForceField::TetIsochoricForceField(const Eigen::Matrix3Xd& restPosit
       const int t = m_tetsOfNode.entries[static_cast<std::size_t>(e)] / 4;
       for (int n = 0; n < 4; ++n) {
         m_incidenceSlot[4 * static_cast<std::size_t>(e) + static_cast<std::size_t>(n)] =
-            starEntry(m_neighbours, static_cast<int>(j), tets(n, t));
+            m_rows.entry(static_cast<int>(j), tets(n, t));
       }
     }
   }
   m_tetForces_N.setZero(12, tetCount);
   m_tetStiffness.setZero(144, tetCount);
-  const auto entries = static_cast<Eigen::Index>(m_neighbours.nodes.size());
-  m_rows[0].setZero(9, entries);
-  m_rows[1].setZero(9, entries);
   for (Eigen::Index p = 0; p <= kParts; ++p) {
     m_bounds[static_cast<std::size_t>(p)] = nodeCount * p / kParts;
   }
@@ -150,18 +145,14 @@ void TetIsochoricForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3
     m_partInverted[static_cast<std::size_t>(part)] = inverted;
   };
   runParts(m_pool, kTetRanges, tetRange);
-  RowBlocks* const rowBlocks =
-      pass.stiffness == StiffnessSlot::None ? nullptr : &rows(pass.stiffness);
+  NodeRowStiffness::Blocks* const rowBlocks =
+      pass.stiffness == StiffnessSlot::None ? nullptr : &m_rows.slot(pass.stiffness);
   const auto gather = [&](int, Eigen::Index begin, Eigen::Index end) {
     for (Eigen::Index j = begin; j < end; ++j) {
       const auto u = static_cast<std::size_t>(j);
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       double bound = 0.0;
-      if (rowBlocks != nullptr) {
-        rowBlocks
-            ->middleCols(m_neighbours.start[u], m_neighbours.start[u + 1] - m_neighbours.start[u])
-            .setZero();
-      }
+      if (rowBlocks != nullptr) m_rows.clearRow(*rowBlocks, j);
       for (int e = m_tetsOfNode.start[u]; e < m_tetsOfNode.start[u + 1]; ++e) {
         const int t = m_tetsOfNode.entries[static_cast<std::size_t>(e)] / 4;
         const int a = m_tetsOfNode.entries[static_cast<std::size_t>(e)] % 4;
@@ -187,43 +178,20 @@ void TetIsochoricForceField::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3
 }
 
 void TetIsochoricForceField::addProductWork(std::vector<Eigen::Index>& nodeWork) const {
-  for (std::size_t j = 0; j + 1 < m_neighbours.start.size(); ++j) {
-    nodeWork[j] += 9 * (m_neighbours.start[j + 1] - m_neighbours.start[j]);
-  }
+  m_rows.addProductWork(nodeWork);
 }
 
 void TetIsochoricForceField::addStiffnessProduct(int part, const double* x, double* y) const {
-  const RowBlocks& blocks = currentRows();
   const auto p = static_cast<std::size_t>(part);
-  for (Eigen::Index j = m_bounds[p]; j < m_bounds[p + 1]; ++j) {
-    const auto u = static_cast<std::size_t>(j);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int e = m_neighbours.start[u]; e < m_neighbours.start[u + 1]; ++e) {
-      sum += Eigen::Map<const Eigen::Matrix3d>(blocks.col(e).data()) *
-             Eigen::Map<const Eigen::Vector3d>(x +
-                                               3 * m_neighbours.nodes[static_cast<std::size_t>(e)]);
-    }
-    Eigen::Map<Eigen::Vector3d>(y + 3 * j) += sum;
-  }
+  m_rows.addProduct(m_bounds[p], m_bounds[p + 1], x, y);
 }
 
 void TetIsochoricForceField::addDiagonalBlock(Eigen::Index j, Eigen::Matrix3d& block) const {
-  const auto u = static_cast<std::size_t>(j);
-  const auto first = m_neighbours.nodes.begin() + m_neighbours.start[u];
-  const auto last = m_neighbours.nodes.begin() + m_neighbours.start[u + 1];
-  const auto self = std::lower_bound(first, last, static_cast<int>(j));
-  block += Eigen::Map<const Eigen::Matrix3d>(
-      currentRows().col(static_cast<Eigen::Index>(self - m_neighbours.nodes.begin())).data());
+  m_rows.addDiagonalBlock(j, block);
 }
 
 void TetIsochoricForceField::addStiffness(NodeBlockMatrix& matrix) const {
-  const RowBlocks& blocks = currentRows();
-  for (std::size_t j = 0; j + 1 < m_neighbours.start.size(); ++j) {
-    for (int e = m_neighbours.start[j]; e < m_neighbours.start[j + 1]; ++e) {
-      matrix.addBlock(static_cast<int>(j), m_neighbours.nodes[static_cast<std::size_t>(e)],
-                      Eigen::Map<const Eigen::Matrix3d>(blocks.col(e).data()));
-    }
-  }
+  m_rows.addStiffness(matrix);
 }
 
 }  // namespace tissuesim

@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 
+#include "fem/NodeRowStiffness.h"
 #include "forces/ForceField.h"
 #include "material/StrainEnergy.h"
 #include "mesh/TetMesh.h"
@@ -51,7 +52,7 @@ class TetIsochoricForceField final : public ForceField {
   double energy(const Eigen::Matrix3Xd& x) const override;
   void addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f, const ForcePass& pass,
                  ForceReport& report) const override;
-  void acceptTrialStiffness() const override { m_current = 1 - m_current; }
+  void acceptTrialStiffness() const override { m_rows.acceptTrial(); }
   void addProductWork(std::vector<Eigen::Index>& nodeWork) const override;
   void addStiffnessProduct(int part, const double* x, double* y) const override;
   void prepareProducts(const PartBounds& bounds) override { m_bounds = bounds; }
@@ -63,15 +64,9 @@ class TetIsochoricForceField final : public ForceField {
  private:
   static constexpr int kTetRanges = 4;
   using TetStiffness = Eigen::Matrix<double, 144, Eigen::Dynamic>;  // 12x12 column-major a tet
-  using RowBlocks = Eigen::Matrix<double, 9, Eigen::Dynamic>;       // 3x3 column-major a row entry
 
   /// F of tet t at positions x.
   Eigen::Matrix3d deformationGradient(const Eigen::Matrix3Xd& x, Eigen::Index t) const;
-  const RowBlocks& currentRows() const { return m_rows[static_cast<std::size_t>(m_current)]; }
-  RowBlocks& rows(StiffnessSlot which) const {
-    return m_rows[static_cast<std::size_t>(which == StiffnessSlot::Trial ? 1 - m_current
-                                                                         : m_current)];
-  }
 
   Eigen::Matrix4Xi m_tets;
   const StrainEnergy& m_energy;
@@ -79,18 +74,14 @@ class TetIsochoricForceField final : public ForceField {
   Eigen::Matrix<double, 12, Eigen::Dynamic> m_gradients;  ///< g_a of each tet (1/m)
   Eigen::VectorXd m_restVolume_m3;
   NodeTetIncidence m_tetsOfNode;  ///< entries: 4 t + a for each tet t that holds the node as a
-  // K by node rows: node j's neighbours (j among them, sorted) m_neighbours.nodes[start[j] ..
-  // start[j + 1]), and the K_(j n) block of each in m_rows' column of the same index.
-  NodeStars m_neighbours;
+  NodeRowStiffness m_rows;  ///< K by node rows: each node's neighbours through its tets
   std::vector<int> m_incidenceSlot;  ///< 4 per incidence: the row entry of the tet's node n
   ForkJoinPool* m_pool = nullptr;
   PartBounds m_bounds{};
 
   // Scratch of the passes, sized at construction.
   mutable Eigen::Matrix<double, 12, Eigen::Dynamic> m_tetForces_N;
-  mutable TetStiffness m_tetStiffness;      ///< the pass's K_t, gathered into m_rows
-  mutable std::array<RowBlocks, 2> m_rows;  ///< the current and trial slots
-  mutable int m_current = 0;                ///< which of m_rows is the current slot
+  mutable TetStiffness m_tetStiffness;  ///< the pass's K_t, gathered into m_rows
   mutable std::array<int, kTetRanges> m_partBeyondRange{};
   mutable std::array<int, kTetRanges> m_partInverted{};
 };
