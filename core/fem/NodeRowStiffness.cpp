@@ -66,8 +66,9 @@ NodeStars cellNeighbours(const std::vector<int>& start, const std::vector<int>& 
   std::vector<int> fill(cellStart.begin(), cellStart.end() - 1);
   for (std::size_t c = 0; c + 1 < start.size(); ++c) {
     for (int e = start[c]; e < start[c + 1]; ++e) {
-      cellsOfNode[static_cast<std::size_t>(fill[static_cast<std::size_t>(
-          nodes[static_cast<std::size_t>(e)])]++)] = static_cast<int>(c);
+      cellsOfNode[static_cast<std::size_t>(
+          fill[static_cast<std::size_t>(nodes[static_cast<std::size_t>(e)])]++)] =
+          static_cast<int>(c);
     }
   }
   NodeStars rows;

@@ -38,7 +38,7 @@ class NodeRowStiffness {
   /// The slot a pass asking for `which` (Current or Trial) writes.
   Blocks& slot(StiffnessSlot which) const {
     return m_slots[static_cast<std::size_t>(which == StiffnessSlot::Trial ? 1 - m_current
-                                                                         : m_current)];
+                                                                          : m_current)];
   }
   void acceptTrial() const { m_current = 1 - m_current; }
   /// Node j's row of `blocks` set to zero, for a pass to gather into.

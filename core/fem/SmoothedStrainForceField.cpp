@@ -13,7 +13,6 @@
 
 namespace tissuesim {
 
-
 SmoothedStrainForceField::SmoothedStrainForceField(StrainCells cells, Eigen::Index nodeCount,
                                                    const StrainEnergy& energy)
     : m_cells(std::move(cells)), m_energy(energy), m_limitShift(energy.usableInvariantShift()) {
@@ -173,8 +172,8 @@ void SmoothedStrainForceField::addCellRow(Eigen::Index c, int e,
   const Eigen::Vector3d g = m_cells.gradients_1_m.col(e);
   Eigen::Matrix<double, 3, 9> tg;
   for (int i = 0; i < 3; ++i) {
-    tg.row(i) = g(0) * tangent.row(3 * i) + g(1) * tangent.row(3 * i + 1) +
-                g(2) * tangent.row(3 * i + 2);
+    tg.row(i) =
+        g(0) * tangent.row(3 * i) + g(1) * tangent.row(3 * i + 1) + g(2) * tangent.row(3 * i + 2);
   }
   const auto u = static_cast<std::size_t>(c);
   const int* slot = &m_pairSlot[static_cast<std::size_t>(m_pairStart[static_cast<std::size_t>(e)])];

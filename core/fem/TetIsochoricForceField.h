@@ -73,8 +73,8 @@ class TetIsochoricForceField final : public ForceField {
   double m_limitShift = 0.0;  ///< I1bar - 3 at the end of the usable range
   Eigen::Matrix<double, 12, Eigen::Dynamic> m_gradients;  ///< g_a of each tet (1/m)
   Eigen::VectorXd m_restVolume_m3;
-  NodeTetIncidence m_tetsOfNode;  ///< entries: 4 t + a for each tet t that holds the node as a
-  NodeRowStiffness m_rows;  ///< K by node rows: each node's neighbours through its tets
+  NodeTetIncidence m_tetsOfNode;     ///< entries: 4 t + a for each tet t that holds the node as a
+  NodeRowStiffness m_rows;           ///< K by node rows: each node's neighbours through its tets
   std::vector<int> m_incidenceSlot;  ///< 4 per incidence: the row entry of the tet's node n
   ForkJoinPool* m_pool = nullptr;
   PartBounds m_bounds{};

@@ -71,8 +71,7 @@ TEST(NodeRowStiffness, ProductsBlocksAndAssemblyAreTheCurrentSlotsMatrix) {
   for (Eigen::Index j = 0; j < n; ++j) {
     Eigen::Matrix3d block = Eigen::Matrix3d::Identity();
     rows.addDiagonalBlock(j, block);
-    const Eigen::Matrix3d expected =
-        Eigen::Matrix3d::Identity() + dense.block<3, 3>(3 * j, 3 * j);
+    const Eigen::Matrix3d expected = Eigen::Matrix3d::Identity() + dense.block<3, 3>(3 * j, 3 * j);
     EXPECT_LT((block - expected).norm(), 1e-15) << j;
   }
   NodeBlockMatrix matrix(n, pairs);
