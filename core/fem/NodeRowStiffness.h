@@ -31,7 +31,6 @@ class NodeRowStiffness {
   NodeRowStiffness() = default;
   explicit NodeRowStiffness(NodeStars neighbours);
 
-  const NodeStars& neighbours() const { return m_neighbours; }
   /// The column of K_(j n) (n must be one of j's neighbours).
   int entry(int j, int n) const { return starEntry(m_neighbours, j, n); }
 
