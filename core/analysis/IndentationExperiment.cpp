@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "analysis/NetworkCalibration.h"
+#include "analysis/SecondsSince.h"
 #include "analysis/TensileExperiment.h"
 #include "analysis/UniaxialExperiment.h"
 #include "fem/FemModel.h"
@@ -88,10 +89,6 @@ void load(const IndentationSetup& setup, double top_m, const Eigen::Vector2d& ax
     }
     curve.force_N.push_back(force());
   }
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace

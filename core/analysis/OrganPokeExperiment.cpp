@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "analysis/SecondsSince.h"
 #include "fem/FemModel.h"
 #include "fem/FemStaticSolver.h"
 #include "fem/QuadraticTetMesh.h"
@@ -45,10 +46,6 @@ Eigen::VectorXd surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quad
         ca, bc, c, ca;
   }
   return vertexAreas(quadratic.nodes_m, pieces);
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace

@@ -28,6 +28,9 @@ struct LiverMaterial {
   }
 };
 
+/// The porcine liver's strain energy.
+inline const StrainEnergy& liverEnergy() { return LiverMaterial::instance().energy; }
+
 /// Positions `rest` (3 by #V) stretched 15 % along x, squeezed 6 % across and jiggled by up
 /// to `jiggle_m`, and a random direction of the same shape: a deformed state for finite
 /// differences.

@@ -20,19 +20,17 @@
 namespace tissuesim {
 namespace {
 
-const StrainEnergy& liver() { return test::LiverMaterial::instance().energy; }
-
 /// A 2 x 1 x 1 cell block of quadratic tets, stretched 15 % along x and jiggled.
-struct DeformedBlock {
+struct DeformedQuadraticBlock {
   QuadraticTetMesh mesh = makeQuadraticTetMesh(makeBlockMesh({0.02, 0.01, 0.01}, {2, 1, 1}));
-  FemModel model{mesh, liver(), 50.0 * liver().initialShearModulus()};
+  FemModel model{mesh, test::liverEnergy(), 50.0 * test::liverEnergy().initialShearModulus()};
   test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 3, 2e-4);
   const Eigen::Matrix3Xd& x = deformed.x;
   const Eigen::Matrix3Xd& direction = deformed.direction;
 };
 
 TEST(FemModel, TheGradientIsTheEnergysDerivative) {
-  const DeformedBlock block;
+  const DeformedQuadraticBlock block;
   Eigen::Matrix3Xd gradient;
   ASSERT_TRUE(block.model.evaluate(block.x, gradient).isAdmissible);
   constexpr double h = 1e-7;
@@ -45,7 +43,7 @@ TEST(FemModel, TheGradientIsTheEnergysDerivative) {
 }
 
 TEST(FemModel, TheHessianIsTheGradientsDerivative) {
-  const DeformedBlock block;
+  const DeformedQuadraticBlock block;
   Eigen::Matrix3Xd gradient, plus, minus;
   Eigen::SparseMatrix<double> hessian;
   block.model.evaluate(block.x, gradient, hessian, {});
@@ -69,7 +67,7 @@ double closedFormUniaxialStress(double lambda, double bulkModulus_Pa) {
     Eigen::Matrix3d f = Eigen::Vector3d(lambda, s, s).asDiagonal();
     const double j = f.determinant();
     // P = P_iso + U'(J) cof F, cof F = J F^-T.
-    return Eigen::Matrix3d(evaluateIsochoric(liver(), f, false).stress_Pa +
+    return Eigen::Matrix3d(evaluateIsochoric(test::liverEnergy(), f, false).stress_Pa +
                            bulkModulus_Pa * (j - 1.0) * j * f.inverse().transpose());
   };
   double low = 0.5, high = 1.0;  // P_22 < 0 at s = 0.5 (squeezed), > 0 at s = 1
@@ -83,12 +81,12 @@ double closedFormUniaxialStress(double lambda, double bulkModulus_Pa) {
 TEST(FemModel, ACubeInHomogeneousStretchMatchesTheClosedForm) {
   // One cube, six quadratic tets, the tensile grips: its equilibrium is homogeneous, which the
   // quadratic element represents exactly, so the grip stress is the closed form's.
-  const double kappa = 1e3 * liver().initialShearModulus();
+  const double kappa = 1e3 * test::liverEnergy().initialShearModulus();
   for (const double lambda : {1.05, 1.2, 1.3}) {
     const TensileSpecimen cube{{0.01, 0.01, 0.01}, 1};
     FemTensileStats stats;
     const std::vector<CurveBranch> curve =
-        runFemTensileTest(liver(), cube, kappa, {{lambda}, 2}, &stats);
+        runFemTensileTest(test::liverEnergy(), cube, kappa, {{lambda}, 2}, &stats);
     EXPECT_EQ(stats.elements, 6);
     EXPECT_EQ(stats.unconvergedPoints, 0);
     const double expected = closedFormUniaxialStress(lambda, kappa);
@@ -99,7 +97,7 @@ TEST(FemModel, ACubeInHomogeneousStretchMatchesTheClosedForm) {
 TEST(FemModel, TheTensileSpecimenReproducesTheContinuumCurve) {
   // The default bulk modulus holds the volume: the virgin loading curve to lambda 1.3 against
   // sedf's (the incompressible continuum's), R^2 >= 0.9999, the volume within 0.1 %.
-  const StrainEnergy& energy = liver();
+  const StrainEnergy& energy = test::liverEnergy();
   const UniaxialProtocol protocol{{1.3}, 13};
   FemTensileStats stats;
   const std::vector<CurveBranch> fem = runFemTensileTest(

@@ -27,17 +27,11 @@
 #include "parallel/ForkJoinPool.h"
 #include "support/BlockPress.h"
 #include "support/ForceFieldChecks.h"
+#include "support/TestMeshes.h"
 #include "support/TestSystems.h"
 
 namespace tissuesim {
 namespace {
-
-const StrainEnergy& liver() { return test::LiverMaterial::instance().energy; }
-
-// A 20 x 20 x 10 mm block meshed by Gmsh (unstructured, 5 mm edges).
-TetMesh unstructuredBlock() {
-  return readTetMesh(std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/block-unstructured.msh");
-}
 
 enum class Cells { Faces, Nodes };
 
@@ -47,7 +41,7 @@ StrainCells cellsOf(const TetMesh& mesh, Cells kind) {
 }
 
 SmoothedStrainForceField fieldOn(const TetMesh& mesh, Cells kind) {
-  return SmoothedStrainForceField(cellsOf(mesh, kind), mesh.nodeCount(), liver());
+  return SmoothedStrainForceField(cellsOf(mesh, kind), mesh.nodeCount(), test::liverEnergy());
 }
 
 Eigen::Matrix3d tetDeformation(const Eigen::Matrix3Xd& rest, const Eigen::Matrix3Xd& x,
@@ -84,7 +78,7 @@ double smoothedEnergy(const TetMesh& mesh, const Eigen::Matrix3Xd& x, Cells kind
   for (const auto& [key, cell] : cells) {
     const Eigen::Matrix3d f = cell.first / cell.second;
     const double i1bar = std::pow(f.determinant(), -2.0 / 3.0) * f.squaredNorm();
-    energy += cell.second * liver().atInvariantShift(std::max(i1bar - 3.0, 0.0)).energy;
+    energy += cell.second * test::liverEnergy().atInvariantShift(std::max(i1bar - 3.0, 0.0)).energy;
   }
   return energy;
 }
@@ -100,7 +94,7 @@ Eigen::Matrix3Xd forcesOf(const ForceField& field, const Eigen::Matrix3Xd& x,
 class SmoothedStrain : public ::testing::TestWithParam<Cells> {};
 
 TEST_P(SmoothedStrain, ItsEnergyIsTheCellsMeanStrainsAndItsForcesTheNegativeGradient) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   ASSERT_GT(mesh.tets.cols(), 100);
   const SmoothedStrainForceField field = fieldOn(mesh, GetParam());
   // Jiggled less than the other tests: a boundary node of one small tet would pass locking.
@@ -128,7 +122,7 @@ TEST_P(SmoothedStrain, ItsEnergyIsTheCellsMeanStrainsAndItsForcesTheNegativeGrad
 }
 
 TEST_P(SmoothedStrain, TheStiffnessIsTheForcesDerivativeInEveryForm) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   SmoothedStrainForceField field = fieldOn(mesh, GetParam());
   field.prepareProducts({0, 7, 20, 31, mesh.nodes_m.cols()});  // uneven parts on purpose
   test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 5, 4e-4);
@@ -166,7 +160,7 @@ TEST_P(SmoothedStrain, TheStiffnessIsTheForcesDerivativeInEveryForm) {
 }
 
 TEST_P(SmoothedStrain, TheProjectedStiffnessIsPositiveSemiDefiniteWhereTheExactIsNot) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const SmoothedStrainForceField field = fieldOn(mesh, GetParam());
   // Strongly sheared and compressed: the exact Hessian of I1bar is indefinite there.
   Eigen::Matrix3Xd x = mesh.nodes_m;
@@ -185,9 +179,9 @@ TEST_P(SmoothedStrain, TheProjectedStiffnessIsPositiveSemiDefiniteWhereTheExactI
 
 TEST_P(SmoothedStrain, UnderAHomogeneousDeformationItIsTheTetsFem) {
   // Every tet's F is then the same, so is every cell's, and each node's force is the tets'.
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const SmoothedStrainForceField cells = fieldOn(mesh, GetParam());
-  const TetIsochoricForceField tets(mesh.nodes_m, mesh.tets, liver());
+  const TetIsochoricForceField tets(mesh.nodes_m, mesh.tets, test::liverEnergy());
   Eigen::Matrix3d f;
   f << 1.2, 0.05, -0.03, 0.02, 0.93, 0.04, -0.01, 0.03, 0.91;
   const Eigen::Matrix3Xd x = f * mesh.nodes_m;
@@ -224,7 +218,7 @@ TEST_P(SmoothedStrain, PastLockingAndInvertedCellsAreCountedAndStayFinite) {
 }
 
 TEST_P(SmoothedStrain, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 7, 4e-4);
   test::expectPoolPassesBitIdentical(
       [&] { return fieldOn(mesh, GetParam()); }, deformed.x, deformed.direction,
@@ -244,8 +238,8 @@ TEST(SmoothedStrainForceField, PerFaceItIsSofterThanTheTetsFemAndPerNodeSofterSt
   // Away from a homogeneous state each cell's energy is taken at its tets' mean strain, which for
   // the tissue's convex energy near rest is below the mean of their energies; a node's cell
   // averages over more tets than a face's.
-  const TetMesh mesh = unstructuredBlock();
-  const TetIsochoricForceField tets(mesh.nodes_m, mesh.tets, liver());
+  const TetMesh mesh = test::unstructuredBlock();
+  const TetIsochoricForceField tets(mesh.nodes_m, mesh.tets, test::liverEnergy());
   const SmoothedStrainForceField faces = fieldOn(mesh, Cells::Faces);
   const SmoothedStrainForceField nodes = fieldOn(mesh, Cells::Nodes);
   std::mt19937 random(5);
@@ -266,7 +260,7 @@ TEST(SmoothedStrainForceField, PerTetAndPerNodeBracketAPressAsTheMeshIsRefinedPe
   // shear modulus: per tet the force comes down and per node it goes up as the lattice is
   // refined, per tet above per node on each, per face between the two.
   using test::BlockPress;
-  const double kappa = 1e3 * liver().initialShearModulus();
+  const double kappa = 1e3 * test::liverEnergy().initialShearModulus();
   const TetMesh coarse = makeBlockMesh({0.02, 0.02, 0.01}, {4, 4, 2});
   const TetMesh fine = makeBlockMesh({0.02, 0.02, 0.01}, {8, 8, 4});
   const auto press = [&](const TetMesh& mesh, BlockPress::Strain strain) {

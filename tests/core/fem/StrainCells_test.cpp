@@ -12,13 +12,10 @@
 
 #include "mesh/TetMesh.h"
 #include "mesh/TetMeshFile.h"
+#include "support/TestMeshes.h"
 
 namespace tissuesim {
 namespace {
-
-TetMesh unstructuredBlock() {
-  return readTetMesh(std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/block-unstructured.msh");
-}
 
 /// The cells' volumes add up to the mesh's, and each cell's F is exact for an affine motion.
 void expectWholeAndAffineExact(const StrainCells& cells, const TetMesh& mesh) {
@@ -43,7 +40,7 @@ void expectWholeAndAffineExact(const StrainCells& cells, const TetMesh& mesh) {
 }
 
 TEST(StrainCells, PerFaceACellForEachFaceOfOneOrTwoTets) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const StrainCells cells = faceStrainCells(mesh.nodes_m, mesh.tets);
   std::set<std::set<int>> faces;
   for (Eigen::Index t = 0; t < mesh.tets.cols(); ++t) {
@@ -69,7 +66,7 @@ TEST(StrainCells, PerFaceACellForEachFaceOfOneOrTwoTets) {
 }
 
 TEST(StrainCells, PerNodeACellForEachNodeInATetOverItsStar) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const StrainCells cells = nodeStrainCells(mesh.nodes_m, mesh.tets);
   const NodeTetIncidence incidence = nodeTetIncidence(mesh.tets, mesh.nodeCount());
   const NodeStars stars = nodeStars(mesh.tets, incidence);
@@ -91,7 +88,7 @@ TEST(StrainCells, PerNodeACellForEachNodeInATetOverItsStar) {
 }
 
 TEST(StrainCells, ATetInsideOutIsRefused) {
-  TetMesh mesh = unstructuredBlock();
+  TetMesh mesh = test::unstructuredBlock();
   std::swap(mesh.tets(0, 3), mesh.tets(1, 3));
   EXPECT_THROW(faceStrainCells(mesh.nodes_m, mesh.tets), std::invalid_argument);
   EXPECT_THROW(nodeStrainCells(mesh.nodes_m, mesh.tets), std::invalid_argument);

@@ -20,12 +20,10 @@
 namespace tissuesim {
 namespace {
 
-const StrainEnergy& liver() { return test::LiverMaterial::instance().energy; }
-
 /// A 2 x 2 x 1 cell block, stretched 15 % along x, squeezed across and jiggled.
 struct DeformedBlock {
   TetMesh mesh = makeBlockMesh({0.02, 0.02, 0.01}, {2, 2, 1});
-  TetIsochoricForceField field{mesh.nodes_m, mesh.tets, liver()};
+  TetIsochoricForceField field{mesh.nodes_m, mesh.tets, test::liverEnergy()};
   test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 5, 3e-4);
   Eigen::Matrix3Xd& x = deformed.x;
   Eigen::Matrix3Xd& direction = deformed.direction;
@@ -119,7 +117,7 @@ TEST(TetIsochoricForceField, ItsTangentIsTheMaterialPointsOfTheReferenceFem) {
   rest << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
   Eigen::Matrix4Xi tets(4, 1);
   tets << 0, 1, 2, 3;
-  const TetIsochoricForceField field(rest, tets, liver());
+  const TetIsochoricForceField field(rest, tets, test::liverEnergy());
   Eigen::Matrix3d f;
   f << 1.2, 0.05, -0.03, 0.02, 0.93, 0.04, -0.01, 0.03, 0.91;
   Eigen::Matrix3Xd x(3, 4);
@@ -131,7 +129,7 @@ TEST(TetIsochoricForceField, ItsTangentIsTheMaterialPointsOfTheReferenceFem) {
   pass.isProjected = false;
   ForceReport report;
   field.addForces(x, forces, pass, report);
-  const IsochoricResponse expected = evaluateIsochoric(liver(), f, true);
+  const IsochoricResponse expected = evaluateIsochoric(test::liverEnergy(), f, true);
   ASSERT_TRUE(expected.isAdmissible);
   const double volume = 1.0 / 6.0;
   // f_b = -V0 P g_b with g_b = e_b for b = 1..3: column b - 1 of P.
@@ -173,10 +171,11 @@ TEST(TetIsochoricForceField, TheClosedFormProjectionIsTheTangentsEigenProjection
   ASSERT_GE(deformations.size(), 7U);
   int indefinite = 0;
   for (const Eigen::Matrix3d& f : deformations) {
-    const IsochoricResponse exact = evaluateIsochoric(liver(), f, true);
+    const IsochoricResponse exact = evaluateIsochoric(test::liverEnergy(), f, true);
     ASSERT_TRUE(exact.isAdmissible);
     const double scale = std::pow(f.determinant(), -2.0 / 3.0);
-    const EnergyInI1 w = liver().atInvariantShift(std::max(scale * f.squaredNorm() - 3.0, 0.0));
+    const EnergyInI1 w =
+        test::liverEnergy().atInvariantShift(std::max(scale * f.squaredNorm() - 3.0, 0.0));
     const Eigen::SelfAdjointEigenSolver<StressTangent> eigen(exact.tangent_Pa);
     if (eigen.eigenvalues().minCoeff() < -1e-9 * eigen.eigenvalues().maxCoeff()) ++indefinite;
     const StressTangent expected = eigen.eigenvectors() *
@@ -219,12 +218,12 @@ TEST(TetIsochoricForceField, TheProjectedStiffnessIsPositiveSemiDefinite) {
 
 TEST(TetIsochoricForceField, AnIsochoricStretchHasTheClosedFormsEnergy) {
   const TetMesh mesh = makeBlockMesh({0.01, 0.01, 0.01}, {1, 1, 1});
-  const TetIsochoricForceField field(mesh.nodes_m, mesh.tets, liver());
+  const TetIsochoricForceField field(mesh.nodes_m, mesh.tets, test::liverEnergy());
   for (const double lambda : {1.0, 1.05, 1.2, 1.35, 0.8}) {
     Eigen::Matrix3Xd x = mesh.nodes_m;
     x.row(0) *= lambda;
     x.bottomRows(2) /= std::sqrt(lambda);
-    const double expected = 1e-6 * liver().energy(lambda);
+    const double expected = 1e-6 * test::liverEnergy().energy(lambda);
     EXPECT_NEAR(field.energy(x), expected, 1e-15 + 1e-9 * expected) << lambda;
     // A homogeneous deformation leaves interior-free forces: only the boundary nodes pull, and
     // the net force is zero.
@@ -237,7 +236,7 @@ TEST(TetIsochoricForceField, AnIsochoricStretchHasTheClosedFormsEnergy) {
 
 TEST(TetIsochoricForceField, PastLockingAndInvertedTetsAreCountedAndStayFinite) {
   const TetMesh mesh = makeBlockMesh({0.01, 0.01, 0.01}, {1, 1, 1});
-  const TetIsochoricForceField field(mesh.nodes_m, mesh.tets, liver());
+  const TetIsochoricForceField field(mesh.nodes_m, mesh.tets, test::liverEnergy());
   Eigen::Matrix3Xd x = mesh.nodes_m;
   x.row(0) *= 2.5;  // far past lambda 1.5, where the chains lock
   x.bottomRows(2) /= std::sqrt(2.5);

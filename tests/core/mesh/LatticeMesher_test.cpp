@@ -8,12 +8,12 @@
 namespace tissuesim {
 namespace {
 
-TriangleSurface liver() {
+TriangleSurface liverSurface() {
   return readSurface(std::string(TISSUESIM_ASSET_DIR) + "/meshes/liver-smooth.obj", {0.03, ""});
 }
 
 TEST(LatticeMesher, FillsTheSurfaceWithGoodTets) {
-  const TriangleSurface surface = liver();
+  const TriangleSurface surface = liverSurface();
   const TetMesh mesh = meshInterior(surface, {0.012});
   const TetQualityReport quality = inspectTets(mesh);
   EXPECT_TRUE(quality.invertedTets.empty());
@@ -43,7 +43,7 @@ TEST(LatticeMesher, FillsTheSurfaceWithGoodTets) {
 }
 
 TEST(LatticeMesher, HitsASpringTarget) {
-  const TriangleSurface surface = liver();
+  const TriangleSurface surface = liverSurface();
   for (const int target : {1000, 5300}) {
     const TetMesh mesh = meshInterior(surface, {edgeLengthForSpringCount(surface, target)});
     EXPECT_NEAR(static_cast<double>(countUniqueEdges(mesh)), target, 0.1 * target);
@@ -51,9 +51,9 @@ TEST(LatticeMesher, HitsASpringTarget) {
 }
 
 TEST(LatticeMesher, RefusesNonsense) {
-  EXPECT_THROW(meshInterior(liver(), {0.0}), std::invalid_argument);
-  EXPECT_THROW(meshInterior(liver(), {1e-5}), std::invalid_argument);  // 10^10 cells
-  EXPECT_THROW(meshInterior(liver(), {10.0}), std::invalid_argument);  // no centre inside
+  EXPECT_THROW(meshInterior(liverSurface(), {0.0}), std::invalid_argument);
+  EXPECT_THROW(meshInterior(liverSurface(), {1e-5}), std::invalid_argument);  // 10^10 cells
+  EXPECT_THROW(meshInterior(liverSurface(), {10.0}), std::invalid_argument);  // no centre inside
 }
 
 }  // namespace

@@ -14,7 +14,9 @@
 namespace tissuesim {
 namespace {
 
-std::string bundledScene() { return std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json"; }
+std::string bundledScenePath() {
+  return std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-poke.json";
+}
 
 TEST(TripleBuffer, TheReaderNeverSeesAHalfWrittenValue) {
   struct Value {
@@ -54,7 +56,7 @@ LoopStatistics runLoopFor(Simulation& simulation, std::chrono::milliseconds dura
 }
 
 TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
-  Simulation simulation(loadSceneFile(bundledScene()));
+  Simulation simulation(loadSceneFile(bundledScenePath()));
   LiveInstrument instrument(simulation.instrumentPose());
   simulation.setInstrumentSource(&instrument);
   RealTimeLoop loop(simulation);
@@ -83,7 +85,7 @@ TEST(RealTimeLoop, RunsAtItsRateAndPublishesSnapshots) {
 TEST(RealTimeLoop, ABeforeStepCallThatSaysNoEndsTheLoopBeforeThatStep) {
   // A replay's end: the call before step 5 says no, so the loop ends after exactly 4 steps and
   // says it is not running; started again, it runs on.
-  Simulation simulation(loadSceneFile(bundledScene()));
+  Simulation simulation(loadSceneFile(bundledScenePath()));
   RealTimeLoop loop(simulation);
   std::atomic<int> calls{0};
   loop.setBeforeStep([&] { return ++calls <= 4; });
@@ -106,7 +108,7 @@ TEST(RealTimeLoop, ABeforeStepCallThatSaysNoEndsTheLoopBeforeThatStep) {
 TEST(RealTimeLoop, CountsOnlyItsOwnSimulatedTime) {
   // A simulation that has already run (a scripted approach, a resumed window): the real-time
   // factor is this loop's simulated time over its wall time, so steps x dt / wall.
-  Simulation simulation(loadSceneFile(bundledScene()));
+  Simulation simulation(loadSceneFile(bundledScenePath()));
   for (int n = 0; n < 300; ++n) simulation.step();
   const LoopStatistics statistics = runLoopFor(simulation, std::chrono::milliseconds(200));
   ASSERT_GT(statistics.steps, 0);
@@ -183,7 +185,7 @@ TEST(RealTimeLoop, AStallOfTenStepsIsMadeUp) {
 }
 
 TEST(RealTimeLoop, LateStepsAreCountedAndTimeFallsBehind) {
-  SceneDescription scene = loadSceneFile(bundledScene());
+  SceneDescription scene = loadSceneFile(bundledScenePath());
   scene.timeStep_s = 1e-6;  // a microsecond budget: every step is late
   Simulation simulation(scene);
   const LoopStatistics statistics = runLoopFor(simulation, std::chrono::milliseconds(200));
@@ -206,7 +208,7 @@ Eigen::Index highestNodeUnderTheTool(const Simulation& simulation) {
 }
 
 TEST(Grasp, LiftsSurfaceNodesAndReleasesThem) {
-  Simulation simulation(loadSceneFile(bundledScene()));
+  Simulation simulation(loadSceneFile(bundledScenePath()));
   const Eigen::Matrix3Xd rest = simulation.state().x;
   const Eigen::Index top = highestNodeUnderTheTool(simulation);
   const Eigen::Vector3d tip = rest.col(top) + Eigen::Vector3d(0, 0.002, 0);
@@ -230,7 +232,7 @@ TEST(Grasp, LiftsSurfaceNodesAndReleasesThem) {
 TEST(Grasp, TiltingTheToolSwingsTheHeldTissueRoundTheTip) {
   // Grasp at the top, then tilt the shaft 40 degrees about z, the tip staying put: the held
   // nodes follow their offsets turned with the shaft.
-  Simulation simulation(loadSceneFile(bundledScene()));
+  Simulation simulation(loadSceneFile(bundledScenePath()));
   const Eigen::Matrix3Xd rest = simulation.state().x;
   const Eigen::Index top = highestNodeUnderTheTool(simulation);
   const Eigen::Vector3d tip = rest.col(top) + Eigen::Vector3d(0, 0.002, 0);

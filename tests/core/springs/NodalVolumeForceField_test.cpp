@@ -16,16 +16,12 @@
 #include "springs/VolumeForceField.h"
 #include "support/BlockPress.h"
 #include "support/ForceFieldChecks.h"
+#include "support/TestMeshes.h"
 #include "support/TestSystems.h"
 #include "system/NewtonSolver.h"
 
 namespace tissuesim {
 namespace {
-
-// A 20 x 20 x 10 mm block meshed by Gmsh (unstructured, 5 mm edges: no lattice cubes).
-TetMesh unstructuredBlock() {
-  return readTetMesh(std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/block-unstructured.msh");
-}
 
 // The energy from its definition: each node's quarter of its tets' volumes.
 double nodalEnergy(const TetMesh& mesh, const Eigen::Matrix3Xd& x, double kappa) {
@@ -46,7 +42,7 @@ double nodalEnergy(const TetMesh& mesh, const Eigen::Matrix3Xd& x, double kappa)
 }
 
 TEST(NodalVolumeForceField, ForceIsMinusTheEnergyGradient) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   ASSERT_GT(mesh.tets.cols(), 100);
   const double kappa = 5e4;
   const NodalVolumeForceField field(mesh.nodes_m, mesh.tets, kappa);
@@ -77,7 +73,7 @@ TEST(NodalVolumeForceField, ForceIsMinusTheEnergyGradient) {
 TEST(NodalVolumeForceField, TheStiffnessIsTheForcesDerivativeInEveryForm) {
   // Asked for the exact Hessian the assembled matrix is -df/dx; asked for the PSD part it is
   // sum_a k_a g_a g_a^T alone, which the products and diagonal blocks apply too.
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const SpringMesh springs = buildSpringMesh(mesh, 1000.0);
   const NodalVolumeForceField field(mesh.nodes_m, mesh.tets, 5e4);
   const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 5, 4e-4);
@@ -120,7 +116,7 @@ TEST(NodalVolumeForceField, TheStiffnessIsTheForcesDerivativeInEveryForm) {
 }
 
 TEST(NodalVolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 7, 4e-4);
   test::expectPoolPassesBitIdentical(
       [&] { return NodalVolumeForceField(mesh.nodes_m, mesh.tets, 3e5); }, deformed.x,
@@ -132,7 +128,7 @@ TEST(NodalVolumeForceField, PassesOnThePoolAreBitIdenticalToTheSerialOnes) {
 }
 
 TEST(NodalVolumeForceField, PushesAnInvertedTetBackOutAndCountsIt) {
-  const TetMesh mesh = unstructuredBlock();
+  const TetMesh mesh = test::unstructuredBlock();
   const NodalVolumeForceField field(mesh.nodes_m, mesh.tets, 1e5);
   // An interior node of tet 0 pushed through its opposite face.
   Eigen::Matrix3Xd x = mesh.nodes_m;
@@ -170,7 +166,7 @@ TEST(NodalVolumeForceField, LinearTetsStiffenWithKappaFarLessUnderItThanUnderAVo
   // shear modulus (locking). One per node leaves three DOFs for each: the force still grows
   // with kappa on this coarse unstructured block (a node with few tets, on the boundary, is
   // nearly a tet's constraint), but a hundred times kappa does not double it.
-  const PressUnderTwoKappas press = pressUnderTwoKappas(unstructuredBlock(), 1e3, 1e5);
+  const PressUnderTwoKappas press = pressUnderTwoKappas(test::unstructuredBlock(), 1e3, 1e5);
   ASSERT_GT(press.nodes, 0.0);
   EXPECT_LT(press.nodesStiff / press.nodes, 2.0);
   EXPECT_GT(press.cellsStiff / press.cells, 20.0);

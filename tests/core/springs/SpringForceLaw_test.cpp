@@ -10,29 +10,33 @@
 namespace tissuesim {
 namespace {
 
-const test::LiverMaterial& liver() { return test::LiverMaterial::instance(); }
+const test::LiverMaterial& liverMaterial() { return test::LiverMaterial::instance(); }
 
 TEST(SpringForceLaw, EesmIsTheTableStress) {
-  const SpringForceLaw law(SpringLaw::Eesm, liver().table, liver().parameters, 0.0, false);
+  const SpringForceLaw law(SpringLaw::Eesm, liverMaterial().table, liverMaterial().parameters, 0.0,
+                           false);
   for (const double lambda : {0.7, 0.95, 1.0, 1.1, 1.4}) {
     const SpringStress p = law.evaluate(lambda, 1.0);
-    EXPECT_DOUBLE_EQ(p.stress, liver().table.stress(lambda));
+    EXPECT_DOUBLE_EQ(p.stress, liverMaterial().table.stress(lambda));
     EXPECT_FALSE(p.isBeyondRange);
   }
 }
 
 TEST(SpringForceLaw, PaperLawIsTheSecantForceOverArea) {
-  const SpringForceLaw law(SpringLaw::EesmPaper, liver().table, liver().parameters, 0.0, false);
+  const SpringForceLaw law(SpringLaw::EesmPaper, liverMaterial().table, liverMaterial().parameters,
+                           0.0, false);
   const double lambda = 1.2;
   EXPECT_NEAR(law.evaluate(lambda, 1.0).stress,
-              liver().table.springStiffness(lambda) * lambda / liver().parameters.springArea_m2,
+              liverMaterial().table.springStiffness(lambda) * lambda /
+                  liverMaterial().parameters.springArea_m2,
               1e-9);
 }
 
 TEST(SpringForceLaw, SlopesMatchFiniteDifferences) {
   for (const SpringLaw kind : {SpringLaw::Eesm, SpringLaw::EesmPaper, SpringLaw::Smm}) {
     for (const bool isSoftening : {false, true}) {
-      const SpringForceLaw law(kind, liver().table, liver().parameters, 5000.0, isSoftening);
+      const SpringForceLaw law(kind, liverMaterial().table, liverMaterial().parameters, 5000.0,
+                               isSoftening);
       const double lambdaMax = 1.25;
       for (const double lambda : {0.8, 0.97, 1.03, 1.1, 1.2, 1.3, 1.45}) {
         const double h = 1e-7;
@@ -48,7 +52,8 @@ TEST(SpringForceLaw, SlopesMatchFiniteDifferences) {
 }
 
 TEST(SpringForceLaw, BeyondLockingTheBarrierContinuesLinearlyAndSaysSo) {
-  const SpringForceLaw law(SpringLaw::Eesm, liver().table, liver().parameters, 0.0, false);
+  const SpringForceLaw law(SpringLaw::Eesm, liverMaterial().table, liverMaterial().parameters, 0.0,
+                           false);
   const StretchRange range = law.range();
   const SpringStress end = law.evaluate(range.upper, 1.0);
   const SpringStress past = law.evaluate(range.upper + 0.1, 1.0);
@@ -62,11 +67,13 @@ TEST(SpringForceLaw, BeyondLockingTheBarrierContinuesLinearlyAndSaysSo) {
 }
 
 TEST(SpringForceLaw, SofteningAppliesBelowLambdaMaxOnly) {
-  const SpringForceLaw law(SpringLaw::Eesm, liver().table, liver().parameters, 0.0, true);
+  const SpringForceLaw law(SpringLaw::Eesm, liverMaterial().table, liverMaterial().parameters, 0.0,
+                           true);
   EXPECT_TRUE(law.isSoftening());
-  EXPECT_LT(law.evaluate(1.1, 1.2).stress, liver().table.stress(1.1));
-  EXPECT_DOUBLE_EQ(law.evaluate(1.25, 1.2).stress, liver().table.stress(1.25));
-  const SpringForceLaw linear(SpringLaw::Smm, liver().table, liver().parameters, 5000.0, true);
+  EXPECT_LT(law.evaluate(1.1, 1.2).stress, liverMaterial().table.stress(1.1));
+  EXPECT_DOUBLE_EQ(law.evaluate(1.25, 1.2).stress, liverMaterial().table.stress(1.25));
+  const SpringForceLaw linear(SpringLaw::Smm, liverMaterial().table, liverMaterial().parameters,
+                              5000.0, true);
   EXPECT_FALSE(linear.isSoftening());
   EXPECT_NEAR(linear.evaluate(1.1, 1.2).stress, 500.0, 1e-9);
 }
