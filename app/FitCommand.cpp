@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/SecondsSince.h"
 #include "analysis/TensileTestData.h"
 #include "analysis/TissueFit.h"
 #include "app/AssetPaths.h"
@@ -89,8 +90,7 @@ void runFit(const FitOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   bool isShowingProgress = false;  // only for a fit that takes more than a second
   fit.progress = [&](int done, int total) {
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const double seconds = secondsSince(started);
     isShowingProgress = isShowingProgress || seconds > 1.0;
     if (isShowingProgress) {
       std::fprintf(stderr, "\rfitting: start %d of %d (%.1f s)%s", done, total, seconds,

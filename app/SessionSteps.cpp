@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/SecondsSince.h"
 #include "app/AssessmentReport.h"
 #include "app/CommandError.h"
 #include "app/ElasticModelWords.h"
@@ -51,7 +52,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
     } catch (const std::runtime_error& error) {
       throw CommandError(std::string("--export: ") + error.what());
     }
-    exportWall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    exportWall_s += secondsSince(begin);
     nextExport_s = simulation->time_s() + outputs.exportEvery_s - 0.5 * simulation->timeStep_s();
   };
   if (!outputs.exportFolder.empty()) {
@@ -87,9 +88,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
     if (exporter && simulation->time_s() >= nextExport_s) exportFrame();
     if (outputs.afterStep) outputs.afterStep(n);
   }
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
-      exportWall_s;
+  const double wall = secondsSince(start) - exportWall_s;
 
   nlohmann::json report;
   report["scene"] = outputs.sceneLabel;

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/SecondsSince.h"
 #include "app/AssetPaths.h"
 #include "app/CommandError.h"
 #include "app/OutputFile.h"
@@ -110,8 +111,7 @@ void runSoak(const SoakOptions& options) {
     }
   }
   std::fprintf(stderr, "\n");
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - startWall).count();
+  const double wall_s = secondsSince(startWall);
 
   // Memory: from the end of the first window (everything sized) to the last.
   const double memoryGrowth_mb =

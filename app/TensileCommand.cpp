@@ -12,6 +12,7 @@
 #include "analysis/FemTensileExperiment.h"
 #include "analysis/GoodnessOfFit.h"
 #include "analysis/NetworkCalibration.h"
+#include "analysis/SecondsSince.h"
 #include "analysis/TensileExperiment.h"
 #include "app/CommandError.h"
 #include "app/CurveCsv.h"
@@ -68,7 +69,7 @@ std::vector<CurveBranch> timedCurve(const Experiment& experiment, double& second
   const auto start = std::chrono::steady_clock::now();
   try {
     std::vector<CurveBranch> curve = experiment();
-    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds = secondsSince(start);
     return curve;
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/SecondsSince.h"
 #include "app/AssetPaths.h"
 #include "app/CommandError.h"
 #include "app/FemForceCache.h"
@@ -203,7 +204,7 @@ void runTrade(const TradeOptions& options) {
     m.cost = medianOfRounds(costs[r]);
     if (m.failure.empty()) m.failure = m.cost.failure;
   }
-  map.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  map.wall_s = secondsSince(started);
   writeTextFile(csvPath, "--output", tradeCsv(map));
   writeTextFile(mdPath, "--output", tradeMarkdown(map));
   writeTradePlot(map, pngPath);

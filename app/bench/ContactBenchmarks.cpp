@@ -9,6 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "analysis/SecondsSince.h"
 #include "collision/CapsuleContact.h"
 #include "sim/SceneFile.h"
 #include "sim/Simulation.h"
@@ -85,8 +86,7 @@ void registerContactBenchmarks(const std::string& scenePath) {
       outcome = simulation.step();
       if ((n + 1) % 100 == 0) trail.push_back(simulation.state().x);
     }
-    if (stepping_s != nullptr)
-      *stepping_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (stepping_s != nullptr) *stepping_s = secondsSince(start);
     if (force != nullptr) *force = outcome.contact.toolForce_N.norm();
     return trail;
   };

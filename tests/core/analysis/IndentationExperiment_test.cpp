@@ -57,7 +57,7 @@ IndentationSetup smallBlock() {
 }
 
 TEST(Indentation, TheFemForceConvergesAsTheGridIsRefined) {
-  const StrainEnergy& energy = test::LiverMaterial::instance().energy;
+  const StrainEnergy& energy = test::liverEnergy();
   const double kappa = defaultFemBulkModulus(energy);
   std::vector<double> forces;
   for (const int refinement : {1, 2, 4}) {

@@ -31,7 +31,7 @@ TEST(OrganPoke, ABlockPokedAsAnOrganGivesTheIndentationTestsForce) {
   // The same continuum discretised twice at the probe's scale (1.25 mm cells under it): the
   // whole block on a uniform grid, poked through the organ's surface, against the indentation
   // test's quarter block with symmetry planes on its grid graded from 1.25 mm.
-  const StrainEnergy& energy = test::LiverMaterial::instance().energy;
+  const StrainEnergy& energy = test::liverEnergy();
   const double kappa = defaultFemBulkModulus(energy);
   const TetMesh block = makeBlockMesh({0.01, 0.01, 0.005}, {8, 8, 4});
   const IndentationCurve organ = pokeOrganFem(energy, block, smallBlockPoke(), kappa);
@@ -49,7 +49,7 @@ TEST(OrganPoke, ABlockPokedAsAnOrganGivesTheIndentationTestsForce) {
 }
 
 TEST(OrganPoke, WhatCannotBePokedIsRefused) {
-  const StrainEnergy& energy = test::LiverMaterial::instance().energy;
+  const StrainEnergy& energy = test::liverEnergy();
   const double kappa = defaultFemBulkModulus(energy);
   const TetMesh block = makeBlockMesh({0.01, 0.01, 0.005}, {2, 2, 1});
   OrganPokeSetup beside = smallBlockPoke();

@@ -5,19 +5,17 @@
 #include "fem/NodeRowStiffness.h"
 
 #include <random>
-#include <string>
 
 #include <gtest/gtest.h>
 
-#include "mesh/TetMeshFile.h"
 #include "numerics/NodeBlockMatrix.h"
+#include "support/TestMeshes.h"
 
 namespace tissuesim {
 namespace {
 
 TEST(NodeRowStiffness, TheNeighboursThroughTetsAreTheStars) {
-  const TetMesh mesh =
-      readTetMesh(std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/block-unstructured.msh");
+  const TetMesh mesh = test::unstructuredBlock();
   std::vector<int> start{0};
   std::vector<int> nodes;
   for (Eigen::Index t = 0; t < mesh.tets.cols(); ++t) {

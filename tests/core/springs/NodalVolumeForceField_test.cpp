@@ -151,7 +151,7 @@ struct PressUnderTwoKappas {
   double nodes, nodesStiff, cells, cellsStiff;
 };
 PressUnderTwoKappas pressUnderTwoKappas(const TetMesh& mesh, double low, double high) {
-  const double mu = test::LiverMaterial::instance().energy.initialShearModulus();
+  const double mu = test::liverEnergy().initialShearModulus();
   using test::BlockPress;
   return {
       test::pressReaction(mesh, {BlockPress::Strain::Tets, BlockPress::Volume::Nodes, low * mu}),
