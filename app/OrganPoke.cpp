@@ -85,6 +85,8 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
   // A refused step leaves the time, and so the probe, where it was: count attempts, not steps.
   const long attemptLimit =
       2 * static_cast<long>(std::ceil(travel_m / speed_m_s / simulation.timeStep_s()));
+  poke.nodes = static_cast<int>(simulation.springMesh().nodeCount());
+  poke.stepTimes_ms.reserve(static_cast<std::size_t>(attemptLimit) + 2);
   const auto stepping = std::chrono::steady_clock::now();
   for (long attempt = 0; poke.force_N.size() < depths_m.size(); ++attempt) {
     if (attempt > attemptLimit) {
@@ -92,7 +94,10 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
                          std::to_string(1e3 * depths_m[poke.force_N.size()]) + " mm (" +
                          std::to_string(simulation.eventCount()) + " instability events)");
     }
+    const auto before = std::chrono::steady_clock::now();
     const StepOutcome outcome = simulation.step();
+    poke.stepTimes_ms.push_back(
+        1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count());
     ++poke.steps;
     const double depth = (simulation.instrumentPose().tip_m - entry).dot(tool.direction);
     const double force = -outcome.contact.toolForce_N.dot(tool.direction);

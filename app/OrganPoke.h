@@ -32,11 +32,13 @@ std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& 
                               const OrganPokeSetup& setup, double bulkModulus_Pa);
 
 struct SimulatorPoke {
-  std::vector<double> force_N;  ///< along the axis, at each depth
-  double seconds = 0.0;         ///< wall time, start-up included
-  long steps = 0;               ///< steps taken (refused ones included)
-  double stepping_s = 0.0;      ///< wall time of the steps alone: stepping_s / steps a step
-  long events = 0;              ///< instability events
+  std::vector<double> force_N;       ///< along the axis, at each depth
+  double seconds = 0.0;              ///< wall time, start-up included
+  long steps = 0;                    ///< steps taken (refused ones included)
+  double stepping_s = 0.0;           ///< wall time of the steps alone: stepping_s / steps a step
+  std::vector<double> stepTimes_ms;  ///< each step's wall time
+  int nodes = 0;                     ///< the organ's mesh's
+  long events = 0;                   ///< instability events
   /// The kinds of the events the simulation kept (its first 100), with counts
   /// (eventKindSummary).
   std::string eventKinds;

@@ -15,6 +15,7 @@
 #include "app/AssetPaths.h"
 #include "app/CommandError.h"
 #include "app/FemForceCache.h"
+#include "app/HeadlessDisplay.h"
 #include "app/IndentCommand.h"
 #include "app/LoadedTissue.h"
 #include "app/OrganPoke.h"
@@ -36,6 +37,8 @@ struct TradeOptions {
   std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0};
   std::string organReferencePath;
   std::string femMeshPath;
+  /// The organ's meshes on which the FEM is a row of the liver poke; "none": no such rows.
+  std::vector<std::string> organMeshPaths;
 };
 
 /// One line a task on stderr: a bar of the share done, the count, what runs now.
@@ -108,6 +111,11 @@ void loadOrganReference(const TradeOptions& options, const SceneDescription& bun
     }
     map.organReference_N = *forces;
     map.settings.organDepths_m = depths_m;
+    for (const std::string& path : options.organMeshPaths) {
+      if (path == "none") continue;
+      map.settings.organMeshes.push_back(
+          OrganMesh{path, std::filesystem::path(path).stem().string()});
+    }
   } catch (const CommandError& error) {
     map.organNote = error.what();
   }
@@ -139,21 +147,33 @@ void runTrade(const TradeOptions& options) {
   const std::string csvPath = (folder / "tradeoff.csv").string();
   const std::string mdPath = (folder / "tradeoff.md").string();
   const std::string pngPath = (folder / "tradeoff.png").string();
-  for (const std::string& path : {csvPath, mdPath, pngPath}) checkOutputWritable(path, "--output");
+  const std::string liverPngPath = (folder / "tradeoff-liver.png").string();
+  for (const std::string& path : {csvPath, mdPath, pngPath, liverPngPath})
+    checkOutputWritable(path, "--output");
 
+  for (const std::string& path : options.organMeshPaths) {
+    if (path != "none" && !std::filesystem::is_regular_file(path))
+      throw CommandError("--organ-meshes " + path + ": no such file (expected a .msh tet mesh)");
+  }
   const SceneDescription bundled = readScene(options.scenePath);
   const LoadedTissue tissue(bundled.tissue.string());
   map.settings.tetBulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
   map.tissueName = tissue.parameters.name;
   map.sceneName = bundled.name;
-  map.rows = tradeRows(bundled, map.settings);
+  // The liver poke's reference first: it adds the rows on the organ's meshes.
   loadOrganReference(options, bundled, tissue, map);
+  map.rows = tradeRows(bundled, map.settings);
   if (!map.organNote.empty())
     std::fprintf(stderr, "trade: no liver poke: %s\n", map.organNote.c_str());
   TradeErrors errors(tissue, bundled, map.settings);
 
+  // The rows timed on the bundled poke: all but the FEM's (the block's reference, and the FEM on
+  // the organ's meshes, timed on the liver poke).
+  const auto isTimedOnThePoke = [](const TradeRow& row) {
+    return row.femRefinement == 0 && row.organMeshPath.empty();
+  };
   int springRows = 0;
-  for (const TradeRow& row : map.rows) springRows += row.femRefinement > 0 ? 0 : 1;
+  for (const TradeRow& row : map.rows) springRows += isTimedOnThePoke(row) ? 1 : 0;
   const int rounds = map.settings.costRounds;
   ProgressBar progress(1 + static_cast<int>(map.rows.size()) + rounds * springRows);
   progress.start("the FEM reference (refinement " +
@@ -175,13 +195,23 @@ void runTrade(const TradeOptions& options) {
       map.cellEdges_m.push_back(0.0);
       continue;
     }
+    if (!row.organMeshPath.empty()) {
+      map.cellEdges_m.push_back(0.0);
+      try {
+        errors.measureOrgan(row, m);
+      } catch (const CommandError& failure) {
+        m.organFailure = failure.what();
+      }
+      continue;
+    }
     try {
       errors.measure(row, map.reference, m);
     } catch (const std::invalid_argument& failure) {
       m.failure = std::string("block: ") + failure.what();
     }
     map.cellEdges_m.push_back(errors.cellEdge(row.targetSprings));
-    // The liver poke for the spring rows (the tets' FEM takes minutes a row there).
+    // The liver poke for the spring rows (the tets' FEM on the lattice takes minutes a row
+    // there).
     if (map.settings.organDepths_m.empty() || row.model != "springs") continue;
     try {
       errors.measureOrgan(row, m);
@@ -192,7 +222,7 @@ void runTrade(const TradeOptions& options) {
   std::vector<std::vector<TradeCost>> costs(map.rows.size());
   for (int round = 1; round <= rounds; ++round) {
     for (std::size_t r = 0; r < map.rows.size(); ++r) {
-      if (map.rows[r].femRefinement > 0) continue;
+      if (!isTimedOnThePoke(map.rows[r])) continue;
       progress.start("cost, round " + std::to_string(round) + " of " + std::to_string(rounds) +
                      ": " + map.rows[r].name);
       costs[r].push_back(measureLiverCost(bundled, map.rows[r], map.settings.pokeSeconds));
@@ -207,9 +237,16 @@ void runTrade(const TradeOptions& options) {
   map.wall_s = secondsSince(started);
   writeTextFile(csvPath, "--output", tradeCsv(map));
   writeTextFile(mdPath, "--output", tradeMarkdown(map));
+  const HeadlessDisplay display;  // one for both plots
   writeTradePlot(map, pngPath);
   std::printf("%s", tradeMarkdown(map).c_str());
-  std::printf("\nwrote %s, %s and %s\n", csvPath.c_str(), mdPath.c_str(), pngPath.c_str());
+  if (!map.organReference_N.empty()) {
+    writeLiverTradePlot(map, liverPngPath);
+    std::printf("\nwrote %s, %s, %s and %s\n", csvPath.c_str(), mdPath.c_str(), pngPath.c_str(),
+                liverPngPath.c_str());
+  } else {
+    std::printf("\nwrote %s, %s and %s\n", csvPath.c_str(), mdPath.c_str(), pngPath.c_str());
+  }
 }
 
 }  // namespace
@@ -221,9 +258,11 @@ void registerTradeCommand(CLI::App& app) {
       "The speed/accuracy map: the bundled scene at several resolutions, spring laws, volume "
       "terms and integrators, and the tets' FEM on the same lattices (effects.model fem), each "
       "timed on the liver and measured against the FEM reference "
-      "on the indentation test and, the spring rows, on the liver poke (organ-poke). Writes "
-      "tradeoff.csv, tradeoff.md and tradeoff.png (error "
-      "against time per step, the Pareto front, the 1 ms budget); a progress bar on stderr.");
+      "on the indentation test and, the spring rows, on the liver poke (organ-poke); and the "
+      "FEM on meshes of the organ, measured on the liver poke alone. Writes tradeoff.csv, "
+      "tradeoff.md, tradeoff.png (the block's error against time per step, the Pareto front, "
+      "the 1 ms budget) and, with the liver poke, tradeoff-liver.png (the same for the liver "
+      "poke); a progress bar on stderr.");
   options->scenePath = bundledAsset("scenes/liver-poke.json").string();
   command->add_flag("--quick", options->isQuick,
                     "1,000 to 20,000 springs (the tets' FEM to 5,300), a coarser FEM "
@@ -256,6 +295,16 @@ void registerTradeCommand(CLI::App& app) {
       ->add_option("--fem-mesh", options->femMeshPath,
                    "The conformal tet mesh that reference was solved on")
       ->capture_default_str();
+  for (const char* mesh : {"liver-graded-5mm", "liver-graded-2p5mm", "liver-graded-1p25mm"})
+    options->organMeshPaths.push_back(
+        bundledAsset(std::string("meshes/") + mesh + ".msh").string());
+  command
+      ->add_option("--organ-meshes", options->organMeshPaths,
+                   "Tet meshes of the organ (metres, conformal with its drawn surface) on which "
+                   "the FEM, per tet and per face, is a row measured on the liver poke alone; "
+                   "'none': no such rows (default: the bundled liver's meshes graded to 5, 2.5 "
+                   "and 1.25 mm at the probe)")
+      ->delimiter(',');
   command->callback([options] { runTrade(*options); });
 }
 

@@ -14,7 +14,12 @@
 // and at the scene's pace (the bundled poke's 4 cm/s, stepped by the row's integrator), against
 // the FEM reference's static force; the top face's displacement against the FEM's; and the
 // tensile test's R^2 against sedf. And, where the scene's FEM reference of the liver poke is at
-// hand (organ-poke --fem-cache), the spring rows' force on that poke (OrganPoke.h).
+// hand (organ-poke --fem-cache), each row's force on that poke (OrganPoke.h) and its steps' wall
+// time there.
+//
+// The FEM on meshes conformal to the organ (knob "fem-organ": the tissue's energy per tet or per
+// face, a volume per node, contact on the mesh's boundary) has no block and no lattice: its
+// rows are measured on the liver poke alone, error and cost.
 
 #include <map>
 #include <string>
@@ -33,7 +38,8 @@ struct LoadedTissue;
 
 /// One setting of the knobs. `knob` says which one the row varies from the bundled scene's.
 struct TradeRow {
-  std::string knob;  ///< resolution, threads, model, volume, integrator, fem-tets, reference
+  /// resolution, threads, model, volume, integrator, fem-tets, fem-organ, reference
+  std::string knob;
   std::string name;
   int targetSprings = 5300;
   std::string law = "eesm";
@@ -46,6 +52,18 @@ struct TradeRow {
   /// at bulkModulus_Pa, no softening.
   std::string model = "springs";
   int femRefinement = 0;  ///< > 0: an FEM row (cost on the block, not the liver)
+  /// Non-empty: the FEM on this tet mesh of the organ (metres, conformal with the drawn surface),
+  /// the drawn surface left out (contact on the mesh's boundary), a volume per node at
+  /// bulkModulus_Pa and the isochoric strain per strainCells ("tets" or "faces").
+  std::string organMeshPath;
+  std::string organMeshLabel;  ///< what the mesh is, for the table: "2.5 / 12 mm, 965 nodes"
+  std::string strainCells = "tets";
+};
+
+/// A mesh of the organ on which the FEM is a row of the map.
+struct OrganMesh {
+  std::string path;
+  std::string label;
 };
 
 /// A row's cost on the liver (FEM rows: on the block, stepMedian_ms a static solve per load
@@ -74,9 +92,14 @@ struct TradeMeasurement {
   // (the tets: loading against the virgin curve, no unloading).
   double tensileLoadingR2 = 0.0;
   double tensileUnloadingR2 = 0.0;
-  // The liver poke (OrganPoke.h), weightless, at the settings' organ depths: the spring rows'.
+  // The liver poke (OrganPoke.h), weightless, at the settings' organ depths.
   std::vector<double> organForce_N;
   long organEvents = 0;
+  /// The liver poke's steps' wall time (ms), median and 99th percentile, and the steps a
+  /// second of its stepping alone.
+  double organStepMedian_ms = 0.0;
+  double organStepP99_ms = 0.0;
+  double organStepsPerSecond = 0.0;
   std::string organFailure;  ///< what stopped the liver poke, when something did
   std::string failure;       ///< what stopped the row, when something did
 };
@@ -100,11 +123,16 @@ struct TradeSettings {
   /// The liver poke's depths below the surface (m), increasing; empty: no liver poke.
   std::vector<double> organDepths_m;
   double organSpeed_m_s = 0.002;  ///< its probe's speed
+  /// Meshes of the organ on which the FEM (per tet, then per face) is a row, measured on the
+  /// liver poke alone; none without a liver poke.
+  std::vector<OrganMesh> organMeshes;
+  double organMeshBulkModulus_Pa = 10e6;  ///< their volume per node's
 };
 
 /// The rows of the map: the bundled scene at each resolution (two threads, then one), and at
 /// the resolution nearest the bundled mesh's: the other spring laws, no volume term, the other
-/// integrators and Newton settings; the tets' FEM on the lattices; then the FEM rows.
+/// integrators and Newton settings; the tets' FEM on the lattices; the FEM on the organ's meshes;
+/// then the FEM rows.
 std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSettings& settings);
 
 /// The cost of `row` on the liver, in a child process (or the failure that stopped it), over the
@@ -137,8 +165,11 @@ class TradeErrors {
   double stiffnessScale(double bulkModulus_Pa);
   /// The block and tensile fields of `out` for spring row `row`, against `reference`.
   void measure(const TradeRow& row, const IndentationCurve& reference, TradeMeasurement& out);
-  /// The liver poke's fields of `out` for spring row `row` (the same for any thread count, so
-  /// measured once for rows that differ in threads alone).
+  /// The liver poke's fields of `out` for row `row` (its forces are the same for any thread
+  /// count, so measured once for rows that differ in threads alone; the step times are those of
+  /// the first row measured). For a row on an organ mesh, its cost fields too: nodes, start-up,
+  /// the steps' median, 99th percentile and rate, events (no memory figure: it runs in this
+  /// process).
   void measureOrgan(const TradeRow& row, TradeMeasurement& out);
 
  private:
@@ -150,7 +181,8 @@ class TradeErrors {
   std::map<std::string, IndentationCurve> m_static;
   std::map<std::string, IndentationCurve> m_pace;
   std::map<std::string, std::pair<double, double>> m_tensile;
-  std::map<std::string, std::pair<std::vector<double>, long>> m_organ;
+  std::map<std::string, TradeMeasurement> m_organ;
+  std::map<std::string, int> m_organThreads;  ///< the thread count each poke was timed on
 };
 
 }  // namespace tissuesim::app

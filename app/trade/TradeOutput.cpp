@@ -2,6 +2,7 @@
 #include "app/trade/TradeOutput.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -44,9 +45,15 @@ std::string quoted(const std::string& text) {
 std::string depthLabel(double depth_m) { return format("%g", depth_m * 1e3); }
 
 bool isFem(const TradeMap& map, std::size_t row) { return map.rows[row].femRefinement > 0; }
+/// The FEM on a mesh of the organ: measured on the liver poke alone.
+bool isOrganFem(const TradeMap& map, std::size_t row) {
+  return !map.rows[row].organMeshPath.empty();
+}
 /// Whether the row has a tensile R^2: the lattice's rows, springs and tets (the FEM
 /// reference's own is `tensile --model fem`).
-bool hasTensile(const TradeMap& map, std::size_t row) { return !isFem(map, row); }
+bool hasTensile(const TradeMap& map, std::size_t row) {
+  return !isFem(map, row) && !isOrganFem(map, row);
+}
 /// Whether it has an unloading R^2 too: the springs' (the tets have no softening).
 bool hasUnloadingTensile(const TradeMap& map, std::size_t row) {
   return hasTensile(map, row) && map.rows[row].model == "springs";
@@ -66,13 +73,17 @@ std::string machineLine() {
   return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
 }
 
-/// The rows on the Pareto front of (stepCost, worstError), in increasing cost.
-std::vector<int> front(const TradeMap& map) {
+/// A row's position on one of the map's axes.
+using MapAxis = double (*)(const TradeMap&, std::size_t);
+
+/// The rows on the Pareto front of (cost, error), in increasing cost: the block's by default.
+std::vector<int> front(const TradeMap& map, MapAxis costAxis = stepCost,
+                       MapAxis errorAxis = worstError) {
   std::vector<double> cost;
   std::vector<double> error;
   for (std::size_t r = 0; r < map.rows.size(); ++r) {
-    cost.push_back(stepCost(map, r));
-    error.push_back(worstError(map, r));
+    cost.push_back(costAxis(map, r));
+    error.push_back(errorAxis(map, r));
   }
   return paretoFront(cost, error);
 }
@@ -115,11 +126,27 @@ double stepCost(const TradeMap& map, std::size_t row) {
   return map.measurements[row].cost.stepMedian_ms;
 }
 
+double worstOrganError(const TradeMap& map, std::size_t row) {
+  const TradeMeasurement& m = map.measurements[row];
+  if (!m.failure.empty() || !m.organFailure.empty()) return kNan;
+  const std::vector<double> errors = forceErrors(m.organForce_N, map.organReference_N);
+  if (errors.empty() || errors.size() < map.organReference_N.size()) return kNan;
+  double worst = 0.0;
+  for (const double e : errors) worst = std::max(worst, std::abs(e));
+  return worst;
+}
+
+double organStepCost(const TradeMap& map, std::size_t row) {
+  const TradeMeasurement& m = map.measurements[row];
+  if (!m.failure.empty() || !m.organFailure.empty() || !(m.organStepMedian_ms > 0.0)) return kNan;
+  return m.organStepMedian_ms;
+}
+
 std::string tradeCsv(const TradeMap& map) {
   std::string csv =
       "knob,name,springs,nodes,cell_mm,law,volume_term_kpa,integrator,newton_iterations,"
       "cg_tolerance,threads,startup_s,step_median_ms,step_p99_ms,steps_per_s,peak_memory_mb,"
-      "events";
+      "events,mesh,strain_cells";
   const std::vector<double>& depths = map.settings.depths_m;
   for (const char* kind : {"static", "pace"}) {
     for (const double d : depths)
@@ -132,21 +159,31 @@ std::string tradeCsv(const TradeMap& map) {
       csv += ",organ_" + std::string(kind) + "_" + depthLabel(d) +
              (*kind == 'f' ? "mm_n" : "mm_percent");
   }
-  if (!map.settings.organDepths_m.empty()) csv += ",organ_events,organ_failure";
+  if (!map.settings.organDepths_m.empty()) {
+    csv +=
+        ",organ_events,organ_failure,organ_step_median_ms,organ_step_p99_ms,organ_steps_per_s,"
+        "organ_worst_error_percent,organ_pareto";
+  }
   csv +=
       ",worst_error_percent,surface_rms_mm,surface_max_mm,tensile_r2_loading,"
       "tensile_r2_unloading,failed_steps,pareto,failure\n";
   const std::vector<int> onFront = front(map);
+  const std::vector<int> onOrganFront = front(map, organStepCost, worstOrganError);
+  const auto isIn = [](const std::vector<int>& rows, std::size_t r) {
+    return std::find(rows.begin(), rows.end(), static_cast<int>(r)) != rows.end();
+  };
   for (std::size_t r = 0; r < map.rows.size(); ++r) {
     const TradeRow& row = map.rows[r];
     const TradeMeasurement& m = map.measurements[r];
     const bool fem = isFem(map, r);
+    const bool organFem = isOrganFem(map, r);
     std::vector<std::string> fields = {row.knob,
                                        quoted(row.name),
                                        std::to_string(m.cost.springs),
                                        std::to_string(m.cost.nodes),
-                                       format("%.3f", map.cellEdges_m[r] * 1e3),
+                                       organFem ? "" : format("%.3f", map.cellEdges_m[r] * 1e3),
                                        fem                  ? "fem"
+                                       : organFem           ? "fem-organ"
                                        : row.model == "fem" ? "fem-tets"
                                                             : row.law,
                                        format("%g", row.bulkModulus_Pa / 1e3),
@@ -159,7 +196,11 @@ std::string tradeCsv(const TradeMap& map) {
                                        format("%.4f", m.cost.stepP99_ms),
                                        format("%.1f", m.cost.stepsPerSecond),
                                        format("%.1f", m.cost.peakMemory_MB),
-                                       std::to_string(m.cost.events)};
+                                       std::to_string(m.cost.events),
+                                       quoted(organFem ? row.organMeshLabel
+                                              : fem    ? std::string("block")
+                                                       : std::string("lattice")),
+                                       row.model == "fem" ? row.strainCells : ""};
     for (const std::vector<double>* forces : {&m.staticForce_N, &m.paceForce_N}) {
       const std::vector<double> errors = forceErrors(*forces, map.reference.force_N);
       for (std::size_t d = 0; d < depths.size(); ++d)
@@ -176,12 +217,17 @@ std::string tradeCsv(const TradeMap& map) {
     if (organDepths > 0) {
       fields.push_back(m.organForce_N.empty() ? "" : std::to_string(m.organEvents));
       fields.push_back(quoted(m.organFailure));
+      const bool timed = std::isfinite(organStepCost(map, r));
+      fields.push_back(timed ? format("%.4f", m.organStepMedian_ms) : "");
+      fields.push_back(timed ? format("%.4f", m.organStepP99_ms) : "");
+      fields.push_back(timed ? format("%.1f", m.organStepsPerSecond) : "");
+      fields.push_back(format("%.2f", worstOrganError(map, r)));
+      fields.push_back(isIn(onOrganFront, r) ? "1" : "0");
     }
-    const bool isOnFront =
-        std::find(onFront.begin(), onFront.end(), static_cast<int>(r)) != onFront.end();
+    const bool isOnFront = isIn(onFront, r);
     for (std::string field :
-         {format("%.2f", worstError(map, r)), format("%.4f", m.surfaceRms_mm),
-          format("%.4f", m.surfaceMax_mm),
+         {format("%.2f", worstError(map, r)), organFem ? "" : format("%.4f", m.surfaceRms_mm),
+          organFem ? "" : format("%.4f", m.surfaceMax_mm),
           hasTensile(map, r) ? format("%.6f", m.tensileLoadingR2) : "",
           hasUnloadingTensile(map, r) ? format("%.6f", m.tensileUnloadingR2) : "",
           std::to_string(m.failedSteps), std::string(isOnFront ? "1" : "0"), quoted(m.failure)}) {
@@ -242,7 +288,14 @@ std::string tradeMarkdown(const TradeMap& map) {
        << " mm/s (`tissuesim organ-poke`), against the FEM on a conformal mesh of its drawn "
           "surface: "
        << joined(map.organReference_N, "%.4g") << " N at " << joined(organDepths_mm, "%g")
-       << " mm below the surface. Measured on the spring rows.\n\n";
+       << " mm below the surface. Measured on every row but the FEM on the lattice (minutes a "
+          "row there) and the block's FEM. The FEM on the organ's meshes (conformal with the "
+          "drawn surface, graded towards the probe: assets/meshes/README.md; its volume per node "
+          "at "
+       << format("%g", map.settings.organMeshBulkModulus_Pa / 1e6)
+       << " MPa, contact on the mesh's boundary) is measured on this poke alone: its step "
+          "times are the liver poke's, not the bundled poke's (whose 4 cm are past the "
+          "continuum's equilibrium).\n\n";
   } else {
     md << "No liver poke: " << map.organNote << ".\n\n";
   }
@@ -279,6 +332,13 @@ std::string tradeMarkdown(const TradeMap& map) {
         joined(forceErrors(m.staticForce_N, map.reference.force_N), "%+.0f");
     const std::string surface =
         format("%.3f", m.surfaceRms_mm) + " / " + format("%.3f", m.surfaceMax_mm);
+    if (isOrganFem(map, r)) {
+      md << "- (" << m.cost.nodes << " nodes) | - | " << format("%.3f", m.cost.stepMedian_ms)
+         << " / " << format("%.3f", m.cost.stepP99_ms) << " (liver poke) | "
+         << format("%.0f", m.cost.stepsPerSecond) << " | " << format("%.2f", m.cost.startup_s)
+         << " | - | " << m.cost.events << " (liver poke) | - | - | - | - |" << organCell(m) << "\n";
+      continue;
+    }
     if (isFem(map, r)) {
       md << "- | - | " << format("%.1f", m.cost.stepMedian_ms / 1e3)
          << " s a load step (block) | - | - | - | - | " << staticErrors << " | - | " << surface
@@ -319,6 +379,18 @@ std::string tradeMarkdown(const TradeMap& map) {
        << (stepCost(map, i) <= kBudget_ms ? "" : " (over the 1 ms budget)") << "\n";
   }
 
+  if (hasOrgan) {
+    md << "\n## The Pareto front on the liver poke\n\nThe largest |force error| over the liver "
+          "poke's depths, against its median step (each row's own liver poke; the rows that "
+          "differ in threads alone share their forces and are left out):\n\n";
+    for (const int r : front(map, organStepCost, worstOrganError)) {
+      const auto i = static_cast<std::size_t>(r);
+      md << "- " << map.rows[i].name << ": " << format("%.3f", organStepCost(map, i)) << " ms, "
+         << format("%.0f", worstOrganError(map, i)) << " %"
+         << (organStepCost(map, i) <= kBudget_ms ? "" : " (over the 1 ms budget)") << "\n";
+    }
+  }
+
   md << "\n## Scaling\n\nMedian step against springs, fitted as t ~ springs^p: p = "
      << format("%.2f", scalingExponent(map, "resolution"))
      << " with the bundled threads, p = " << format("%.2f", scalingExponent(map, "threads"))
@@ -340,38 +412,49 @@ std::string tradeMarkdown(const TradeMap& map) {
   return md.str();
 }
 
-void writeTradePlot(const TradeMap& map, const std::string& path) {
+namespace {
+
+/// A group of the plot's points: the rows of one knob (and, for the FEM on the organ's meshes,
+/// one kind of strain cell).
+struct PlotGroup {
+  const char* knob;
+  const char* strainCells;  ///< nullptr: any
+  const char* name;
+  std::array<unsigned char, 3> rgb;
+  bool isLine;
+};
+
+constexpr PlotGroup kPlotGroups[] = {
+    {"resolution", nullptr, "resolution, bundled settings", {200, 40, 30}, true},
+    {"threads", nullptr, "resolution, 1 thread", {230, 140, 40}, false},
+    {"model", nullptr, "spring law", {30, 90, 200}, false},
+    {"volume", nullptr, "volume term", {120, 60, 170}, false},
+    {"integrator", nullptr, "integrator", {30, 150, 60}, false},
+    {"fem-tets", nullptr, "fem on the lattice (tets)", {20, 160, 170}, true},
+    {"fem-organ", "tets", "fem per tet, organ's graded meshes", {110, 110, 30}, true},
+    {"fem-organ", "faces", "fem per face, organ's graded meshes", {200, 60, 150}, true}};
+
+/// Error against cost on log axes, a series per group, the Pareto front and the 1 ms budget.
+void writeMapPlot(const TradeMap& map, const std::string& path, const std::string& title,
+                  const std::string& costLabel, const std::string& errorLabel, MapAxis costAxis,
+                  MapAxis errorAxis) {
   const HeadlessDisplay display;
-  CurveChart chart("Speed against accuracy (" + map.tissueName + ")",
-                   "median step on the liver (ms)",
-                   "largest |force error| vs the FEM, at pace (%)");
-  struct Group {
-    const char* knob;
-    const char* name;
-    std::array<unsigned char, 3> rgb;
-    bool isLine;
-  };
-  static constexpr Group kGroups[] = {
-      {"resolution", "resolution, bundled settings", {200, 40, 30}, true},
-      {"threads", "resolution, 1 thread", {230, 140, 40}, false},
-      {"model", "spring law", {30, 90, 200}, false},
-      {"volume", "volume term", {120, 60, 170}, false},
-      {"integrator", "integrator", {30, 150, 60}, false},
-      {"fem-tets", "fem on the lattice (tets)", {20, 160, 170}, true}};
+  CurveChart chart(title, costLabel, errorLabel);
   std::vector<ChartSeries> series;
   double lowest = std::numeric_limits<double>::infinity();
   double highest = 0.0;
   double fastest = kBudget_ms;
   double slowest = kBudget_ms;
-  for (const Group& group : kGroups) {
+  for (const PlotGroup& group : kPlotGroups) {
     ChartSeries points;
     points.name = group.name;
     points.rgb = group.rgb;
     points.isPoints = true;
     for (std::size_t r = 0; r < map.rows.size(); ++r) {
       if (map.rows[r].knob != group.knob) continue;
-      const double x = stepCost(map, r);
-      const double y = std::max(worstError(map, r), 0.01);  // a log axis has no 0
+      if (group.strainCells && map.rows[r].strainCells != group.strainCells) continue;
+      const double x = costAxis(map, r);
+      const double y = std::max(errorAxis(map, r), 0.01);  // a log axis has no 0
       if (!std::isfinite(x) || !std::isfinite(y)) continue;
       points.x.push_back(x);
       points.y.push_back(y);
@@ -380,6 +463,7 @@ void writeTradePlot(const TradeMap& map, const std::string& path) {
       fastest = std::min(fastest, x);
       slowest = std::max(slowest, x);
     }
+    if (points.x.empty()) continue;
     if (group.isLine && points.x.size() > 1) {
       ChartSeries line = points;
       line.name = std::string(group.name) + " (joined)";
@@ -393,9 +477,9 @@ void writeTradePlot(const TradeMap& map, const std::string& path) {
   paretoLine.name = "Pareto front";
   paretoLine.rgb = {0, 0, 0};
   paretoLine.isDashed = true;
-  for (const int r : front(map)) {
-    paretoLine.x.push_back(stepCost(map, static_cast<std::size_t>(r)));
-    paretoLine.y.push_back(std::max(worstError(map, static_cast<std::size_t>(r)), 0.01));
+  for (const int r : front(map, costAxis, errorAxis)) {
+    paretoLine.x.push_back(costAxis(map, static_cast<std::size_t>(r)));
+    paretoLine.y.push_back(std::max(errorAxis(map, static_cast<std::size_t>(r)), 0.01));
   }
   series.push_back(paretoLine);
   if (std::isfinite(lowest)) {
@@ -418,6 +502,21 @@ void writeTradePlot(const TradeMap& map, const std::string& path) {
   } catch (const std::runtime_error& error) {
     throw CommandError(error.what());
   }
+}
+
+}  // namespace
+
+void writeTradePlot(const TradeMap& map, const std::string& path) {
+  writeMapPlot(map, path, "Speed against accuracy (" + map.tissueName + ")",
+               "median step on the liver (ms)", "largest |force error| vs the FEM, at pace (%)",
+               stepCost, worstError);
+}
+
+void writeLiverTradePlot(const TradeMap& map, const std::string& path) {
+  writeMapPlot(map, path, "Speed against accuracy on the liver poke (" + map.tissueName + ")",
+               "median step on the liver poke (ms)",
+               "largest |force error| vs the FEM on the liver poke (%)", organStepCost,
+               worstOrganError);
 }
 
 }  // namespace tissuesim::app

@@ -7,6 +7,7 @@
 
 #include "app/OrganPoke.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,58 @@ TEST(OrganPoke, TheMapsLiverPokeIsOrganPokesSimulatorAndIsMeasuredOnceForAnyThre
             (0.001 + settings.organDepths_m.back()) / settings.organSpeed_m_s / lattice.timeStep_s);
   EXPECT_GT(poke.stepping_s, 0.0);
   EXPECT_LT(poke.stepping_s, poke.seconds);
+  EXPECT_EQ(poke.stepTimes_ms.size(), static_cast<std::size_t>(poke.steps));
+  // The first row's thread count timed the poke; the one-thread row shares its forces, not its
+  // times.
+  EXPECT_GT(twoThreads.organStepMedian_ms, 0.0);
+  EXPECT_GE(twoThreads.organStepP99_ms, twoThreads.organStepMedian_ms);
+  EXPECT_TRUE(std::isnan(oneThread.organStepMedian_ms));
+}
+
+TEST(OrganPoke, TheFemOnTheOrgansMeshIsARowOfTheLiverPokeWithItsCost) {
+  const SceneDescription bundled = readScene(kAssets + "/scenes/liver-poke.json");
+  const LoadedTissue tissue(bundled.tissue.string());
+  TradeSettings settings;
+  settings.resolutions = {1000};
+  settings.organDepths_m = {0.001, 0.003};
+  settings.organSpeed_m_s = 0.02;  // a tenth of the steps: the shape is what is checked here
+  const std::string mesh = kAssets + "/meshes/liver-graded-5mm.msh";
+  settings.organMeshes = {OrganMesh{mesh, "graded"}};
+  const std::vector<TradeRow> rows = tradeRows(bundled, settings);
+  std::vector<const TradeRow*> organRows;
+  for (const TradeRow& row : rows) {
+    if (row.knob == "fem-organ") organRows.push_back(&row);
+  }
+  ASSERT_EQ(organRows.size(), 2u);
+  EXPECT_EQ(organRows[0]->strainCells, "tets");
+  EXPECT_EQ(organRows[1]->strainCells, "faces");
+  EXPECT_EQ(organRows[0]->organMeshPath, mesh);
+  EXPECT_DOUBLE_EQ(organRows[0]->bulkModulus_Pa, settings.organMeshBulkModulus_Pa);
+
+  TradeErrors errors(tissue, bundled, settings);
+  TradeMeasurement measured;
+  errors.measureOrgan(*organRows[0], measured);
+  ASSERT_EQ(measured.organForce_N.size(), 2u);
+  EXPECT_GT(measured.organForce_N[0], 0.0);
+  EXPECT_GT(measured.organForce_N[1], measured.organForce_N[0]);
+  EXPECT_EQ(measured.cost.nodes, 912);
+  EXPECT_GT(measured.cost.stepMedian_ms, 0.0);
+  EXPECT_DOUBLE_EQ(measured.cost.stepMedian_ms, measured.organStepMedian_ms);
+  EXPECT_GT(measured.cost.startup_s, 0.0);
+  EXPECT_GT(measured.cost.stepsPerSecond, 0.0);
+
+  // What organ-poke measures on a scene that sets the same up in its file: the FEM per tet on
+  // that mesh, no drawn surface, a volume per node, no softening.
+  SceneDescription scene = weightlessPokeScene(bundled);
+  scene.surface.reset();
+  scene.tetMesh = SceneMeshSource{mesh, 1.0, ""};
+  scene.model = "fem";
+  scene.isSoftening = false;
+  scene.volumeCells = "nodes";
+  scene.bulkModulus_Pa = settings.organMeshBulkModulus_Pa;
+  const SimulatorPoke poke = pokeSimulator(scene, settings.organDepths_m, settings.organSpeed_m_s);
+  EXPECT_EQ(poke.force_N, measured.organForce_N);
+  EXPECT_EQ(poke.nodes, 912);
 }
 
 }  // namespace

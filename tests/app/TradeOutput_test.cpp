@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -239,6 +240,97 @@ TEST(TradeOutput, TheLiverPokeHasItsColumnsWhereItsReferenceIsAtHand) {
     if (next.rfind("|---", 0) == 0) continue;
     EXPECT_EQ(cells(next), cells(headerRow)) << next;
   }
+}
+
+TEST(TradeOutput, TheFemOnTheOrgansMeshIsOnTheLiverPokesAxesAlone) {
+  TradeMap map = sampleMap();
+  map.settings.organDepths_m = {0.001, 0.004};
+  map.organReference_N = {0.02, 0.2};
+  map.measurements[0].organForce_N = {0.03, 0.18};  // 50 % at 0.1 ms: on the liver's front
+  map.measurements[0].organStepMedian_ms = 0.1;
+  map.measurements[2].organForce_N = {0.024, 0.2};  // 20 % at 3 ms: on it
+  map.measurements[2].organStepMedian_ms = 3.0;
+  map.measurements[3].organForce_N = {0.02, 0.25};  // 25 % at 4 ms: beaten by row 2
+  map.measurements[3].organStepMedian_ms = 4.0;
+  map.measurements[1].organForce_N = {0.02, 0.2};  // 0 %, but timed on another thread count
+  map.measurements[1].organStepMedian_ms = std::numeric_limits<double>::quiet_NaN();
+  TradeRow organ;
+  organ.knob = "fem-organ";
+  organ.model = "fem";
+  organ.strainCells = "faces";
+  organ.organMeshPath = "graded.msh";
+  organ.organMeshLabel = "graded";
+  organ.name = "fem per face on graded";
+  TradeMeasurement organMeasurement;
+  organMeasurement.cost.nodes = 965;
+  organMeasurement.cost.stepMedian_ms = 11.0;
+  organMeasurement.cost.stepP99_ms = 13.0;
+  organMeasurement.organForce_N = {0.021, 0.19};  // 5 % at 11 ms: on it
+  organMeasurement.organStepMedian_ms = 11.0;
+  organMeasurement.organStepP99_ms = 13.0;
+  map.rows.push_back(organ);
+  map.measurements.push_back(organMeasurement);
+  map.cellEdges_m.push_back(0.0);
+  const std::size_t organRow = map.rows.size() - 1;
+
+  // On the liver's axes, not on the block's.
+  EXPECT_TRUE(std::isnan(worstError(map, organRow)));
+  EXPECT_NEAR(worstOrganError(map, organRow), 5.0, 1e-9);
+  EXPECT_DOUBLE_EQ(organStepCost(map, organRow), 11.0);
+  EXPECT_TRUE(std::isnan(organStepCost(map, 1)));
+  EXPECT_NEAR(worstOrganError(map, 2), 20.0, 1e-9);
+
+  std::istringstream csv(tradeCsv(map));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = fieldsOf(line);
+  const std::size_t organPareto = columnOf(header, "organ_pareto");
+  const std::size_t pareto = columnOf(header, "pareto");
+  const std::size_t name = columnOf(header, "name");
+  const std::size_t median = columnOf(header, "organ_step_median_ms");
+  const std::size_t law = columnOf(header, "law");
+  const std::size_t cells = columnOf(header, "strain_cells");
+  ASSERT_GT(organPareto, 0u);
+  ASSERT_GT(median, 0u);
+  ASSERT_GT(cells, 0u);
+  std::vector<std::string> onOrganFront;
+  std::vector<std::string> organFields;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> fields = fieldsOf(line);
+    ASSERT_EQ(fields.size(), header.size()) << line;
+    if (fields[organPareto] == "1") onOrganFront.push_back(fields[name]);
+    if (fields[name] == organ.name) organFields = fields;
+  }
+  EXPECT_EQ(onOrganFront, (std::vector<std::string>{"fast, poor", "slower and worse", organ.name}));
+  ASSERT_FALSE(organFields.empty());
+  EXPECT_EQ(organFields[pareto], "0");
+  EXPECT_EQ(organFields[median], "11.0000");
+  EXPECT_EQ(organFields[law], "fem-organ");
+  EXPECT_EQ(organFields[cells], "faces");
+
+  const std::string md = tradeMarkdown(map);
+  const std::size_t row = md.find("| fem per face on graded |");
+  ASSERT_NE(row, std::string::npos) << md;
+  const std::string text = md.substr(row, md.find('\n', row) - row);
+  EXPECT_NE(text.find("| - (965 nodes) | - | 11.000 / 13.000 (liver poke) |"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("| +5 / -5 |"), std::string::npos) << text;
+  const std::size_t front = md.find("## The Pareto front on the liver poke");
+  ASSERT_NE(front, std::string::npos) << md;
+  const std::size_t fast = md.find("- fast, poor: 0.100 ms, 50 %", front);
+  const std::size_t middle = md.find("- slower and worse: 3.000 ms, 20 % (over", front);
+  const std::size_t slow = md.find("- fem per face on graded: 11.000 ms, 5 % (over", front);
+  ASSERT_NE(fast, std::string::npos) << md;
+  ASSERT_NE(middle, std::string::npos) << md;
+  ASSERT_NE(slow, std::string::npos) << md;
+  EXPECT_LT(fast, middle);
+  EXPECT_LT(middle, slow);
+  // The table's rows keep the header's cell count.
+  const std::size_t table = md.find("| setting |");
+  const std::string headerRow = md.substr(table, md.find('\n', table) - table);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '|'),
+            std::count(headerRow.begin(), headerRow.end(), '|'))
+      << text;
 }
 
 }  // namespace
