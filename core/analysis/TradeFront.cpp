@@ -9,7 +9,8 @@
 
 namespace tissuesim {
 
-std::vector<int> paretoFront(const std::vector<double>& cost, const std::vector<double>& error) {
+std::vector<int> paretoFront(const std::vector<double>& cost, const std::vector<double>& error,
+                             double errorResolution) {
   if (cost.size() != error.size())
     throw std::invalid_argument("paretoFront: cost and error differ in length");
   std::vector<int> order;
@@ -26,7 +27,7 @@ std::vector<int> paretoFront(const std::vector<double>& cost, const std::vector<
   double best = std::numeric_limits<double>::infinity();
   for (const int index : order) {
     const double e = error[static_cast<std::size_t>(index)];
-    if (e < best) {
+    if (e < best - errorResolution) {
       front.push_back(index);
       best = e;
     }

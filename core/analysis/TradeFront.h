@@ -11,8 +11,12 @@
 namespace tissuesim {
 
 /// The indices of the Pareto front of (cost, error), in increasing cost. Points whose cost or
-/// error is not finite take no part. The two vectors have the same length.
-std::vector<int> paretoFront(const std::vector<double>& cost, const std::vector<double>& error);
+/// error is not finite take no part. The two vectors have the same length. A costlier point
+/// joins the front only when its error is more than `errorResolution` below every cheaper
+/// one's: errors that differ by less than what they can be told apart by (a map's rows that
+/// give the same forces to a few digits) are ties, and the cheaper point takes the place.
+std::vector<int> paretoFront(const std::vector<double>& cost, const std::vector<double>& error,
+                             double errorResolution = 0.0);
 
 /// The slope of log y against log x by least squares over the pairs with x, y > 0 (finite);
 /// NaN when fewer than two distinct x remain.

@@ -23,6 +23,15 @@ TEST(TradeFront, KeepsThePointsNothingBeatsOnBothAxes) {
   EXPECT_THROW(paretoFront({1.0}, {}), std::invalid_argument);
 }
 
+TEST(TradeFront, ErrorsWithinTheResolutionAreTiesTheCheaperPointTakes) {
+  //                             0      1      2      3
+  const std::vector<double> cost{1.0, 2.0, 3.0, 4.0};
+  const std::vector<double> error{50.0, 49.8, 49.0, 48.6};
+  EXPECT_EQ(paretoFront(cost, error), (std::vector<int>{0, 1, 2, 3}));
+  // Within half a point: 1 ties 0; 2 is a point below 0; 3 ties 2.
+  EXPECT_EQ(paretoFront(cost, error, 0.5), (std::vector<int>{0, 2}));
+}
+
 TEST(TradeFront, TheExponentOfAPowerLaw) {
   const std::vector<double> springs{1000.0, 5300.0, 20000.0, 100000.0};
   std::vector<double> time;
