@@ -24,6 +24,7 @@
 #include "app/trade/TradeGrid.h"
 #include "app/trade/TradeOutput.h"
 #include "fem/FemModel.h"
+#include "mesh/TetMeshFile.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim::app {
@@ -151,9 +152,18 @@ void runTrade(const TradeOptions& options) {
   for (const std::string& path : {csvPath, mdPath, pngPath, liverPngPath})
     checkOutputWritable(path, "--output");
 
+  // The organ's meshes are read now: a bad one would otherwise stop the map minutes in.
   for (const std::string& path : options.organMeshPaths) {
-    if (path != "none" && !std::filesystem::is_regular_file(path))
-      throw CommandError("--organ-meshes " + path + ": no such file (expected a .msh tet mesh)");
+    if (path == "none") continue;
+    if (!std::filesystem::is_regular_file(path) || !isTetMeshFile(path)) {
+      throw CommandError("--organ-meshes " + path +
+                         ": no such tet mesh file (expected Gmsh .msh or TetGen .node/.ele)");
+    }
+    try {
+      readTetMesh(path);
+    } catch (const MeshFileError& failure) {
+      throw CommandError("--organ-meshes: " + std::string(failure.what()));
+    }
   }
   const SceneDescription bundled = readScene(options.scenePath);
   const LoadedTissue tissue(bundled.tissue.string());
@@ -200,6 +210,8 @@ void runTrade(const TradeOptions& options) {
       try {
         errors.measureOrgan(row, m);
       } catch (const CommandError& failure) {
+        m.organFailure = failure.what();
+      } catch (const SceneFileError& failure) {
         m.organFailure = failure.what();
       }
       continue;
