@@ -24,6 +24,18 @@ namespace {
 
 const std::string kAssets = TISSUESIM_ASSET_DIR;
 
+/// The map's liver poke of the bundled scene at 1,000 springs, to 1 and 3 mm.
+struct BundledMapPoke {
+  SceneDescription bundled = readScene(kAssets + "/scenes/liver-poke.json");
+  LoadedTissue tissue{bundled.tissue.string()};
+  TradeSettings settings = [] {
+    TradeSettings made;
+    made.resolutions = {1000};
+    made.organDepths_m = {0.001, 0.003};
+    return made;
+  }();
+};
+
 TEST(OrganPoke, TheBundledLiverPokesKeptReferenceIsTheBundledScenes) {
   const SceneDescription scene =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-poke.json"));
@@ -54,12 +66,10 @@ TEST(OrganPoke, TheKeyChangesWithTheProbe) {
 }
 
 TEST(OrganPoke, TheMapsLiverPokeIsOrganPokesSimulatorAndIsMeasuredOnceForAnyThreadCount) {
-  const SceneDescription bundled = readScene(kAssets + "/scenes/liver-poke.json");
-  const LoadedTissue tissue(bundled.tissue.string());
-  TradeSettings settings;
-  settings.resolutions = {1000};
-  settings.organDepths_m = {0.001, 0.003};
-  TradeErrors errors(tissue, bundled, settings);
+  const BundledMapPoke setup;
+  const SceneDescription& bundled = setup.bundled;
+  const TradeSettings& settings = setup.settings;
+  TradeErrors errors(setup.tissue, bundled, settings);
   const std::vector<TradeRow> rows = tradeRows(bundled, settings);
   ASSERT_GE(rows.size(), 2u);
   ASSERT_EQ(rows[0].knob, "resolution");
@@ -93,12 +103,12 @@ TEST(OrganPoke, TheMapsLiverPokeIsOrganPokesSimulatorAndIsMeasuredOnceForAnyThre
 }
 
 TEST(OrganPoke, TheFemOnTheOrgansMeshIsARowOfTheLiverPokeWithItsCost) {
-  const SceneDescription bundled = readScene(kAssets + "/scenes/liver-poke.json");
-  const LoadedTissue tissue(bundled.tissue.string());
-  TradeSettings settings;
-  settings.resolutions = {1000};
-  settings.organDepths_m = {0.001, 0.003};
-  settings.organSpeed_m_s = 0.02;  // a tenth of the steps: the shape is what is checked here
+  BundledMapPoke setup;
+  const SceneDescription& bundled = setup.bundled;
+  TradeSettings& settings = setup.settings;
+  // A twentieth of the steps, to 2 mm: the row's shape is what is checked here.
+  settings.organSpeed_m_s = 0.04;
+  settings.organDepths_m = {0.001, 0.002};
   const std::string mesh = kAssets + "/meshes/liver-graded-5mm.msh";
   settings.organMeshes = {OrganMesh{mesh, "graded"}};
   const std::vector<TradeRow> rows = tradeRows(bundled, settings);
@@ -112,7 +122,7 @@ TEST(OrganPoke, TheFemOnTheOrgansMeshIsARowOfTheLiverPokeWithItsCost) {
   EXPECT_EQ(organRows[0]->organMeshPath, mesh);
   EXPECT_DOUBLE_EQ(organRows[0]->bulkModulus_Pa, settings.organMeshBulkModulus_Pa);
 
-  TradeErrors errors(tissue, bundled, settings);
+  TradeErrors errors(setup.tissue, bundled, settings);
   TradeMeasurement measured;
   errors.measureOrgan(*organRows[0], measured);
   ASSERT_EQ(measured.organForce_N.size(), 2u);

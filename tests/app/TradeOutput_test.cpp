@@ -47,6 +47,29 @@ std::size_t columnOf(const std::vector<std::string>& header, const std::string& 
   return found == header.end() ? 0 : static_cast<std::size_t>(found - header.begin());
 }
 
+/// tradeCsv's header and rows, each row checked to have the header's field count.
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::size_t column(const std::string& name) const { return columnOf(header, name); }
+};
+
+CsvTable csvOf(const TradeMap& map) {
+  CsvTable table;
+  std::istringstream csv(tradeCsv(map));
+  std::string line;
+  if (!std::getline(csv, line)) {
+    ADD_FAILURE() << "no header";
+    return table;
+  }
+  table.header = fieldsOf(line);
+  while (std::getline(csv, line)) {
+    table.rows.push_back(fieldsOf(line));
+    EXPECT_EQ(table.rows.back().size(), table.header.size()) << line;
+  }
+  return table;
+}
+
 TradeMap sampleMap() {
   TradeMap map;
   map.settings.depths_m = {0.001, 0.002};
@@ -198,22 +221,17 @@ TEST(TradeOutput, TheLiverPokeHasItsColumnsWhereItsReferenceIsAtHand) {
   map.measurements[2].organForce_N = {0.02, 0.2};
   map.measurements[2].organEvents = 1;
   map.measurements[1].organFailure = "the simulator did not reach 4 mm";
-  std::istringstream csv(tradeCsv(map));
-  std::string line;
-  ASSERT_TRUE(std::getline(csv, line));
-  const std::vector<std::string> header = fieldsOf(line);
-  const std::size_t force = columnOf(header, "organ_force_4mm_n");
-  const std::size_t error = columnOf(header, "organ_error_1mm_percent");
-  const std::size_t events = columnOf(header, "organ_events");
-  const std::size_t failure = columnOf(header, "organ_failure");
+  const CsvTable csv = csvOf(map);
+  const std::size_t force = csv.column("organ_force_4mm_n");
+  const std::size_t error = csv.column("organ_error_1mm_percent");
+  const std::size_t events = csv.column("organ_events");
+  const std::size_t failure = csv.column("organ_failure");
   ASSERT_GT(force, 0u);
   ASSERT_GT(error, 0u);
   ASSERT_GT(events, 0u);
   ASSERT_GT(failure, 0u);
-  std::vector<std::vector<std::string>> shown;
-  while (std::getline(csv, line)) shown.push_back(fieldsOf(line));
+  const std::vector<std::vector<std::string>>& shown = csv.rows;
   ASSERT_EQ(shown.size(), 7u);
-  for (const std::vector<std::string>& fields : shown) ASSERT_EQ(fields.size(), header.size());
   EXPECT_EQ(shown[0][force], "0.18");
   EXPECT_EQ(shown[0][error], "50.00");
   EXPECT_EQ(shown[0][events], "2");
@@ -280,24 +298,19 @@ TEST(TradeOutput, TheFemOnTheOrgansMeshIsOnTheLiverPokesAxesAlone) {
   EXPECT_TRUE(std::isnan(organStepCost(map, 1)));
   EXPECT_NEAR(worstOrganError(map, 2), 20.0, 1e-9);
 
-  std::istringstream csv(tradeCsv(map));
-  std::string line;
-  ASSERT_TRUE(std::getline(csv, line));
-  const std::vector<std::string> header = fieldsOf(line);
-  const std::size_t organPareto = columnOf(header, "organ_pareto");
-  const std::size_t pareto = columnOf(header, "pareto");
-  const std::size_t name = columnOf(header, "name");
-  const std::size_t median = columnOf(header, "organ_step_median_ms");
-  const std::size_t law = columnOf(header, "law");
-  const std::size_t cells = columnOf(header, "strain_cells");
+  const CsvTable csv = csvOf(map);
+  const std::size_t organPareto = csv.column("organ_pareto");
+  const std::size_t pareto = csv.column("pareto");
+  const std::size_t name = csv.column("name");
+  const std::size_t median = csv.column("organ_step_median_ms");
+  const std::size_t law = csv.column("law");
+  const std::size_t cells = csv.column("strain_cells");
   ASSERT_GT(organPareto, 0u);
   ASSERT_GT(median, 0u);
   ASSERT_GT(cells, 0u);
   std::vector<std::string> onOrganFront;
   std::vector<std::string> organFields;
-  while (std::getline(csv, line)) {
-    const std::vector<std::string> fields = fieldsOf(line);
-    ASSERT_EQ(fields.size(), header.size()) << line;
+  for (const std::vector<std::string>& fields : csv.rows) {
     if (fields[organPareto] == "1") onOrganFront.push_back(fields[name]);
     if (fields[name] == organ.name) organFields = fields;
   }
