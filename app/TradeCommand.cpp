@@ -282,7 +282,10 @@ void registerTradeCommand(CLI::App& app) {
                     "poke's press alone, no liver poke (about two minutes); else up to 100,000 "
                     "springs (the tets' FEM to 20,000), three rounds over the whole poke, the "
                     "liver poke (about half an hour)");
-  command->add_option("--output", options->outputFolder, "Folder for the three files")
+  command
+      ->add_option("--output", options->outputFolder,
+                   "Folder for the files: tradeoff.csv, .md, .png and, with the liver poke, "
+                   "tradeoff-liver.png")
       ->capture_default_str();
   command->add_option("--scene", options->scenePath, "The scene whose knobs are varied")
       ->capture_default_str();
