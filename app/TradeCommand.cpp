@@ -180,7 +180,7 @@ void runTrade(const TradeOptions& options) {
   // The rows timed on the bundled poke: all but the FEM's (the block's reference, and the FEM on
   // the organ's meshes, timed on the liver poke).
   const auto isTimedOnThePoke = [](const TradeRow& row) {
-    return row.femRefinement == 0 && row.organMeshPath.empty();
+    return row.femRefinement == 0 && !row.isOnOrganMesh();
   };
   int springRows = 0;
   for (const TradeRow& row : map.rows) springRows += isTimedOnThePoke(row) ? 1 : 0;
@@ -205,7 +205,7 @@ void runTrade(const TradeOptions& options) {
       map.cellEdges_m.push_back(0.0);
       continue;
     }
-    if (!row.organMeshPath.empty()) {
+    if (row.isOnOrganMesh()) {
       map.cellEdges_m.push_back(0.0);
       try {
         errors.measureOrgan(row, m);

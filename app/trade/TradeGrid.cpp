@@ -51,7 +51,7 @@ SceneDescription sceneOf(const SceneDescription& bundled, const TradeRow& row) {
   scene.threads = row.threads;
   scene.model = row.model;
   if (row.model == "fem") scene.isSoftening = false;
-  if (!row.organMeshPath.empty()) {
+  if (row.isOnOrganMesh()) {
     // The FEM as on the organ's conformal meshes: contact on the mesh's own boundary, which is
     // the drawn surface remeshed.
     scene.surface.reset();
@@ -471,7 +471,9 @@ void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {
   if (poked == m_organ.end()) {
     const SimulatorPoke poke = pokeSimulator(weightlessPokeScene(sceneOf(m_bundled, row)),
                                              m_settings.organDepths_m, m_settings.organSpeed_m_s);
-    TradeMeasurement measured;
+    TimedOrganPoke timed;
+    timed.threads = row.threads;
+    TradeMeasurement& measured = timed.measured;
     measured.organForce_N = poke.force_N;
     measured.organEvents = poke.events;
     measured.organStepMedian_ms = percentile(poke.stepTimes_ms, 0.5);
@@ -480,13 +482,12 @@ void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {
         poke.stepping_s > 0.0 ? static_cast<double>(poke.steps) / poke.stepping_s : 0.0;
     measured.cost.nodes = poke.nodes;
     measured.cost.startup_s = poke.seconds - poke.stepping_s;
-    poked = m_organ.emplace(key, std::move(measured)).first;
-    m_organThreads[key] = row.threads;
+    poked = m_organ.emplace(key, std::move(timed)).first;
   }
-  const TradeMeasurement& measured = poked->second;
+  const TradeMeasurement& measured = poked->second.measured;
   out.organForce_N = measured.organForce_N;
   out.organEvents = measured.organEvents;
-  if (m_organThreads[key] == row.threads) {
+  if (poked->second.threads == row.threads) {
     out.organStepMedian_ms = measured.organStepMedian_ms;
     out.organStepP99_ms = measured.organStepP99_ms;
     out.organStepsPerSecond = measured.organStepsPerSecond;
@@ -494,7 +495,7 @@ void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {
     out.organStepMedian_ms = out.organStepP99_ms = out.organStepsPerSecond =
         std::numeric_limits<double>::quiet_NaN();
   }
-  if (!row.organMeshPath.empty()) {
+  if (row.isOnOrganMesh()) {
     // No bundled poke for these rows (the continuum has no equilibrium at its 4 cm): the liver
     // poke is their cost.
     out.cost.nodes = measured.cost.nodes;

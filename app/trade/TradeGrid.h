@@ -58,6 +58,9 @@ struct TradeRow {
   std::string organMeshPath;
   std::string organMeshLabel;  ///< what the mesh is, for the table: "2.5 / 12 mm, 965 nodes"
   std::string strainCells = "tets";
+
+  /// The FEM on an organ's mesh: measured on the liver poke alone, error and cost.
+  bool isOnOrganMesh() const { return !organMeshPath.empty(); }
 };
 
 /// A mesh of the organ on which the FEM is a row of the map.
@@ -181,8 +184,12 @@ class TradeErrors {
   std::map<std::string, IndentationCurve> m_static;
   std::map<std::string, IndentationCurve> m_pace;
   std::map<std::string, std::pair<double, double>> m_tensile;
-  std::map<std::string, TradeMeasurement> m_organ;
-  std::map<std::string, int> m_organThreads;  ///< the thread count each poke was timed on
+  /// A liver poke measured, and the thread count its step times were taken on.
+  struct TimedOrganPoke {
+    TradeMeasurement measured;
+    int threads = 0;
+  };
+  std::map<std::string, TimedOrganPoke> m_organ;
 };
 
 }  // namespace tissuesim::app

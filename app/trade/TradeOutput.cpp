@@ -48,9 +48,14 @@ std::string quoted(const std::string& text) {
 std::string depthLabel(double depth_m) { return format("%g", depth_m * 1e3); }
 
 bool isFem(const TradeMap& map, std::size_t row) { return map.rows[row].femRefinement > 0; }
-/// The FEM on a mesh of the organ: measured on the liver poke alone.
-bool isOrganFem(const TradeMap& map, std::size_t row) {
-  return !map.rows[row].organMeshPath.empty();
+bool isOrganFem(const TradeMap& map, std::size_t row) { return map.rows[row].isOnOrganMesh(); }
+
+/// The largest |value|; NaN for none.
+double largestMagnitude(const std::vector<double>& values) {
+  if (values.empty()) return kNan;
+  double largest = 0.0;
+  for (const double v : values) largest = std::max(largest, std::abs(v));
+  return largest;
 }
 /// Whether the row has a tensile R^2: the lattice's rows, springs and tets (the FEM
 /// reference's own is `tensile --model fem`).
@@ -91,6 +96,22 @@ std::vector<int> front(const TradeMap& map, MapAxis costAxis = stepCost,
   return paretoFront(cost, error, kErrorResolution_percent);
 }
 
+/// The front's rows in Markdown, a line each: its name, cost (ms) and error (%), and whether it
+/// is over the 1 ms budget.
+std::string frontList(const TradeMap& map, MapAxis costAxis = stepCost,
+                      MapAxis errorAxis = worstError) {
+  std::string list;
+  for (const int r : front(map, costAxis, errorAxis)) {
+    const auto i = static_cast<std::size_t>(r);
+    list.append("- ").append(map.rows[i].name).append(": ");
+    list.append(format("%.3f", costAxis(map, i))).append(" ms, ");
+    list.append(format("%.0f", errorAxis(map, i))).append(" %");
+    if (costAxis(map, i) > kBudget_ms) list.append(" (over the 1 ms budget)");
+    list.append("\n");
+  }
+  return list;
+}
+
 /// The growth exponent of the median step with springs over the rows of one knob.
 double scalingExponent(const TradeMap& map, const std::string& knob) {
   std::vector<double> springs;
@@ -117,11 +138,7 @@ double worstError(const TradeMap& map, std::size_t row) {
   const TradeMeasurement& m = map.measurements[row];
   if (!m.failure.empty()) return kNan;
   const std::vector<double>& forces = isFem(map, row) ? m.staticForce_N : m.paceForce_N;
-  const std::vector<double> errors = forceErrors(forces, map.reference.force_N);
-  if (errors.empty()) return kNan;
-  double worst = 0.0;
-  for (const double e : errors) worst = std::max(worst, std::abs(e));
-  return worst;
+  return largestMagnitude(forceErrors(forces, map.reference.force_N));
 }
 
 double stepCost(const TradeMap& map, std::size_t row) {
@@ -133,10 +150,7 @@ double worstOrganError(const TradeMap& map, std::size_t row) {
   const TradeMeasurement& m = map.measurements[row];
   if (!m.failure.empty() || !m.organFailure.empty()) return kNan;
   const std::vector<double> errors = forceErrors(m.organForce_N, map.organReference_N);
-  if (errors.empty() || errors.size() < map.organReference_N.size()) return kNan;
-  double worst = 0.0;
-  for (const double e : errors) worst = std::max(worst, std::abs(e));
-  return worst;
+  return errors.size() < map.organReference_N.size() ? kNan : largestMagnitude(errors);
 }
 
 double organStepCost(const TradeMap& map, std::size_t row) {
@@ -375,24 +389,14 @@ std::string tradeMarkdown(const TradeMap& map) {
 
   md << "## The Pareto front\n\nThe largest |force error| at pace over the depths, against the "
         "median step: no other setting is both faster and closer (by more than half a point).\n\n";
-  for (const int r : front(map)) {
-    const auto i = static_cast<std::size_t>(r);
-    md << "- " << map.rows[i].name << ": " << format("%.3f", stepCost(map, i)) << " ms, "
-       << format("%.0f", worstError(map, i)) << " %"
-       << (stepCost(map, i) <= kBudget_ms ? "" : " (over the 1 ms budget)") << "\n";
-  }
+  md << frontList(map);
 
   if (hasOrgan) {
     md << "\n## The Pareto front on the liver poke\n\nThe largest |force error| over the liver "
           "poke's depths, against its median step (each row's own liver poke; the rows that "
           "differ in threads alone share their forces and are left out), ties within half a point "
           "going to the cheaper:\n\n";
-    for (const int r : front(map, organStepCost, worstOrganError)) {
-      const auto i = static_cast<std::size_t>(r);
-      md << "- " << map.rows[i].name << ": " << format("%.3f", organStepCost(map, i)) << " ms, "
-         << format("%.0f", worstOrganError(map, i)) << " %"
-         << (organStepCost(map, i) <= kBudget_ms ? "" : " (over the 1 ms budget)") << "\n";
-    }
+    md << frontList(map, organStepCost, worstOrganError);
   }
 
   md << "\n## Scaling\n\nMedian step against springs, fitted as t ~ springs^p: p = "
