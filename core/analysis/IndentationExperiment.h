@@ -56,6 +56,10 @@ struct IndentationCurve {
   int unconvergedPoints = 0;
   double worstResidual_N = 0.0;  ///< the largest net force left on a free DOF at a solve's end
   double seconds = 0.0;
+  /// A static FEM's Newton iterations over all its solves, and the wall time of those solves
+  /// (each iteration assembles the Hessian, factorises it and line-searches).
+  long newtonIterations = 0;
+  double solving_s = 0.0;
   /// The top face's displacement at the setup's surface samples, at the last depth (m).
   std::vector<Eigen::Vector3d> surfaceDisplacement_m;
   int failedSteps = 0;  ///< at a pace: steps refused or not finite (their state not advanced)

@@ -106,7 +106,10 @@ IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
       // Relative to the force at the last equilibrium (round-off grows with it), not at the
       // start of this solve, where the probe has just moved into the surface.
       solver.setTolerance(1e-9 * std::max(1.0, std::abs(lastForce_N)));
+      const auto solveStart = std::chrono::steady_clock::now();
       const FemSolveReport report = solver.solve(model, x, isFixed);
+      curve.solving_s += secondsSince(solveStart);
+      curve.newtonIterations += report.iterations;
       curve.worstResidual_N = std::max(curve.worstResidual_N, report.residual_N);
       if (!report.converged) ++curve.unconvergedPoints;
       lastForce_N = force();

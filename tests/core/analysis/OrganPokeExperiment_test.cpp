@@ -46,6 +46,10 @@ TEST(OrganPoke, ABlockPokedAsAnOrganGivesTheIndentationTestsForce) {
     EXPECT_NEAR(organ.force_N[d] / reference.force_N[d], 1.0, 0.05) << d;
   }
   EXPECT_GT(organ.force_N[1], 2.0 * organ.force_N[0]);  // stiffening with depth
+  // Its cost: at least one Newton iteration a depth, timed within the whole run's time.
+  EXPECT_GE(organ.newtonIterations, 2);
+  EXPECT_GT(organ.solving_s, 0.0);
+  EXPECT_LE(organ.solving_s, organ.seconds);
 }
 
 TEST(OrganPoke, WhatCannotBePokedIsRefused) {
