@@ -171,6 +171,7 @@ void runTrade(const TradeOptions& options) {
   map.tissueName = tissue.parameters.name;
   map.sceneName = bundled.name;
   // The liver poke's reference first: it adds the rows on the organ's meshes.
+  map.settings.organCacheFolder = options.outputFolder;
   loadOrganReference(options, bundled, tissue, map);
   map.rows = tradeRows(bundled, map.settings);
   if (!map.organNote.empty())
@@ -316,9 +317,11 @@ void registerTradeCommand(CLI::App& app) {
   command
       ->add_option("--organ-meshes", options->organMeshPaths,
                    "Tet meshes of the organ (metres, conformal with its drawn surface) on which "
-                   "the FEM, per tet and per face, is a row measured on the liver poke alone; "
-                   "'none': no such rows (default: the bundled liver's meshes graded to 5, 2.5 "
-                   "and 1.25 mm at the probe)")
+                   "the FEM, per tet and per face, and the reference's quadratic tets (static; "
+                   "their forces read from MESH-poke.csv beside the mesh or in --output, else "
+                   "solved, minutes, and kept in --output) are rows measured on the liver poke "
+                   "alone; 'none': no such rows (default: the bundled liver's meshes graded to 5, "
+                   "2.5 and 1.25 mm at the probe)")
       ->delimiter(',');
   command->callback([options] { runTrade(*options); });
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <optional>
 
@@ -17,6 +18,7 @@
 #include "analysis/NetworkCalibration.h"
 #include "analysis/TensileExperiment.h"
 #include "app/CommandError.h"
+#include "app/FemForceCache.h"
 #include "app/LoadedTissue.h"
 #include "app/OrganPoke.h"
 #include "app/ProcessMemory.h"
@@ -25,6 +27,7 @@
 #include "fem/FemModel.h"
 #include "mesh/IsolatedCall.h"
 #include "mesh/LatticeMesher.h"
+#include "mesh/TetMeshFile.h"
 #include "mesh/SurfaceEmbedding.h"
 #include "sim/SceneGeometry.h"
 #include "sim/Simulation.h"
@@ -265,6 +268,20 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
       rows.push_back(row);
     }
   }
+  for (const OrganMesh& mesh : settings.organMeshes) {
+    TradeRow row = base;
+    row.knob = "fem-quadratic";
+    row.model = "fem";
+    row.element = "quadratic";
+    row.strainCells.clear();
+    row.integrator = "static";
+    row.threads = 1;
+    row.bulkModulus_Pa = settings.tetBulkModulus_Pa;
+    row.organMeshPath = mesh.path;
+    row.organMeshLabel = mesh.label;
+    row.name = "fem quadratic tets, static, on the organ's mesh " + mesh.label;
+    rows.push_back(row);
+  }
   for (const int refinement : settings.femRows) {
     TradeRow row;
     row.knob = "reference";
@@ -461,7 +478,71 @@ void TradeErrors::measure(const TradeRow& row, const IndentationCurve& reference
   out.tensileUnloadingR2 = tensile->second.second;
 }
 
+void TradeErrors::measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& out) {
+  const SceneDescription scene = weightlessPokeScene(m_bundled);
+  const double bulkModulus_Pa =
+      row.bulkModulus_Pa > 0.0 ? row.bulkModulus_Pa : defaultFemBulkModulus(m_tissue.energy);
+  const OrganPokeSetup setup = organPokeSetup(scene, m_settings.organDepths_m);
+  std::vector<double> depths_mm;
+  for (const double depth_m : m_settings.organDepths_m) depths_mm.push_back(1e3 * depth_m);
+  const std::uint64_t key = femReferenceKey(scene, row.organMeshPath, setup, bulkModulus_Pa);
+  const std::filesystem::path meshPath(row.organMeshPath);
+  const std::string cacheName = meshPath.stem().string() + "-poke.csv";
+  std::vector<std::string> caches{(meshPath.parent_path() / cacheName).string()};
+  if (!m_settings.organCacheFolder.empty())
+    caches.push_back((std::filesystem::path(m_settings.organCacheFolder) / cacheName).string());
+  std::optional<std::vector<double>> kept;
+  for (const std::string& path : caches) {
+    std::string why;
+    kept = readFemForceCache(path, key, depths_mm, why);
+    if (kept) break;
+  }
+  TetMesh organ;
+  try {
+    organ = readTetMesh(row.organMeshPath);
+  } catch (const MeshFileError& error) {
+    throw CommandError(error.what());
+  }
+  IndentationCurve curve;
+  try {
+    if (kept) {
+      // The forces are kept; the cost is the same Newton iterations', timed to the first depth.
+      OrganPokeSetup first = setup;
+      first.depths_m = {setup.depths_m.front()};
+      curve = pokeOrganFem(m_tissue.energy, organ, first, bulkModulus_Pa);
+      curve.force_N = *kept;
+    } else {
+      curve = pokeOrganFem(m_tissue.energy, organ, setup, bulkModulus_Pa);
+      // Kept as organ-poke keeps a reference: with no more than a millionth of the deepest force
+      // left unbalanced on a node.
+      if (!m_settings.organCacheFolder.empty() &&
+          curve.worstResidual_N <= 1e-6 * std::abs(curve.force_N.back()))
+        writeFemForceCache(caches.back(), key, depths_mm, curve.force_N);
+    }
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(row.organMeshPath + ": " + error.what());
+  }
+  const double iteration_ms =
+      curve.newtonIterations > 0 ? 1e3 * curve.solving_s / static_cast<double>(curve.newtonIterations)
+                                 : std::numeric_limits<double>::quiet_NaN();
+  out.organForce_N = curve.force_N;
+  out.organEvents = curve.unconvergedPoints;
+  out.organStepMedian_ms = iteration_ms;
+  out.organStepP99_ms = std::numeric_limits<double>::quiet_NaN();
+  out.organStepsPerSecond = 1e3 / iteration_ms;
+  out.cost.nodes = curve.nodes;
+  out.cost.startup_s = curve.seconds - curve.solving_s;
+  out.cost.stepMedian_ms = out.organStepMedian_ms;
+  out.cost.stepP99_ms = out.organStepP99_ms;
+  out.cost.stepsPerSecond = out.organStepsPerSecond;
+  out.cost.events = out.organEvents;
+}
+
 void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {
+  if (row.isQuadratic()) {
+    measureQuadraticOrgan(row, out);
+    return;
+  }
   char key[512];
   std::snprintf(key, sizeof key, "%s|%d|%s|%.6g|%s|%d|%.3g|%s|%s", row.model.c_str(),
                 row.targetSprings, row.law.c_str(), row.bulkModulus_Pa, row.integrator.c_str(),

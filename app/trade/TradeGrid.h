@@ -58,9 +58,14 @@ struct TradeRow {
   std::string organMeshPath;
   std::string organMeshLabel;  ///< what the mesh is, for the table: "2.5 / 12 mm, 965 nodes"
   std::string strainCells = "tets";
+  /// "linear" (the simulator's tets, as above), or "quadratic": on the organ's mesh, the FEM
+  /// reference's own element (10-node tets, one dilatation each, kappa bulkModulus_Pa) solved
+  /// statically at each depth, its step a Newton iteration (assembly, factorisation, line search).
+  std::string element = "linear";
 
   /// The FEM on an organ's mesh: measured on the liver poke alone, error and cost.
   bool isOnOrganMesh() const { return !organMeshPath.empty(); }
+  bool isQuadratic() const { return element == "quadratic"; }
 };
 
 /// A mesh of the organ on which the FEM is a row of the map.
@@ -130,12 +135,15 @@ struct TradeSettings {
   /// liver poke alone; none without a liver poke.
   std::vector<OrganMesh> organMeshes;
   double organMeshBulkModulus_Pa = 10e6;  ///< their volume per node's
+  /// Where the quadratic rows' forces, once solved (minutes), are kept for the next map, beside
+  /// those kept next to each mesh (`<mesh's stem>-poke.csv`, FemForceCache.h); empty: nowhere.
+  std::string organCacheFolder;
 };
 
 /// The rows of the map: the bundled scene at each resolution (two threads, then one), and at
 /// the resolution nearest the bundled mesh's: the other spring laws, no volume term, the other
-/// integrators and Newton settings; the tets' FEM on the lattices; the FEM on the organ's meshes;
-/// then the FEM rows.
+/// integrators and Newton settings; the tets' FEM on the lattices; the FEM on the organ's meshes
+/// (per tet, per face, then the reference's quadratic tets); then the FEM rows.
 std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSettings& settings);
 
 /// The cost of `row` on the liver, in a child process (or the failure that stopped it), over the
@@ -173,9 +181,14 @@ class TradeErrors {
   /// the first row measured). For a row on an organ mesh, its cost fields too: nodes, start-up,
   /// the steps' median, 99th percentile and rate, events (no memory figure: it runs in this
   /// process).
+  /// A quadratic row's forces are read where they are kept (TradeSettings::organCacheFolder)
+  /// and its Newton iterations timed to the first depth; else solved to every depth (minutes) and
+  /// kept. Its events are the solves that stopped unconverged.
   void measureOrgan(const TradeRow& row, TradeMeasurement& out);
 
  private:
+  void measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& out);
+
   const LoadedTissue& m_tissue;
   SceneDescription m_bundled;
   TradeSettings m_settings;

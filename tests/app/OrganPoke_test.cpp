@@ -8,6 +8,9 @@
 #include "app/OrganPoke.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <string>
 #include <vector>
 
@@ -18,6 +21,7 @@
 #include "app/SceneSession.h"
 #include "app/trade/TradeGrid.h"
 #include "fem/FemModel.h"
+#include "mesh/TetMeshFile.h"
 
 namespace tissuesim::app {
 namespace {
@@ -146,6 +150,74 @@ TEST(OrganPoke, TheFemOnTheOrgansMeshIsARowOfTheLiverPokeWithItsCost) {
   const SimulatorPoke poke = pokeSimulator(scene, settings.organDepths_m, settings.organSpeed_m_s);
   EXPECT_EQ(poke.force_N, measured.organForce_N);
   EXPECT_EQ(poke.nodes, 912);
+}
+
+TEST(OrganPoke, TheReferencesElementOnTheOrgansMeshIsARowSolvedOnceAndTimedEachMap) {
+  BundledMapPoke setup;
+  TradeSettings& settings = setup.settings;
+  // One load step each, on a coarse mesh of the organ: the row's shape is what is checked here.
+  settings.organDepths_m = {0.0005, 0.001};
+  settings.tetBulkModulus_Pa = defaultFemBulkModulus(setup.tissue.energy);
+  const std::string mesh = std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/liver-fem-coarse.msh";
+  settings.organMeshes = {OrganMesh{mesh, "coarse"}};
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() /
+      ("organ-quadratic-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  settings.organCacheFolder = folder.string();
+  const std::vector<TradeRow> rows = tradeRows(setup.bundled, settings);
+  std::vector<const TradeRow*> quadratic;
+  for (const TradeRow& row : rows) {
+    if (row.knob == "fem-quadratic") quadratic.push_back(&row);
+  }
+  ASSERT_EQ(quadratic.size(), 1u);
+  const TradeRow& row = *quadratic.front();
+  EXPECT_TRUE(row.isQuadratic());
+  EXPECT_TRUE(row.isOnOrganMesh());
+  EXPECT_EQ(row.organMeshPath, mesh);
+  EXPECT_DOUBLE_EQ(row.bulkModulus_Pa, settings.tetBulkModulus_Pa);
+
+  // Its forces are organ-poke's FEM on that mesh.
+  const SceneDescription weightless = weightlessPokeScene(setup.bundled);
+  const IndentationCurve fem =
+      pokeOrganFem(setup.tissue.energy, readTetMesh(mesh),
+                   organPokeSetup(weightless, settings.organDepths_m), settings.tetBulkModulus_Pa);
+  TradeErrors errors(setup.tissue, setup.bundled, settings);
+  TradeMeasurement solved;
+  errors.measureOrgan(row, solved);
+  EXPECT_EQ(solved.organForce_N, fem.force_N);
+  ASSERT_EQ(solved.organForce_N.size(), 2u);
+  EXPECT_GT(solved.organForce_N[1], solved.organForce_N[0]);
+  EXPECT_GT(solved.organForce_N[0], 0.0);
+  EXPECT_EQ(solved.organEvents, 0);
+  EXPECT_EQ(solved.cost.nodes, fem.nodes);  // the quadratic mesh's, edges' midpoints included
+  // Its step is a Newton iteration.
+  EXPECT_GT(solved.organStepMedian_ms, 0.0);
+  EXPECT_DOUBLE_EQ(solved.cost.stepMedian_ms, solved.organStepMedian_ms);
+  EXPECT_NEAR(solved.organStepsPerSecond * solved.organStepMedian_ms, 1e3, 1e-6);
+  EXPECT_TRUE(std::isnan(solved.organStepP99_ms));
+
+  // Kept in the folder under its key, and read from there by the next map (forces doubled in
+  // the file here, to tell a read from a solve), which times its iterations again.
+  const std::string kept = (folder / "liver-fem-coarse-poke.csv").string();
+  std::string keyLine;
+  ASSERT_TRUE(std::getline(std::ifstream(kept) >> std::ws, keyLine));
+  std::ofstream(kept) << std::setprecision(17) << keyLine << "\ndepth_mm,fem_force_n\n0.5," << 2.0 * fem.force_N[0]
+                      << "\n1," << 2.0 * fem.force_N[1] << "\n";
+  TradeMeasurement read;
+  errors.measureOrgan(row, read);
+  ASSERT_EQ(read.organForce_N.size(), 2u);
+  EXPECT_DOUBLE_EQ(read.organForce_N[0], 2.0 * fem.force_N[0]);
+  EXPECT_DOUBLE_EQ(read.organForce_N[1], 2.0 * fem.force_N[1]);
+  EXPECT_GT(read.organStepMedian_ms, 0.0);
+  // A kept file for other inputs is not used: the row is solved again, to the same forces.
+  std::ofstream(kept) << "# organ-poke fem reference, key 0000000000000000\ndepth_mm,fem_force_n\n"
+                         "0.5,1\n1,2\n";
+  TradeMeasurement again;
+  errors.measureOrgan(row, again);
+  EXPECT_EQ(again.organForce_N, solved.organForce_N);
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace

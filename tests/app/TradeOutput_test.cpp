@@ -344,5 +344,69 @@ TEST(TradeOutput, TheFemOnTheOrgansMeshIsOnTheLiverPokesAxesAlone) {
       << text;
 }
 
+TEST(TradeOutput, TheReferencesElementOnTheOrgansMeshIsAStaticRowOfTheLiverPoke) {
+  TradeMap map = sampleMap();
+  map.settings.organDepths_m = {0.001, 0.004};
+  map.organReference_N = {0.02, 0.2};
+  TradeRow quadratic;
+  quadratic.knob = "fem-quadratic";
+  quadratic.model = "fem";
+  quadratic.element = "quadratic";
+  quadratic.strainCells.clear();
+  quadratic.integrator = "static";
+  quadratic.organMeshPath = "graded.msh";
+  quadratic.organMeshLabel = "graded";
+  quadratic.name = "fem quadratic tets on graded";
+  TradeMeasurement measured;
+  measured.cost.nodes = 6210;
+  measured.cost.stepMedian_ms = 250.0;
+  measured.cost.stepP99_ms = std::numeric_limits<double>::quiet_NaN();
+  measured.cost.stepsPerSecond = 4.0;
+  measured.cost.events = 1;
+  measured.organForce_N = {0.019, 0.21};  // -5 / +5 %
+  measured.organEvents = 1;
+  measured.organStepMedian_ms = 250.0;
+  measured.organStepP99_ms = std::numeric_limits<double>::quiet_NaN();
+  measured.organStepsPerSecond = 4.0;
+  map.rows.push_back(quadratic);
+  map.measurements.push_back(measured);
+  map.cellEdges_m.push_back(0.0);
+  const std::size_t row = map.rows.size() - 1;
+
+  EXPECT_TRUE(std::isnan(worstError(map, row)));
+  EXPECT_NEAR(worstOrganError(map, row), 5.0, 1e-9);
+  EXPECT_DOUBLE_EQ(organStepCost(map, row), 250.0);
+
+  const CsvTable csv = csvOf(map);
+  const std::size_t name = csv.column("name");
+  const std::size_t law = csv.column("law");
+  const std::size_t integrator = csv.column("integrator");
+  const std::size_t events = csv.column("organ_events");
+  ASSERT_GT(law, 0u);
+  ASSERT_GT(events, 0u);
+  std::vector<std::string> fields;
+  for (const std::vector<std::string>& candidate : csv.rows) {
+    if (candidate[name] == quadratic.name) fields = candidate;
+  }
+  ASSERT_FALSE(fields.empty());
+  EXPECT_EQ(fields[law], "fem-quadratic");
+  EXPECT_EQ(fields[integrator], "static");
+  EXPECT_EQ(fields[events], "1");
+
+  const std::string md = tradeMarkdown(map);
+  const std::size_t at = md.find("| fem quadratic tets on graded |");
+  ASSERT_NE(at, std::string::npos) << md;
+  const std::string text = md.substr(at, md.find('\n', at) - at);
+  EXPECT_NE(text.find("| - (6210 nodes) | - | 250.000 a Newton iteration (liver poke, static) | 4 |"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("| -5 / +5 (1 unconverged solve) |"), std::string::npos) << text;
+  const std::size_t table = md.find("| setting |");
+  const std::string headerRow = md.substr(table, md.find('\n', table) - table);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '|'),
+            std::count(headerRow.begin(), headerRow.end(), '|'))
+      << text;
+}
+
 }  // namespace
 }  // namespace tissuesim::app
