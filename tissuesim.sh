@@ -156,6 +156,11 @@ case "${1:-}" in
       --fem-cache assets/meshes/liver-fem-poke.csv --output "$out/organ-poke.csv"
     say "the speed/accuracy map into $out"
     build/app/tissuesim trade ${TRADE_ARGS:-} --output "$out"
+    # The quadratic rows' forces the map had to solve (their meshes' kept ones were stale or
+    # missing) are kept beside their meshes for the next map.
+    for kept in "$out"/liver-graded-*-poke.csv; do
+      if [ -e "$kept" ]; then cp "$kept" assets/meshes/; fi
+    done
     say "the benchmarks into $out/bench.json ${BENCH_FILTER:+(filter $BENCH_FILTER)}"
     build/app/tissuesim bench --benchmark_out="$out/bench.json" --benchmark_out_format=json \
       ${BENCH_FILTER:+--benchmark_filter=$BENCH_FILTER}

@@ -272,7 +272,8 @@ void registerTradeCommand(CLI::App& app) {
       "terms and integrators, and the tets' FEM on the same lattices (effects.model fem), each "
       "timed on the liver and measured against the FEM reference "
       "on the indentation test and, the spring rows, on the liver poke (organ-poke); and the "
-      "FEM on meshes of the organ, measured on the liver poke alone. Writes tradeoff.csv, "
+      "FEM on meshes of the organ (per tet, per face, and the reference's quadratic tets solved "
+      "statically), measured on the liver poke alone. Writes tradeoff.csv, "
       "tradeoff.md, tradeoff.png (the block's error against time per step, the Pareto front, "
       "the 1 ms budget) and, with the liver poke, tradeoff-liver.png (the same for the liver "
       "poke); a progress bar on stderr.");

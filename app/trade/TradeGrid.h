@@ -183,7 +183,8 @@ class TradeErrors {
   /// process).
   /// A quadratic row's forces are read where they are kept (TradeSettings::organCacheFolder)
   /// and its Newton iterations timed to the first depth; else solved to every depth (minutes) and
-  /// kept. Its events are the solves that stopped unconverged.
+  /// kept when no solve left more than a hundred-thousandth of the deepest force on a node. Its
+  /// events, when one left more: the solves that stopped short of the solver's tolerance.
   void measureOrgan(const TradeRow& row, TradeMeasurement& out);
 
  private:
