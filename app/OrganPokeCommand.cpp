@@ -75,12 +75,13 @@ std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescri
   } catch (const std::invalid_argument& error) {
     throw CommandError(options.femMeshPath + ": " + error.what());
   }
-  std::fprintf(stderr,
-               "fem: %d nodes, %d quadratic tets, %.1f s; %ld Newton iterations at %.1f ms each; %d "
-               "of its solves stopped unconverged, the largest net force left on a node %.2g N\n",
-               fem.nodes, fem.elements, fem.seconds, fem.newtonIterations,
-               fem.newtonIterations > 0 ? 1e3 * fem.solving_s / fem.newtonIterations : 0.0,
-               fem.unconvergedPoints, fem.worstResidual_N);
+  std::fprintf(
+      stderr,
+      "fem: %d nodes, %d quadratic tets, %.1f s; %ld Newton iterations at %.1f ms each; %d "
+      "of its solves stopped unconverged, the largest net force left on a node %.2g N\n",
+      fem.nodes, fem.elements, fem.seconds, fem.newtonIterations,
+      fem.newtonIterations > 0 ? 1e3 * fem.solving_s / fem.newtonIterations : 0.0,
+      fem.unconvergedPoints, fem.worstResidual_N);
   if (!options.femCachePath.empty()) {
     // A millionth of the deepest force left unbalanced moves no kept digit that matters; more,
     // and the forces are no reference to keep.

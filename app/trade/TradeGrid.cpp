@@ -27,8 +27,8 @@
 #include "fem/FemModel.h"
 #include "mesh/IsolatedCall.h"
 #include "mesh/LatticeMesher.h"
-#include "mesh/TetMeshFile.h"
 #include "mesh/SurfaceEmbedding.h"
+#include "mesh/TetMeshFile.h"
 #include "sim/SceneGeometry.h"
 #include "sim/Simulation.h"
 
@@ -529,8 +529,9 @@ void TradeErrors::measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& o
     throw CommandError(row.organMeshPath + ": " + error.what());
   }
   const double iteration_ms =
-      curve.newtonIterations > 0 ? 1e3 * curve.solving_s / static_cast<double>(curve.newtonIterations)
-                                 : std::numeric_limits<double>::quiet_NaN();
+      curve.newtonIterations > 0
+          ? 1e3 * curve.solving_s / static_cast<double>(curve.newtonIterations)
+          : std::numeric_limits<double>::quiet_NaN();
   out.organForce_N = curve.force_N;
   out.organEvents = curve.unconvergedPoints;
   out.organStepMedian_ms = iteration_ms;

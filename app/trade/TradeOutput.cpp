@@ -457,7 +457,10 @@ constexpr PlotGroup kPlotGroups[] = {
     {"fem-tets", nullptr, "fem on the lattice (tets)", {20, 160, 170}, true},
     {"fem-organ", "tets", "fem per tet, organ's graded meshes", {110, 110, 30}, true},
     {"fem-organ", "faces", "fem per face, organ's graded meshes", {200, 60, 150}, true},
-    {"fem-quadratic", nullptr, "fem quadratic tets (static), organ's graded meshes", {90, 90, 90},
+    {"fem-quadratic",
+     nullptr,
+     "fem quadratic tets (static), organ's graded meshes",
+     {90, 90, 90},
      true}};
 
 /// Error against cost on log axes, a series per group, the Pareto front and the 1 ms budget.

@@ -211,8 +211,8 @@ TEST(OrganPoke, TheReferencesElementOnTheOrgansMeshIsARowSolvedOnceAndTimedEachM
   const std::string kept = (folder / "liver-fem-coarse-poke.csv").string();
   std::string keyLine;
   ASSERT_TRUE(std::getline(std::ifstream(kept) >> std::ws, keyLine));
-  std::ofstream(kept) << std::setprecision(17) << keyLine << "\ndepth_mm,fem_force_n\n0.5," << 2.0 * fem.force_N[0]
-                      << "\n1," << 2.0 * fem.force_N[1] << "\n";
+  std::ofstream(kept) << std::setprecision(17) << keyLine << "\ndepth_mm,fem_force_n\n0.5,"
+                      << 2.0 * fem.force_N[0] << "\n1," << 2.0 * fem.force_N[1] << "\n";
   TradeMeasurement read;
   errors.measureOrgan(row, read);
   ASSERT_EQ(read.organForce_N.size(), 2u);

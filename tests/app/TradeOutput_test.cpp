@@ -397,8 +397,9 @@ TEST(TradeOutput, TheReferencesElementOnTheOrgansMeshIsAStaticRowOfTheLiverPoke)
   const std::size_t at = md.find("| fem quadratic tets on graded |");
   ASSERT_NE(at, std::string::npos) << md;
   const std::string text = md.substr(at, md.find('\n', at) - at);
-  EXPECT_NE(text.find("| - (6210 nodes) | - | 250.000 a Newton iteration (liver poke, static) | 4 |"),
-            std::string::npos)
+  EXPECT_NE(
+      text.find("| - (6210 nodes) | - | 250.000 a Newton iteration (liver poke, static) | 4 |"),
+      std::string::npos)
       << text;
   EXPECT_NE(text.find("| -5 / +5 (1 unconverged solve) |"), std::string::npos) << text;
   const std::size_t table = md.find("| setting |");
