@@ -7,6 +7,7 @@
 #include "app/CommandError.h"
 #include "app/FemForceCache.h"
 #include "app/SceneSession.h"
+#include "mesh/TetMeshFile.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/SessionRecording.h"
 
@@ -18,6 +19,14 @@ namespace {
 constexpr double kApproach_m = 0.001;
 
 }  // namespace
+
+TetMesh readOrganMesh(const std::string& path) {
+  try {
+    return readTetMesh(path);
+  } catch (const MeshFileError& error) {
+    throw CommandError(error.what());
+  }
+}
 
 SceneDescription weightlessPokeScene(SceneDescription scene) {
   if (!scene.instrument)

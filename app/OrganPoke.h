@@ -18,6 +18,10 @@ namespace tissuesim::app {
 /// liver's kept reference (assets/meshes/liver-fem-poke.csv) that `trade` reads.
 inline const std::vector<double> kOrganPokeDepths_mm{1.0, 2.0, 3.0, 4.0, 5.0, 10.0};
 
+/// The tet mesh of an organ at `path` (metres). @throws CommandError naming the file and line
+/// when it is not one.
+TetMesh readOrganMesh(const std::string& path);
+
 /// `scene` weightless (no gravity, no tray), the continuum reference's conditions.
 /// @throws CommandError when it has no instrument or holds listed nodes rather than a box.
 SceneDescription weightlessPokeScene(SceneDescription scene);

@@ -17,7 +17,6 @@
 #include "app/OutputFile.h"
 #include "app/SceneSession.h"
 #include "fem/FemModel.h"
-#include "mesh/TetMeshFile.h"
 
 namespace tissuesim::app {
 namespace {
@@ -60,12 +59,7 @@ std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescri
                "organ-poke: %s, weightless, a %.1f mm probe along its axis; the FEM on %s\n",
                scene.name.c_str(), 1e3 * setup.probeRadius_m, options.femMeshPath.c_str());
   // Read only to solve: a kept reference needs the mesh file's bytes alone (its key).
-  TetMesh organ;
-  try {
-    organ = readTetMesh(options.femMeshPath);
-  } catch (const MeshFileError& error) {
-    throw CommandError(error.what());
-  }
+  const TetMesh organ = readOrganMesh(options.femMeshPath);
   IndentationCurve fem;
   try {
     fem = pokeOrganFem(tissue.energy, organ, setup, bulkModulus_Pa,

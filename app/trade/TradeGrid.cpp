@@ -28,7 +28,6 @@
 #include "mesh/IsolatedCall.h"
 #include "mesh/LatticeMesher.h"
 #include "mesh/SurfaceEmbedding.h"
-#include "mesh/TetMeshFile.h"
 #include "sim/SceneGeometry.h"
 #include "sim/Simulation.h"
 
@@ -500,12 +499,7 @@ void TradeErrors::measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& o
     kept = readFemForceCache(path, key, depths_mm, why);
     if (kept) break;
   }
-  TetMesh organ;
-  try {
-    organ = readTetMesh(row.organMeshPath);
-  } catch (const MeshFileError& error) {
-    throw CommandError(error.what());
-  }
+  const TetMesh organ = readOrganMesh(row.organMeshPath);
   IndentationCurve curve;
   try {
     if (kept) {

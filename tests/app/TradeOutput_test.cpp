@@ -265,6 +265,14 @@ TEST(TradeOutput, TheLiverPokeHasItsColumnsWhereItsReferenceIsAtHand) {
   }
 }
 
+/// Appends a row on an organ's mesh (no lattice, so no cell edge); its index.
+std::size_t appendOrganRow(TradeMap& map, const TradeRow& row, const TradeMeasurement& measured) {
+  map.rows.push_back(row);
+  map.measurements.push_back(measured);
+  map.cellEdges_m.push_back(0.0);
+  return map.rows.size() - 1;
+}
+
 TEST(TradeOutput, TheFemOnTheOrgansMeshIsOnTheLiverPokesAxesAlone) {
   TradeMap map = sampleMap();
   map.settings.organDepths_m = {0.001, 0.004};
@@ -291,10 +299,7 @@ TEST(TradeOutput, TheFemOnTheOrgansMeshIsOnTheLiverPokesAxesAlone) {
   organMeasurement.organForce_N = {0.021, 0.19};  // 5 % at 11 ms: on it
   organMeasurement.organStepMedian_ms = 11.0;
   organMeasurement.organStepP99_ms = 13.0;
-  map.rows.push_back(organ);
-  map.measurements.push_back(organMeasurement);
-  map.cellEdges_m.push_back(0.0);
-  const std::size_t organRow = map.rows.size() - 1;
+  const std::size_t organRow = appendOrganRow(map, organ, organMeasurement);
 
   // On the liver's axes, not on the block's.
   EXPECT_TRUE(std::isnan(worstError(map, organRow)));
@@ -368,10 +373,7 @@ TEST(TradeOutput, TheReferencesElementOnTheOrgansMeshIsAStaticRowOfTheLiverPoke)
   measured.organStepMedian_ms = 250.0;
   measured.organStepP99_ms = std::numeric_limits<double>::quiet_NaN();
   measured.organStepsPerSecond = 4.0;
-  map.rows.push_back(quadratic);
-  map.measurements.push_back(measured);
-  map.cellEdges_m.push_back(0.0);
-  const std::size_t row = map.rows.size() - 1;
+  const std::size_t row = appendOrganRow(map, quadratic, measured);
 
   EXPECT_TRUE(std::isnan(worstError(map, row)));
   EXPECT_NEAR(worstOrganError(map, row), 5.0, 1e-9);
