@@ -265,6 +265,36 @@ TEST(TradeOutput, TheLiverPokeHasItsColumnsWhereItsReferenceIsAtHand) {
   }
 }
 
+/// The Markdown table's line for the setting `name`; "" (and a failure) when it has none.
+std::string markdownRow(const std::string& md, const std::string& name) {
+  const std::size_t at = md.find("| " + name + " |");
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no row " << name << " in\n" << md;
+    return "";
+  }
+  return md.substr(at, md.find('\n', at) - at);
+}
+
+/// That `line` has as many cells as the Markdown table's header.
+void expectHeadersCellCount(const std::string& md, const std::string& line) {
+  const std::size_t table = md.find("| setting |");
+  const std::string header = md.substr(table, md.find('\n', table) - table);
+  EXPECT_EQ(std::count(line.begin(), line.end(), '|'),
+            std::count(header.begin(), header.end(), '|'))
+      << line;
+}
+
+/// An FEM row on the organ's mesh "graded.msh".
+TradeRow graded(const std::string& knob, const std::string& name) {
+  TradeRow row;
+  row.knob = knob;
+  row.model = "fem";
+  row.organMeshPath = "graded.msh";
+  row.organMeshLabel = "graded";
+  row.name = name;
+  return row;
+}
+
 /// Appends a row on an organ's mesh (no lattice, so no cell edge); its index.
 std::size_t appendOrganRow(TradeMap& map, const TradeRow& row, const TradeMeasurement& measured) {
   map.rows.push_back(row);
@@ -285,13 +315,8 @@ TEST(TradeOutput, TheFemOnTheOrgansMeshIsOnTheLiverPokesAxesAlone) {
   map.measurements[3].organStepMedian_ms = 4.0;
   map.measurements[1].organForce_N = {0.02, 0.2};  // 0 %, but timed on another thread count
   map.measurements[1].organStepMedian_ms = std::numeric_limits<double>::quiet_NaN();
-  TradeRow organ;
-  organ.knob = "fem-organ";
-  organ.model = "fem";
+  TradeRow organ = graded("fem-organ", "fem per face on graded");
   organ.strainCells = "faces";
-  organ.organMeshPath = "graded.msh";
-  organ.organMeshLabel = "graded";
-  organ.name = "fem per face on graded";
   TradeMeasurement organMeasurement;
   organMeasurement.cost.nodes = 965;
   organMeasurement.cost.stepMedian_ms = 11.0;
@@ -332,36 +357,24 @@ TEST(TradeOutput, TheFemOnTheOrgansMeshIsOnTheLiverPokesAxesAlone) {
   EXPECT_EQ(organFields[cells], "faces");
 
   const std::string md = tradeMarkdown(map);
-  const std::size_t row = md.find("| fem per face on graded |");
-  ASSERT_NE(row, std::string::npos) << md;
-  const std::string text = md.substr(row, md.find('\n', row) - row);
+  const std::string text = markdownRow(md, "fem per face on graded");
   EXPECT_NE(text.find("| - (965 nodes) | - | 11.000 / 13.000 (liver poke) |"), std::string::npos)
       << text;
   EXPECT_NE(text.find("| +5 / -5 |"), std::string::npos) << text;
   expectListedInOrder(md, "## The Pareto front on the liver poke",
                       {"- fast, poor: 0.100 ms, 50 %", "- slower and worse: 3.000 ms, 20 % (over",
                        "- fem per face on graded: 11.000 ms, 5 % (over"});
-  // The table's rows keep the header's cell count.
-  const std::size_t table = md.find("| setting |");
-  const std::string headerRow = md.substr(table, md.find('\n', table) - table);
-  EXPECT_EQ(std::count(text.begin(), text.end(), '|'),
-            std::count(headerRow.begin(), headerRow.end(), '|'))
-      << text;
+  expectHeadersCellCount(md, text);
 }
 
 TEST(TradeOutput, TheReferencesElementOnTheOrgansMeshIsAStaticRowOfTheLiverPoke) {
   TradeMap map = sampleMap();
   map.settings.organDepths_m = {0.001, 0.004};
   map.organReference_N = {0.02, 0.2};
-  TradeRow quadratic;
-  quadratic.knob = "fem-quadratic";
-  quadratic.model = "fem";
+  TradeRow quadratic = graded("fem-quadratic", "fem quadratic tets on graded");
   quadratic.element = "quadratic";
   quadratic.strainCells.clear();
   quadratic.integrator = "static";
-  quadratic.organMeshPath = "graded.msh";
-  quadratic.organMeshLabel = "graded";
-  quadratic.name = "fem quadratic tets on graded";
   TradeMeasurement measured;
   measured.cost.nodes = 6210;
   measured.cost.stepMedian_ms = 250.0;
@@ -396,19 +409,13 @@ TEST(TradeOutput, TheReferencesElementOnTheOrgansMeshIsAStaticRowOfTheLiverPoke)
   EXPECT_EQ(fields[events], "1");
 
   const std::string md = tradeMarkdown(map);
-  const std::size_t at = md.find("| fem quadratic tets on graded |");
-  ASSERT_NE(at, std::string::npos) << md;
-  const std::string text = md.substr(at, md.find('\n', at) - at);
+  const std::string text = markdownRow(md, "fem quadratic tets on graded");
   EXPECT_NE(
       text.find("| - (6210 nodes) | - | 250.000 a Newton iteration (liver poke, static) | 4 |"),
       std::string::npos)
       << text;
   EXPECT_NE(text.find("| -5 / +5 (1 unconverged solve) |"), std::string::npos) << text;
-  const std::size_t table = md.find("| setting |");
-  const std::string headerRow = md.substr(table, md.find('\n', table) - table);
-  EXPECT_EQ(std::count(text.begin(), text.end(), '|'),
-            std::count(headerRow.begin(), headerRow.end(), '|'))
-      << text;
+  expectHeadersCellCount(md, text);
 }
 
 }  // namespace
