@@ -482,8 +482,7 @@ void TradeErrors::measure(const TradeRow& row, const IndentationCurve& reference
 
 void TradeErrors::measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& out) {
   const SceneDescription scene = weightlessPokeScene(m_bundled);
-  const double bulkModulus_Pa =
-      row.bulkModulus_Pa > 0.0 ? row.bulkModulus_Pa : defaultFemBulkModulus(m_tissue.energy);
+  const double bulkModulus_Pa = row.bulkModulus_Pa;  // the reference's (tradeRows)
   const OrganPokeSetup setup = organPokeSetup(scene, m_settings.organDepths_m);
   std::vector<double> depths_mm;
   for (const double depth_m : m_settings.organDepths_m) depths_mm.push_back(1e3 * depth_m);
