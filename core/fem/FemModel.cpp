@@ -2,6 +2,7 @@
 #include "fem/FemModel.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -112,11 +113,17 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
     for (int q = 0; q < 4; ++q) {
       const PointData& point = m_energyPoints[static_cast<std::size_t>(4 * t + q)];
       const Eigen::Matrix3d f = deformationGradient(xe, point.gradients);
-      const IsochoricResponse response = evaluateIsochoric(m_energy, f, withHessian);
+      const bool isDefinite = m_tangent == FemTangent::Definite;
+      IsochoricResponse response = evaluateIsochoric(m_energy, f, withHessian && !isDefinite);
       if (!response.isAdmissible) {
         state.isAdmissible = false;
         state.energy_J = std::numeric_limits<double>::infinity();
         return state;
+      }
+      if (withHessian && isDefinite) {
+        const double shift = std::pow(f.determinant(), -2.0 / 3.0) * f.squaredNorm() - 3.0;
+        const EnergyInI1 w = m_energy.slopesAtInvariantShift(std::max(shift, 0.0));
+        response.tangent_Pa = projectedIsochoricTangent(f, w.dEnergy, w.d2Energy);
       }
       state.energy_J += point.weight_m3 * response.energy_Pa;
       if (!withGradient) continue;
@@ -176,8 +183,9 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
     if (withGradient) ge += pressure * dv;
     if (withHessian) {
       he += (m_bulkModulus_Pa / restVolume) * dv * dv.transpose();
-      // U' d^2v/dx_a dx_b: (i, k) = sum_m eps_ikm (F (dN_a x dN_b))_m, summed over the points.
-      for (int q = 0; q < 5; ++q) {
+      // U' d^2v/dx_a dx_b: (i, k) = sum_m eps_ikm (F (dN_a x dN_b))_m, summed over the points;
+      // indefinite under compression, so the definite tangent leaves it out.
+      for (int q = 0; q < 5 && m_tangent == FemTangent::Exact; ++q) {
         const PointData& point = m_volumePoints[static_cast<std::size_t>(5 * t + q)];
         const Eigen::Matrix3d& f = fs[static_cast<std::size_t>(q)];
         for (int a = 0; a < 10; ++a) {

@@ -19,6 +19,14 @@
 // between lambda 1.1 and 1.3, so kappa is set against the stiffened modulus, not mu0
 // (defaultFemBulkModulus).
 //
+// The Hessian is E's exact second derivative (FemTangent::Exact), or a definite stand-in for a
+// caller that factorises it without a line search to catch an indefinite one
+// (FemTangent::Definite, fem/HapticRateFem.h): each quadrature point's isochoric tangent dP/dF
+// with its negative eigenvalues set to zero (in closed form, projectedIsochoricTangent), and the
+// volumetric part's U'(theta) d2v/dx2 term left out, leaving kappa/V dv (x) dv. Energy and
+// gradient are the same either way, so a Newton iteration on either settles where the other does.
+// The whole element's 30 x 30 Hessian projected instead stiffens the elements a probe compresses.
+//
 // Shapes: x 3 by #V (m), gradients 3 by #V (N), the Hessian 3#V square (N/m, node-major DOFs).
 
 #include <vector>
@@ -40,6 +48,8 @@ double defaultFemBulkModulus(const StrainEnergy& energy);
 inline constexpr double kFemBulkModulusStretch = 1.3;
 inline constexpr double kFemBulkModulusFactor = 200.0;
 
+enum class FemTangent { Exact, Definite };
+
 struct FemState {
   bool isAdmissible = true;  ///< false: an element inverted or past the chain's locking
   double energy_J = 0.0;
@@ -56,6 +66,8 @@ class FemModel {
   /// Adds `extra` (which must outlive its use here) to every evaluation; null: none.
   void setExtraEnergy(const FemExtraEnergy* extra) { m_extra = extra; }
   double bulkModulus() const { return m_bulkModulus_Pa; }
+  /// Which Hessian evaluate() assembles (FemTangent::Exact unless set).
+  void setTangent(FemTangent tangent) { m_tangent = tangent; }
 
   /// E at x, and the element volume ratios.
   FemState evaluate(const Eigen::Matrix3Xd& x) const;
@@ -83,6 +95,7 @@ class FemModel {
   std::vector<PointData> m_volumePoints;  ///< 5 per element
   Eigen::VectorXd m_restVolume_m3;        ///< V_e
   const FemExtraEnergy* m_extra = nullptr;
+  FemTangent m_tangent = FemTangent::Exact;
 };
 
 }  // namespace tissuesim

@@ -5,7 +5,10 @@
 
 #include "fem/FemModel.h"
 
+#include <algorithm>
 #include <random>
+
+#include <Eigen/Eigenvalues>
 
 #include <gtest/gtest.h>
 
@@ -58,6 +61,76 @@ TEST(FemModel, TheHessianIsTheGradientsDerivative) {
   EXPECT_LT((product - expected).cwiseAbs().maxCoeff(), 1e-5 * expected.cwiseAbs().maxCoeff());
   EXPECT_LT((Eigen::MatrixXd(hessian) - Eigen::MatrixXd(hessian).transpose()).cwiseAbs().maxCoeff(),
             1e-9 * expected.cwiseAbs().maxCoeff() / block.direction.cwiseAbs().maxCoeff());
+}
+
+/// The block squeezed 25 % along x and jiggled: compressed elements, where the exact Hessian's
+/// pressure term and the isochoric tangent's flip modes turn indefinite.
+Eigen::Matrix3Xd squeezed(const Eigen::Matrix3Xd& rest) {
+  Eigen::Matrix3Xd x = test::stretchedAndJiggled(rest, 5, 3e-4).x;
+  x.row(0) *= 0.75 / 1.15;
+  x.bottomRows(2) *= 1.12 / 0.94;
+  return x;
+}
+
+double smallestEigenvalue(const Eigen::SparseMatrix<double>& hessian) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(hessian))
+      .eigenvalues()
+      .minCoeff();
+}
+
+TEST(FemModel, TheDefiniteTangentHasNoNegativeEigenvalueWhereTheExactOneHas) {
+  DeformedQuadraticBlock block;
+  const Eigen::Matrix3Xd x = squeezed(block.mesh.nodes_m);
+  Eigen::Matrix3Xd gradient, definiteGradient;
+  Eigen::SparseMatrix<double> exact, definite;
+  ASSERT_TRUE(block.model.evaluate(x, gradient, exact, {}).isAdmissible);
+  const double scale = Eigen::MatrixXd(exact).cwiseAbs().maxCoeff();
+  EXPECT_LT(smallestEigenvalue(exact), -1e-4 * scale);
+  block.model.setTangent(FemTangent::Definite);
+  const FemState state = block.model.evaluate(x, definiteGradient, definite, {});
+  EXPECT_GT(smallestEigenvalue(definite), -1e-12 * scale);
+  // The energy and the forces are the exact ones.
+  EXPECT_EQ(state.energy_J, block.model.evaluate(x).energy_J);
+  EXPECT_EQ((definiteGradient - gradient).cwiseAbs().maxCoeff(), 0.0);
+  // At rest the left-out terms vanish and no eigenvalue is negative: the tangents agree.
+  Eigen::SparseMatrix<double> atRest;
+  block.model.evaluate(block.mesh.nodes_m, gradient, atRest, {});
+  block.model.setTangent(FemTangent::Exact);
+  block.model.evaluate(block.mesh.nodes_m, gradient, exact, {});
+  EXPECT_LT(Eigen::MatrixXd(atRest - exact).cwiseAbs().maxCoeff(), 1e-9 * scale);
+}
+
+TEST(FemModel, NewtonOnTheDefiniteTangentSettlesWhereTheExactOneDoes) {
+  // The block's low-x face held, its high-x face pushed in 3 mm and held: the same equilibrium
+  // from either Hessian, since the energy is the same.
+  std::vector<Eigen::Matrix3Xd> settled;
+  for (const FemTangent tangent : {FemTangent::Exact, FemTangent::Definite}) {
+    DeformedQuadraticBlock block;
+    block.model.setTangent(tangent);
+    Eigen::Matrix3Xd x = block.mesh.nodes_m;
+    std::vector<char> isFixed(static_cast<std::size_t>(x.size()), 0);
+    const double low = x.row(0).minCoeff(), high = x.row(0).maxCoeff();
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      const double along = block.mesh.nodes_m(0, i);
+      x(0, i) -= 0.003 * (along - low) / (high - low);  // the guess: squeezed evenly
+      if (along > low + 1e-9 && along < high - 1e-9) continue;
+      std::fill_n(isFixed.begin() + 3 * i, 3, char{1});
+    }
+    FemStaticSolver solver(1e-9, 200);
+    const FemSolveReport report = solver.solve(block.model, x, isFixed);
+    EXPECT_TRUE(report.converged) << static_cast<int>(tangent);
+    settled.push_back(x);
+  }
+  // The free nodes moved from the even squeeze (the held faces keep the ends from bulging) ...
+  const Eigen::Matrix3Xd evenly = [&] {
+    Eigen::Matrix3Xd x = DeformedQuadraticBlock().mesh.nodes_m;
+    const double low = x.row(0).minCoeff(), high = x.row(0).maxCoeff();
+    x.row(0) -= 0.003 * (x.row(0).array() - low).matrix() / (high - low);
+    return x;
+  }();
+  EXPECT_GT((settled[0] - evenly).cwiseAbs().maxCoeff(), 1e-4);
+  // ... and to the same place.
+  EXPECT_LT((settled[1] - settled[0]).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 /// The closed form of the same energy in homogeneous uniaxial stretch: F = diag(lambda, s, s),
