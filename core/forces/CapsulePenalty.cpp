@@ -4,29 +4,10 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "forces/SmoothedPenalty.h"
 #include "numerics/NodeBlockMatrix.h"
 
 namespace tissuesim {
-namespace {
-
-/// The penalty's energy e(g), de/dg and d2e/dg2 per unit stiffness (m^2, m, 1): k g^2 / 2 made
-/// twice differentiable at contact by a cubic over the first kSmoothing_m of penetration, so
-/// Newton meets no kink in the stiffness as points come into contact:
-///   g >= 0: 0;   -d <= g < 0: -g^3 / (6 d);   g < -d: (g + d/2)^2 / 2 + d^2 / 24.
-struct PenaltyTerms {
-  double energy;
-  double slope;
-  double curvature;
-};
-constexpr double kSmoothing_m = 1e-6;
-PenaltyTerms penalty(double g) {
-  constexpr double d = kSmoothing_m;
-  if (!(g < 0.0)) return {0.0, 0.0, 0.0};
-  if (g > -d) return {-g * g * g / (6.0 * d), -g * g / (2.0 * d), -g / d};
-  return {0.5 * (g + 0.5 * d) * (g + 0.5 * d) + d * d / 24.0, g + 0.5 * d, 1.0};
-}
-
-}  // namespace
 
 CapsulePenalty::CapsulePenalty(std::vector<Point> points) : m_points(std::move(points)) {
   for (auto& slot : m_slots) slot.reserve(m_points.size());
@@ -46,7 +27,7 @@ double CapsulePenalty::energy(const Eigen::Matrix3Xd& x) const {
   double energy = 0.0;
   Eigen::Vector3d n;
   for (const Point& point : m_points) {
-    energy += point.stiffness_N_m * penalty(gap(position(point, x), n)).energy;
+    energy += point.stiffness_N_m * smoothedPenalty(gap(position(point, x), n)).energy;
   }
   return energy;
 }
@@ -56,7 +37,7 @@ Eigen::Vector3d CapsulePenalty::reaction(const Eigen::Matrix3Xd& x) const {
   Eigen::Vector3d n;
   for (const Point& point : m_points) {
     // Minus the force on the surface.
-    onCapsule += point.stiffness_N_m * penalty(gap(position(point, x), n)).slope * n;
+    onCapsule += point.stiffness_N_m * smoothedPenalty(gap(position(point, x), n)).slope * n;
   }
   return onCapsule;
 }
@@ -72,7 +53,7 @@ void CapsulePenalty::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
   Eigen::Vector3d n;
   for (std::size_t p = 0; p < m_points.size(); ++p) {
     const Point& point = m_points[p];
-    const PenaltyTerms terms = penalty(gap(position(point, x), n));
+    const PenaltyTerms terms = smoothedPenalty(gap(position(point, x), n));
     if (terms.curvature == 0.0) continue;
     const double k = point.stiffness_N_m;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -133,7 +114,7 @@ double CapsulePenalty::add(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient
   double energy = 0.0;
   Eigen::Vector3d n;
   for (const Point& point : m_points) {
-    const PenaltyTerms terms = penalty(gap(position(point, x), n));
+    const PenaltyTerms terms = smoothedPenalty(gap(position(point, x), n));
     if (terms.curvature == 0.0) continue;
     const double k = point.stiffness_N_m;
     energy += k * terms.energy;

@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "forces/CondensedCapsuleContact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+
+#include "forces/SmoothedPenalty.h"
+
+namespace tissuesim {
+namespace {
+
+/// Newton's iterations a solve may take, the force left on a candidate it settles to (N), and
+/// the step below which it stops (m): under round-off for a body of millimetres.
+constexpr int kMaxIterations = 30;
+constexpr double kForceTolerance_N = 1e-6;
+constexpr double kStepTolerance_m = 1e-12;
+
+}  // namespace
+
+void CondensedCapsuleContact::setCandidates(const std::vector<int>& nodes) {
+  const auto m = static_cast<Eigen::Index>(nodes.size());
+  m_nodes = nodes;
+  m_compliance.setZero(3 * m, 3 * m);
+  m_inverse.setZero(3 * m, 3 * m);
+  m_free.setZero(3, m);
+  m_positions.setZero(3, m);
+  m_forces.setZero(3, m);
+  m_pointNodes.resize(3, 0);
+  m_pointWeights.resize(3, 0);
+  m_pointStiffness_N_m.resize(0);
+  m_u.setZero(3 * m);
+  m_trialU.setZero(3 * m);
+  m_gradient.setZero(3 * m);
+  m_step.setZero(3 * m);
+  m_work.setZero(3 * m);
+  m_hessian.setZero(3 * m, 3 * m);
+  m_bodyRest.resize(3, 0);
+  m_bodyResponse.resize(0, 0);
+}
+
+void CondensedCapsuleContact::setPoints(const Eigen::Matrix3Xi& localNodes,
+                                        const Eigen::Matrix3Xd& weights,
+                                        const Eigen::VectorXd& stiffness_N_m) {
+  const auto m = static_cast<Eigen::Index>(m_nodes.size());
+  if (weights.cols() != localNodes.cols() || stiffness_N_m.size() != localNodes.cols())
+    throw std::invalid_argument("CondensedCapsuleContact: one weight column and stiffness a point");
+  if (localNodes.size() > 0 && (localNodes.minCoeff() < 0 || localNodes.maxCoeff() >= m))
+    throw std::invalid_argument("CondensedCapsuleContact: a point's node is not a candidate");
+  for (Eigen::Index p = 0; p < stiffness_N_m.size(); ++p) {
+    if (!(stiffness_N_m[p] > 0.0) || !std::isfinite(stiffness_N_m[p]))
+      throw std::invalid_argument("CondensedCapsuleContact: a point's stiffness must be > 0");
+  }
+  const Eigen::LLT<Eigen::MatrixXd> cholesky(0.5 * (m_compliance + m_compliance.transpose()));
+  if (cholesky.info() != Eigen::Success)
+    throw std::invalid_argument("CondensedCapsuleContact: the compliance is not positive definite");
+  m_inverse = cholesky.solve(Eigen::MatrixXd::Identity(3 * m, 3 * m));
+  m_inverse = 0.5 * (m_inverse + m_inverse.transpose()).eval();
+  m_pointNodes = localNodes;
+  m_pointWeights = weights;
+  m_pointStiffness_N_m = stiffness_N_m;
+}
+
+double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
+                                             const Eigen::Vector3d& top_m, double radius_m,
+                                             Eigen::VectorXd* gradient,
+                                             Eigen::MatrixXd* hessian) const {
+  const Eigen::Vector3d axis = top_m - tip_m;
+  double energy = 0.0;
+  for (Eigen::Index p = 0; p < m_pointNodes.cols(); ++p) {
+    Eigen::Vector3d s = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+      const int j = m_pointNodes(a, p);
+      s += m_pointWeights(a, p) * (m_free.col(j) + u.segment<3>(3 * j));
+    }
+    const double t = std::clamp((s - tip_m).dot(axis) / axis.squaredNorm(), 0.0, 1.0);
+    const Eigen::Vector3d away = s - (tip_m + t * axis);
+    const double distance = away.norm();
+    const PenaltyTerms terms = smoothedPenalty(distance - radius_m);
+    if (terms.curvature == 0.0) continue;
+    // On the axis itself: push straight out of the tip.
+    const Eigen::Vector3d normal =
+        distance > 0.0 ? Eigen::Vector3d(away / distance) : Eigen::Vector3d(-axis.normalized());
+    const double k = m_pointStiffness_N_m[p];
+    energy += k * terms.energy;
+    if (gradient == nullptr) continue;
+    // The Gauss-Newton part, as CapsulePenalty's: the normal's turning left out.
+    const Eigen::Matrix3d block = (k * terms.curvature) * normal * normal.transpose();
+    for (int a = 0; a < 3; ++a) {
+      const int j = m_pointNodes(a, p);
+      gradient->segment<3>(3 * j) += (m_pointWeights(a, p) * k * terms.slope) * normal;
+      for (int b = 0; b < 3; ++b) {
+        hessian->block<3, 3>(3 * j, 3 * m_pointNodes(b, p)) +=
+            (m_pointWeights(a, p) * m_pointWeights(b, p)) * block;
+      }
+    }
+  }
+  return energy;
+}
+
+Eigen::Vector3d CondensedCapsuleContact::solve(const Eigen::Vector3d& tip_m,
+                                               const Eigen::Vector3d& top_m, double radius_m) {
+  m_converged = false;
+  m_iterations = 0;
+  for (; m_iterations < kMaxIterations; ++m_iterations) {
+    m_gradient.noalias() = m_inverse * m_u;
+    m_hessian = m_inverse;
+    const double energy = 0.5 * m_u.dot(m_gradient) +
+                          pointsEnergy(m_u, tip_m, top_m, radius_m, &m_gradient, &m_hessian);
+    if (m_gradient.size() == 0 || m_gradient.cwiseAbs().maxCoeff() < kForceTolerance_N) {
+      m_converged = true;
+      break;
+    }
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> cholesky(m_hessian);  // in place: no allocation
+    if (cholesky.info() != Eigen::Success) break;
+    m_step = -m_gradient;
+    cholesky.solveInPlace(m_step);
+    const double slope = m_step.dot(m_gradient);
+    double length = 1.0;
+    bool isAccepted = false;
+    for (int halving = 0; halving < 30 && !isAccepted; ++halving, length *= 0.5) {
+      m_trialU = m_u + length * m_step;
+      m_work.noalias() = m_inverse * m_trialU;
+      const double trial = 0.5 * m_trialU.dot(m_work) +
+                           pointsEnergy(m_trialU, tip_m, top_m, radius_m, nullptr, nullptr);
+      isAccepted = trial <= energy + 1e-4 * length * slope;
+      if (isAccepted) break;
+    }
+    if (!isAccepted) break;
+    m_u = m_trialU;
+    if (length * m_step.cwiseAbs().maxCoeff() < kStepTolerance_m) {
+      m_converged = true;
+      break;
+    }
+  }
+  m_work.noalias() = m_inverse * m_u;
+  m_forces = Eigen::Map<const Eigen::Matrix3Xd>(m_work.data(), 3, m_forces.cols());
+  m_positions = m_free + Eigen::Map<const Eigen::Matrix3Xd>(m_u.data(), 3, m_free.cols());
+  return -m_forces.rowwise().sum();
+}
+
+void CondensedCapsuleContact::startFrom(const CondensedCapsuleContact& other) {
+  m_work.setZero();
+  for (std::size_t j = 0; j < m_nodes.size(); ++j) {
+    const auto kept = std::find(other.m_nodes.begin(), other.m_nodes.end(), m_nodes[j]);
+    if (kept == other.m_nodes.end()) continue;
+    m_work.segment<3>(3 * static_cast<Eigen::Index>(j)) =
+        other.m_forces.col(static_cast<Eigen::Index>(kept - other.m_nodes.begin()));
+  }
+  m_u.noalias() = m_compliance * m_work;
+}
+
+void CondensedCapsuleContact::bodyPositions(Eigen::Matrix3Xd& x) const {
+  x = m_bodyRest;
+  if (!hasBody()) return;
+  Eigen::Map<Eigen::VectorXd>(x.data(), x.size()).noalias() +=
+      m_bodyResponse * Eigen::Map<const Eigen::VectorXd>(m_forces.data(), m_forces.size());
+}
+
+}  // namespace tissuesim

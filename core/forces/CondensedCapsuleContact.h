@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// A rigid capsule's contact at the haptic rate against a body's compliance condensed onto the
+// surface nodes near it: the constraint-based haptics of Saupin, Duriez and Cotin (2008), SOFA's
+// "constraint correction", with CapsulePenalty's penalty on points of the surface as the law.
+//
+//   x_c(u) = xFree + u,   f = C^-1 u          (the m candidates' positions and forces, 3m)
+//   E(u) = 1/2 u^T C^-1 u + sum_p k_p e(g_p),   g_p = |s_p - c_p| - R,   s_p = sum_a w_pa x_c,a
+//
+// xFree: where the candidates settle with no contact, the body linearised about its last solved
+// state; C: the body's compliance there, [K^-1] on the candidates' rows and columns (m/N). Point
+// p lies between three candidates (weights w_pa summing to 1), c_p is the closest point of the
+// capsule's axis segment, k_p its penalty (N/m), e the smoothed penalty (SmoothedPenalty.h). The
+// unknowns are the candidates' displacements u, not the points' forces, since the points are
+// many (hundreds near a probe) and the candidates few: E is minimised by Newton with a
+// backtracking search, its Hessian C^-1 + sum_p k_p e''(g_p) w w^T (n_p n_p^T), to a
+// micronewton on a candidate. The force on the capsule is minus the candidates' forces' sum.
+//
+// Optionally the whole body follows the candidates' forces linearly: x = xRest + B f (xRest 3
+// by #V, B 3#V by 3m, the body's compliance on the candidates' columns).
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace tissuesim {
+
+class CondensedCapsuleContact {
+ public:
+  /// The candidates (node ids, whatever numbering the caller keeps): sizes C, xFree and the
+  /// body's response, all zero, and drops the points (allocates; the solve does not).
+  void setCandidates(const std::vector<int>& nodes);
+  const std::vector<int>& candidates() const { return m_nodes; }
+
+  /// C (3m by 3m, symmetric positive definite, node-major) and xFree (3 by m): the caller fills
+  /// both after setCandidates, then calls setPoints.
+  Eigen::MatrixXd& compliance() { return m_compliance; }
+  Eigen::Matrix3Xd& freePositions() { return m_free; }
+
+  /// The points: each three candidates' local indices (columns of localNodes), their weights
+  /// and the point's penalty k_p (N/m, > 0). Inverts C (allocates). @throws
+  /// std::invalid_argument on a size, index or stiffness out of range, or a C that is not
+  /// positive definite.
+  void setPoints(const Eigen::Matrix3Xi& localNodes, const Eigen::Matrix3Xd& weights,
+                 const Eigen::VectorXd& stiffness_N_m);
+
+  /// Optionally the whole body: xRest (3 by #V) and B (3#V by 3m), filled after setCandidates;
+  /// B left empty, no body.
+  Eigen::Matrix3Xd& bodyAtRest() { return m_bodyRest; }
+  Eigen::MatrixXd& bodyResponse() { return m_bodyResponse; }
+  bool hasBody() const { return m_bodyResponse.size() > 0; }
+  /// The whole body at the last solve's forces (3 by #V; allocates when x is not that size).
+  void bodyPositions(Eigen::Matrix3Xd& x) const;
+
+  /// The next solve starts from the displacement other's forces give here, on the candidates
+  /// both hold (no allocation).
+  void startFrom(const CondensedCapsuleContact& other);
+
+  /// The contact with the capsule from tip_m (its hemisphere's centre) to top_m, radius_m (no
+  /// allocation). @returns the force the candidates exert on the capsule (N).
+  Eigen::Vector3d solve(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                        double radius_m);
+
+  /// At the last solve: the candidates' positions (3 by m), the forces on them (3 by m, N),
+  /// whether Newton met its tolerance, and its iterations.
+  const Eigen::Matrix3Xd& positions() const { return m_positions; }
+  const Eigen::Matrix3Xd& nodeForces() const { return m_forces; }
+  bool converged() const { return m_converged; }
+  int iterations() const { return m_iterations; }
+
+ private:
+  /// The points' penalty energy at u (J), their gradient and Hessian added where non-null.
+  double pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
+                      const Eigen::Vector3d& top_m, double radius_m, Eigen::VectorXd* gradient,
+                      Eigen::MatrixXd* hessian) const;
+
+  std::vector<int> m_nodes;
+  Eigen::MatrixXd m_compliance, m_inverse;  ///< C and C^-1
+  Eigen::Matrix3Xd m_free, m_positions, m_forces;
+  Eigen::Matrix3Xi m_pointNodes;
+  Eigen::Matrix3Xd m_pointWeights;
+  Eigen::VectorXd m_pointStiffness_N_m;
+  Eigen::VectorXd m_u, m_trialU, m_gradient, m_step, m_work;
+  Eigen::MatrixXd m_hessian;
+  Eigen::Matrix3Xd m_bodyRest;
+  Eigen::MatrixXd m_bodyResponse;
+  bool m_converged = true;
+  int m_iterations = 0;
+};
+
+}  // namespace tissuesim

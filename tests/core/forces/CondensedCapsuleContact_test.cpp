@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: Apache-2.0
+// The capsule's contact against a condensed compliance: a single node on a spring meets the
+// closed form; on a coupled compliance with points between nodes, the forces it settles to are
+// CapsulePenalty's (an independent evaluation of the same penalty) at the positions it settles
+// to; a warm start settles at once; and bad points are refused.
+
+#include "forces/CondensedCapsuleContact.h"
+
+#include <random>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "forces/CapsulePenalty.h"
+#include "forces/SmoothedPenalty.h"
+
+namespace tissuesim {
+namespace {
+
+constexpr double kRadius_m = 0.0025;
+
+/// A vertical capsule whose lowest point is `depth_m` below z = 0.
+struct Probe {
+  Eigen::Vector3d tip, top;
+  explicit Probe(double depth_m, double x_m = 0.0)
+      : tip(x_m, 0.0, kRadius_m - depth_m), top(x_m, 0.0, kRadius_m - depth_m + 0.1) {}
+};
+
+TEST(CondensedCapsuleContact, ANodeOnASpringMeetsTheClosedForm) {
+  // One node at the origin on an isotropic spring k_b, one point on it with penalty k_p:
+  // k_b u = k_p (d - u - d_s / 2), d_s the penalty's smoothing (its slope past d_s is g + d_s/2).
+  constexpr double kBody_N_m = 200.0, kPenalty_N_m = 5e4, depth_m = 0.002;
+  CondensedCapsuleContact contact;
+  contact.setCandidates({7});
+  contact.compliance() = Eigen::Matrix3d::Identity() / kBody_N_m;
+  contact.freePositions().setZero();
+  contact.setPoints(Eigen::Matrix3Xi::Zero(3, 1), Eigen::Vector3d(1.0, 0.0, 0.0),
+                    Eigen::VectorXd::Constant(1, kPenalty_N_m));
+  const Probe probe(depth_m);
+  const Eigen::Vector3d reaction = contact.solve(probe.tip, probe.top, kRadius_m);
+  EXPECT_TRUE(contact.converged());
+  const double u =
+      kPenalty_N_m * (depth_m - 0.5 * kPenaltySmoothing_m) / (kBody_N_m + kPenalty_N_m);
+  EXPECT_NEAR(reaction.z(), kBody_N_m * u, 1e-6);
+  EXPECT_NEAR(reaction.head<2>().norm(), 0.0, 1e-9);
+  EXPECT_NEAR(contact.positions()(2, 0), -u, 1e-9);
+  EXPECT_NEAR(contact.nodeForces()(2, 0), -kBody_N_m * u, 1e-6);
+}
+
+/// Nine nodes of a 3 x 3 grid 2 mm apart at z = 0, a random symmetric positive definite
+/// compliance coupling them, and points between them (the grid's eight triangles, four points
+/// each), their penalty 1e4 N/m.
+struct CoupledPatch {
+  CondensedCapsuleContact contact;
+  std::vector<CapsulePenalty::Point> points;
+  Eigen::Matrix3Xi localNodes;
+  Eigen::Matrix3Xd weights;
+  Eigen::VectorXd stiffness;
+
+  CoupledPatch() {
+    std::vector<int> nodes;
+    for (int j = 0; j < 9; ++j) nodes.push_back(100 + j);  // ids of a larger body
+    contact.setCandidates(nodes);
+    for (int j = 0; j < 9; ++j)
+      contact.freePositions().col(j) = Eigen::Vector3d(0.002 * (j % 3 - 1), 0.002 * (j / 3 - 1), 0);
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    Eigen::MatrixXd a(27, 27);
+    for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = uniform(random);
+    contact.compliance() =
+        (a * a.transpose() / 27.0 + Eigen::MatrixXd::Identity(27, 27)) * 2e-3;  // m/N
+    const Eigen::Vector3d corners[4] = {{1.0 / 6, 1.0 / 6, 2.0 / 3},
+                                        {2.0 / 3, 1.0 / 6, 1.0 / 6},
+                                        {1.0 / 6, 2.0 / 3, 1.0 / 6},
+                                        {1.0 / 3, 1.0 / 3, 1.0 / 3}};
+    std::vector<Eigen::Vector3i> triangles;
+    for (int r = 0; r < 2; ++r) {
+      for (int c = 0; c < 2; ++c) {
+        const int n = 3 * r + c;
+        triangles.push_back({n, n + 1, n + 4});
+        triangles.push_back({n, n + 4, n + 3});
+      }
+    }
+    const auto count = static_cast<Eigen::Index>(4 * triangles.size());
+    localNodes.resize(3, count);
+    weights.resize(3, count);
+    stiffness.setConstant(count, 1e4);
+    Eigen::Index p = 0;
+    for (const Eigen::Vector3i& triangle : triangles) {
+      for (const Eigen::Vector3d& w : corners) {
+        localNodes.col(p) = triangle;
+        weights.col(p) = w;
+        points.push_back({{nodes[static_cast<std::size_t>(triangle[0])],
+                           nodes[static_cast<std::size_t>(triangle[1])],
+                           nodes[static_cast<std::size_t>(triangle[2])]},
+                          w,
+                          1e4});
+        ++p;
+      }
+    }
+    contact.setPoints(localNodes, weights, stiffness);
+  }
+};
+
+TEST(CondensedCapsuleContact, ItSettlesWhereThePenaltysForcesBalanceTheBody) {
+  CoupledPatch patch;
+  const Probe probe(0.0015, 0.0007);
+  const Eigen::Vector3d reaction = patch.contact.solve(probe.tip, probe.top, kRadius_m);
+  ASSERT_TRUE(patch.contact.converged());
+  EXPECT_GT(reaction.z(), 0.1);  // pressed down, the nodes push up
+  // CapsulePenalty on the settled positions, in the larger body's numbering.
+  Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Zero(3, 109);
+  for (int j = 0; j < 9; ++j) x.col(100 + j) = patch.contact.positions().col(j);
+  CapsulePenalty penalty(patch.points);
+  penalty.tip_m = probe.tip;
+  penalty.top_m = probe.top;
+  penalty.radius_m = kRadius_m;
+  Eigen::Matrix3Xd gradient = Eigen::Matrix3Xd::Zero(3, 109);
+  penalty.add(x, &gradient, nullptr);
+  EXPECT_LT((patch.contact.nodeForces() + gradient.rightCols(9)).cwiseAbs().maxCoeff(), 1e-5);
+  EXPECT_LT((reaction - penalty.reaction(x)).norm(), 1e-5);
+  // The body's side: the forces are C^-1 (x - xFree).
+  const Eigen::Matrix3Xd u = patch.contact.positions() - patch.contact.freePositions();
+  const Eigen::VectorXd f =
+      patch.contact.compliance().llt().solve(Eigen::Map<const Eigen::VectorXd>(u.data(), u.size()));
+  EXPECT_LT((Eigen::Map<const Eigen::VectorXd>(patch.contact.nodeForces().data(), 27) - f)
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-9);
+}
+
+TEST(CondensedCapsuleContact, AWarmStartSettlesAtOnceAndTheBodyFollowsTheForces) {
+  CoupledPatch patch;
+  const Probe probe(0.001);
+  const Eigen::Vector3d first = patch.contact.solve(probe.tip, probe.top, kRadius_m);
+  EXPECT_GT(patch.contact.iterations(), 1);
+  CoupledPatch again;
+  again.contact.startFrom(patch.contact);
+  const Eigen::Vector3d second = again.contact.solve(probe.tip, probe.top, kRadius_m);
+  EXPECT_TRUE(again.contact.converged());
+  EXPECT_LE(again.contact.iterations(), 1);
+  EXPECT_LT((second - first).norm(), 1e-6);
+  // The whole body: x = xRest + B f.
+  again.contact.bodyAtRest() = Eigen::Matrix3Xd::Constant(3, 4, 0.5);
+  again.contact.bodyResponse() = Eigen::MatrixXd::Identity(12, 27);
+  Eigen::Matrix3Xd body;
+  again.contact.bodyPositions(body);
+  EXPECT_NEAR(body(2, 3), 0.5 + again.contact.nodeForces()(2, 3), 1e-15);
+  EXPECT_NEAR(body(0, 0), 0.5 + again.contact.nodeForces()(0, 0), 1e-15);
+}
+
+TEST(CondensedCapsuleContact, NoContactNoForce) {
+  CoupledPatch patch;
+  const Probe above(-0.001);
+  EXPECT_EQ(patch.contact.solve(above.tip, above.top, kRadius_m).norm(), 0.0);
+  EXPECT_TRUE(patch.contact.converged());
+  EXPECT_EQ(patch.contact.positions(), patch.contact.freePositions());
+}
+
+TEST(CondensedCapsuleContact, BadPointsAreRefused) {
+  CoupledPatch patch;
+  Eigen::Matrix3Xi outside = patch.localNodes;
+  outside(1, 3) = 9;
+  EXPECT_THROW(patch.contact.setPoints(outside, patch.weights, patch.stiffness),
+               std::invalid_argument);
+  Eigen::VectorXd negative = patch.stiffness;
+  negative[2] = -1.0;
+  EXPECT_THROW(patch.contact.setPoints(patch.localNodes, patch.weights, negative),
+               std::invalid_argument);
+  EXPECT_THROW(patch.contact.setPoints(patch.localNodes, patch.weights, patch.stiffness.head(3)),
+               std::invalid_argument);
+  patch.contact.compliance()(0, 0) = -1.0;
+  EXPECT_THROW(patch.contact.setPoints(patch.localNodes, patch.weights, patch.stiffness),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tissuesim
