@@ -65,6 +65,8 @@ std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& 
   for (const double value : {setup.probeRadius_m, setup.depthStep_m, setup.pressureStiffness_Pa_m,
                              setup.contactReach_m, bulkModulus_Pa})
     key.addNumber(value);
+  // The node contact's keys (every kept reference's) stay as they were.
+  if (setup.contactSpacing_m > 0.0) key.addNumber(setup.contactSpacing_m);
   return key.value();
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "app/OrganPokeCommand.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -32,6 +33,12 @@ struct OrganPokeOptions {
   std::string outputPath;
   /// The FEM's forces read from here when it holds them for these inputs, else written here.
   std::string femCachePath;
+  /// The FEM at its own rate and the contact at 1 kHz on this mesh (a row); empty: none.
+  std::string hapticRateMeshPath;
+  /// Each FEM update's latency (ms); 0: its wall time.
+  double updateLatency_ms = 0.0;
+  /// The haptic-rate row's contact points this far apart (mm).
+  double hapticRateSpacing_mm = 1.0;
 };
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
@@ -105,11 +112,20 @@ void runOrganPoke(const OrganPokeOptions& options) {
   }
   if (!(options.speed_mm_s > 0.0) || options.speed_mm_s > 1000.0)
     throw CommandError("--speed-mm-s must be in (0, 1000]");
+  if (!(options.updateLatency_ms >= 0.0) || options.updateLatency_ms > 10000.0)
+    throw CommandError("--update-latency-ms must be in [0, 10000]");
+  if (!(options.hapticRateSpacing_mm > 0.0) || options.hapticRateSpacing_mm > 10.0)
+    throw CommandError("--haptic-rate-spacing-mm must be in (0, 10]");
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.femCachePath.empty()) checkOutputWritable(options.femCachePath, "--fem-cache");
 
   // Weightless and on nothing but its fixed region: the continuum reference's conditions.
   const SceneDescription scene = weightlessPokeScene(readScene(options.scenePath));
+  // The haptic-rate row's mesh read before the reference is solved (minutes): a bad file fails
+  // at once.
+  std::optional<TetMesh> hapticRateOrgan;
+  if (!options.hapticRateMeshPath.empty())
+    hapticRateOrgan = readOrganMesh(options.hapticRateMeshPath);
   const std::vector<double> femForce_N = femForces(options, scene, depths_m);
   // The simulator as the scene sets it up, on its own mesh or on the surface meshed anew.
   struct Row {
@@ -141,6 +157,48 @@ void runOrganPoke(const OrganPokeOptions& options) {
       char line[200];
       std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%.6g,%.3f\n", row.mesh.c_str(),
                     options.depths_mm[d], femForce_N[d], simulator[d], error);
+      csv += line;
+    }
+  }
+  if (hapticRateOrgan) {
+    const LoadedTissue tissue(scene.tissue.string());
+    const TetMesh& organ = *hapticRateOrgan;
+    HapticRateSettings settings;
+    settings.speed_m_s = options.speed_mm_s / 1000.0;
+    settings.updateLatency_s = options.updateLatency_ms / 1000.0;
+    OrganPokeSetup setup = organPokeSetup(scene, depths_m);
+    setup.contactSpacing_m = options.hapticRateSpacing_mm / 1000.0;
+    HapticRatePoke poke;
+    try {
+      poke = pokeOrganHapticRate(tissue.energy, organ, setup, defaultFemBulkModulus(tissue.energy),
+                                 settings);
+    } catch (const std::invalid_argument& error) {
+      throw CommandError(options.hapticRateMeshPath + ": " + error.what());
+    }
+    std::vector<double> sorted = poke.stepTimes_ms;
+    std::sort(sorted.begin(), sorted.end());
+    const auto quantile = [&](double q) {
+      return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+    };
+    char latency[64] = "their own wall time";
+    if (options.updateLatency_ms > 0.0)
+      std::snprintf(latency, sizeof latency, "%g ms", options.updateLatency_ms);
+    std::fprintf(stderr,
+                 "haptic rate (%s): %d nodes; %ld contact steps at %.3g ms median, %.3g ms p99, "
+                 "%ld unsettled; %ld FEM updates at %.0f ms mean, %.0f ms longest, each used "
+                 "%s after it started, %ld without a step; at most %d contact nodes; %.1f s\n",
+                 options.hapticRateMeshPath.c_str(), poke.nodes, poke.steps, quantile(0.5),
+                 quantile(0.99), poke.unconvergedSteps, poke.updates,
+                 poke.updates > 0 ? 1e3 * poke.updating_s / poke.updates : 0.0,
+                 1e3 * poke.longestUpdate_s, latency, poke.unsteppedUpdates, poke.maxCandidates,
+                 poke.seconds);
+    for (std::size_t d = 0; d < depths_m.size(); ++d) {
+      const double error = 100.0 * (poke.force_N[d] / femForce_N[d] - 1.0);
+      std::fprintf(stderr, "%5.1f mm: fem %.4f N, haptic rate %.4f N (%+.0f %%)\n",
+                   options.depths_mm[d], femForce_N[d], poke.force_N[d], error);
+      char line[200];
+      std::snprintf(line, sizeof line, "haptic-rate,%.6g,%.6g,%.6g,%.3f\n", options.depths_mm[d],
+                    femForce_N[d], poke.force_N[d], error);
       csv += line;
     }
   }
@@ -183,6 +241,17 @@ void registerOrganPokeCommand(CLI::App& app) {
   command->add_option("--fem-cache", options->femCachePath,
                       "The FEM's forces: read from this file when it holds them for the same "
                       "scene, tissue, FEM mesh and depths, else solved and added to it");
+  command->add_option("--haptic-rate-mesh", options->hapticRateMeshPath,
+                      "Add a row: the FEM (quadratic tets) on this mesh at its own rate, the "
+                      "probe's contact at 1 kHz against its compliance condensed near the probe");
+  command->add_option("--update-latency-ms", options->updateLatency_ms,
+                      "With --haptic-rate-mesh: each FEM update answers this long after it "
+                      "starts (default 0: its own wall time)");
+  command
+      ->add_option("--haptic-rate-spacing-mm", options->hapticRateSpacing_mm,
+                   "With --haptic-rate-mesh: its contact's points between the quadratic "
+                   "surface nodes this far apart")
+      ->capture_default_str();
   command->callback([options] { runOrganPoke(*options); });
 }
 

@@ -12,6 +12,7 @@
 #include "analysis/SecondsSince.h"
 #include "fem/FemModel.h"
 #include "fem/FemStaticSolver.h"
+#include "fem/HapticRateFem.h"
 #include "fem/QuadraticTetMesh.h"
 #include "forces/CapsulePenalty.h"
 #include "mesh/TriangleSurface.h"
@@ -22,9 +23,8 @@ namespace {
 /// The probe's shaft beyond the tip's hemisphere (m): longer than any organ is deep.
 constexpr double kShaftLength_m = 0.3;
 
-/// Each quadratic boundary node's share of the surface (m^2; 0 off the surface): the linear
-/// boundary's faces, each cut into four at its edges' midpoints.
-Eigen::VectorXd surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quadratic) {
+/// The boundary's quadratic faces each cut into four triangles through its edges' midpoints.
+Eigen::Matrix3Xi surfacePieces(const TetMesh& organ, const QuadraticTetMesh& quadratic) {
   std::map<std::pair<int, int>, int> midpointOf;
   for (Eigen::Index t = 0; t < quadratic.tetCount(); ++t) {
     for (int e = 0; e < 6; ++e) {
@@ -45,7 +45,87 @@ Eigen::VectorXd surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quad
         ab, b, bc, bc,                             //
         ca, bc, c, ca;
   }
-  return vertexAreas(quadratic.nodes_m, pieces);
+  return pieces;
+}
+
+/// Each quadratic boundary node's share of the surface (m^2; 0 off the surface): the linear
+/// boundary's faces, each cut into four at its edges' midpoints.
+Eigen::VectorXd surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quadratic) {
+  return vertexAreas(quadratic.nodes_m, surfacePieces(organ, quadratic));
+}
+
+/// What both FEM pokes share: the organ's quadratic mesh, the entry point, the held DOFs and the
+/// surface nodes near the entry that the probe may touch.
+struct PokeBody {
+  PokeBody(const TetMesh& organ, const OrganPokeSetup& setup)
+      : direction(setup.direction.normalized()), mesh(makeQuadraticTetMesh(organ)) {
+    if (!firstCrossing(organ.nodes_m, boundaryFaces(organ), setup.tipStart_m, direction, entry))
+      throw std::invalid_argument("the probe's axis does not meet the organ's surface");
+    isFixed.assign(static_cast<std::size_t>(3 * mesh.nodeCount()), 0);
+    int fixedCount = 0;
+    for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
+      if (setup.fixedBox_m.contains(mesh.nodes_m.col(i))) {
+        std::fill_n(isFixed.begin() + 3 * i, 3, char{1});
+        ++fixedCount;
+      }
+    }
+    if (fixedCount == 0) throw std::invalid_argument("no node of the organ lies in the fixed box");
+    if (setup.contactSpacing_m > 0.0) {
+      // The boundary's quadratic pieces, each cut into small triangles about the spacing
+      // apart, the penalty at each one's centroid: a point between three nodes with its share
+      // of the area.
+      const Eigen::Matrix3Xi pieces = surfacePieces(organ, mesh);
+      for (Eigen::Index f = 0; f < pieces.cols(); ++f) {
+        const Eigen::Vector3d a = mesh.nodes_m.col(pieces(0, f));
+        const Eigen::Vector3d b = mesh.nodes_m.col(pieces(1, f));
+        const Eigen::Vector3d c = mesh.nodes_m.col(pieces(2, f));
+        if (((a + b + c) / 3.0 - entry).norm() > setup.contactReach_m) continue;
+        const double area = 0.5 * (b - a).cross(c - a).norm();
+        const int cuts = std::max(
+            1, static_cast<int>(std::ceil(std::sqrt(2.0 * area) / setup.contactSpacing_m)));
+        const double share = area / (cuts * cuts) * setup.pressureStiffness_Pa_m;
+        for (int i = 0; i < cuts; ++i) {
+          for (int j = 0; i + j < cuts; ++j) {
+            // The upright small triangle at (i, j), and the inverted one beside it.
+            for (int flip = 0; flip < (i + j + 1 < cuts ? 2 : 1); ++flip) {
+              const double u = (i + (flip == 0 ? 1.0 : 2.0) / 3.0) / cuts;
+              const double v = (j + (flip == 0 ? 1.0 : 2.0) / 3.0) / cuts;
+              points.push_back(
+                  {{pieces(0, f), pieces(1, f), pieces(2, f)}, {1.0 - u - v, u, v}, share});
+            }
+          }
+        }
+      }
+      return;
+    }
+    const Eigen::VectorXd shares = surfaceShares(organ, mesh);
+    for (int node = 0; node < static_cast<int>(shares.size()); ++node) {
+      if (!(shares[node] > 0.0) || (mesh.nodes_m.col(node) - entry).norm() > setup.contactReach_m)
+        continue;
+      points.push_back(
+          {{node, node, node}, {1.0, 0.0, 0.0}, shares[node] * setup.pressureStiffness_Pa_m});
+    }
+  }
+  /// The probe's tip (its hemisphere's centre) with its end `depth_m` past the entry point.
+  Eigen::Vector3d tip(double depth_m, double radius_m) const {
+    return entry + (depth_m - radius_m) * direction;
+  }
+  Eigen::Vector3d top(const Eigen::Vector3d& tip_m) const {
+    return tip_m - kShaftLength_m * direction;
+  }
+
+  Eigen::Vector3d direction;
+  Eigen::Vector3d entry;
+  QuadraticTetMesh mesh;
+  std::vector<char> isFixed;
+  std::vector<CapsulePenalty::Point> points;
+};
+
+void checkDepths(const std::vector<double>& depths_m) {
+  for (std::size_t d = 0; d < depths_m.size(); ++d) {
+    if (!(depths_m[d] > (d > 0 ? depths_m[d - 1] : 0.0)))
+      throw std::invalid_argument("poke depths must increase, each above 0");
+  }
 }
 
 }  // namespace
@@ -54,45 +134,19 @@ IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
                               const OrganPokeSetup& setup, double bulkModulus_Pa,
                               const std::function<void(double, double)>& onDepth) {
   const auto start = std::chrono::steady_clock::now();
-  for (std::size_t d = 0; d < setup.depths_m.size(); ++d) {
-    if (!(setup.depths_m[d] > (d > 0 ? setup.depths_m[d - 1] : 0.0)))
-      throw std::invalid_argument("poke depths must increase, each above 0");
-  }
-  const Eigen::Vector3d direction = setup.direction.normalized();
-  Eigen::Vector3d entry;
-  if (!firstCrossing(organ.nodes_m, boundaryFaces(organ), setup.tipStart_m, direction, entry))
-    throw std::invalid_argument("the probe's axis does not meet the organ's surface");
-
-  const QuadraticTetMesh mesh = makeQuadraticTetMesh(organ);
-  FemModel model(mesh, energy, bulkModulus_Pa);
-  std::vector<char> isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0);
-  int fixedCount = 0;
-  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
-    if (setup.fixedBox_m.contains(mesh.nodes_m.col(i))) {
-      std::fill_n(isFixed.begin() + 3 * i, 3, char{1});
-      ++fixedCount;
-    }
-  }
-  if (fixedCount == 0) throw std::invalid_argument("no node of the organ lies in the fixed box");
-
-  std::vector<CapsulePenalty::Point> points;
-  const Eigen::VectorXd shares = surfaceShares(organ, mesh);
-  for (int node = 0; node < static_cast<int>(shares.size()); ++node) {
-    if (!(shares[node] > 0.0) || (mesh.nodes_m.col(node) - entry).norm() > setup.contactReach_m)
-      continue;
-    points.push_back(
-        {{node, node, node}, {1.0, 0.0, 0.0}, shares[node] * setup.pressureStiffness_Pa_m});
-  }
-  CapsulePenalty probe(std::move(points));
+  checkDepths(setup.depths_m);
+  const PokeBody body(organ, setup);
+  FemModel model(body.mesh, energy, bulkModulus_Pa);
+  CapsulePenalty probe(body.points);
   probe.radius_m = setup.probeRadius_m;
   model.setExtraEnergy(&probe);
 
   IndentationCurve curve;
-  curve.nodes = static_cast<int>(mesh.nodeCount());
-  curve.elements = static_cast<int>(mesh.tetCount());
+  curve.nodes = static_cast<int>(body.mesh.nodeCount());
+  curve.elements = static_cast<int>(body.mesh.tetCount());
   FemStaticSolver solver;
-  Eigen::Matrix3Xd x = mesh.nodes_m;
-  const auto force = [&] { return probe.reaction(x).dot(-direction); };
+  Eigen::Matrix3Xd x = body.mesh.nodes_m;
+  const auto force = [&] { return probe.reaction(x).dot(-body.direction); };
   double depth = 0.0;
   double lastForce_N = 0.0;
   for (const double target : setup.depths_m) {
@@ -100,14 +154,13 @@ IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
     const double from = depth;
     for (int s = 1; s <= steps; ++s) {
       depth = from + (target - from) * s / steps;
-      // The hemisphere's centre a radius behind the tip, the tip `depth` past the entry.
-      probe.tip_m = entry + (depth - setup.probeRadius_m) * direction;
-      probe.top_m = probe.tip_m - kShaftLength_m * direction;
+      probe.tip_m = body.tip(depth, setup.probeRadius_m);
+      probe.top_m = body.top(probe.tip_m);
       // Relative to the force at the last equilibrium (round-off grows with it), not at the
       // start of this solve, where the probe has just moved into the surface.
       solver.setTolerance(1e-9 * std::max(1.0, std::abs(lastForce_N)));
       const auto solveStart = std::chrono::steady_clock::now();
-      const FemSolveReport report = solver.solve(model, x, isFixed);
+      const FemSolveReport report = solver.solve(model, x, body.isFixed);
       curve.solving_s += secondsSince(solveStart);
       curve.newtonIterations += report.iterations;
       curve.worstResidual_N = std::max(curve.worstResidual_N, report.residual_N);
@@ -119,6 +172,86 @@ IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
   }
   curve.seconds = secondsSince(start);
   return curve;
+}
+
+HapticRatePoke pokeOrganHapticRate(const StrainEnergy& energy, const TetMesh& organ,
+                                   const OrganPokeSetup& setup, double bulkModulus_Pa,
+                                   const HapticRateSettings& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  checkDepths(setup.depths_m);
+  if (!(settings.speed_m_s > 0.0) || !(settings.hapticStep_s > 0.0) ||
+      !(settings.updateLatency_s >= 0.0) || !(settings.startAbove_m >= 0.0))
+    throw std::invalid_argument(
+        "the haptic-rate poke's speed and step must be > 0, its latency and start >= 0");
+  const PokeBody body(organ, setup);
+  FemModel model(body.mesh, energy, bulkModulus_Pa);
+  HapticRateFem fem(model, body.isFixed, body.points, settings.candidateMargin_m,
+                    settings.newtonIterations);
+
+  HapticRatePoke poke;
+  poke.nodes = static_cast<int>(body.mesh.nodeCount());
+  poke.elements = static_cast<int>(body.mesh.tetCount());
+  const double radius_m = setup.probeRadius_m;
+  const auto depthAt = [&](long step) {
+    return -settings.startAbove_m + settings.speed_m_s * settings.hapticStep_s * step;
+  };
+  const double deepest_m = setup.depths_m.back();
+  const long steps = static_cast<long>(std::ceil((deepest_m + settings.startAbove_m) /
+                                                 (settings.speed_m_s * settings.hapticStep_s)));
+  poke.stepTimes_ms.reserve(static_cast<std::size_t>(steps) + 1);
+
+  // The body at rest linearised before the clock starts (the start-up), then an update in
+  // flight from the first step on.
+  CondensedCapsuleContact inUse, next;
+  const auto update = [&](long step) {
+    const Eigen::Vector3d tip = body.tip(depthAt(step), radius_m);
+    const auto updateStart = std::chrono::steady_clock::now();
+    const HapticRateUpdate report = fem.update(inUse, tip, body.top(tip), radius_m, next);
+    const double wall_s = secondsSince(updateStart);
+    if (!report.isStepped) ++poke.unsteppedUpdates;
+    poke.maxCandidates = std::max(poke.maxCandidates, report.candidates);
+    return wall_s;
+  };
+  update(0);
+  std::swap(inUse, next);
+  double readyAt_s = -1.0;  // no update in flight yet
+  std::size_t nextDepth = 0;
+  double lastDepth_m = depthAt(0), lastForce_N = 0.0;
+  for (long step = 0; step <= steps + 1 && nextDepth < setup.depths_m.size(); ++step) {
+    const double time_s = settings.hapticStep_s * step;
+    const bool isReady = time_s >= readyAt_s - 1e-3 * settings.hapticStep_s;  // round-off
+    if (isReady && readyAt_s >= 0.0) {
+      next.startFrom(inUse);
+      std::swap(inUse, next);
+    }
+    const double depth_m = depthAt(step);
+    const Eigen::Vector3d tip = body.tip(depth_m, radius_m);
+    const auto stepStart = std::chrono::steady_clock::now();
+    const Eigen::Vector3d reaction = inUse.solve(tip, body.top(tip), radius_m);
+    poke.stepTimes_ms.push_back(1e3 * secondsSince(stepStart));
+    if (!inUse.converged()) ++poke.unconvergedSteps;
+    ++poke.steps;
+    const double force_N = reaction.dot(-body.direction);
+    while (nextDepth < setup.depths_m.size() && depth_m >= setup.depths_m[nextDepth]) {
+      const double target = setup.depths_m[nextDepth++];
+      const double share = (target - lastDepth_m) / (depth_m - lastDepth_m);
+      poke.force_N.push_back(lastForce_N + share * (force_N - lastForce_N));
+    }
+    lastDepth_m = depth_m;
+    lastForce_N = force_N;
+    if (isReady) {  // the FEM takes the contact's forces now and answers after its latency
+      const double wall_s = update(step);
+      ++poke.updates;
+      poke.updating_s += wall_s;
+      poke.longestUpdate_s = std::max(poke.longestUpdate_s, wall_s);
+      const double latency_s = settings.updateLatency_s > 0.0 ? settings.updateLatency_s : wall_s;
+      readyAt_s = time_s + std::max(settings.hapticStep_s, latency_s);
+    }
+  }
+  if (poke.force_N.size() != setup.depths_m.size())
+    throw std::logic_error("the haptic-rate poke stopped short of its deepest depth");
+  poke.seconds = secondsSince(start);
+  return poke;
 }
 
 }  // namespace tissuesim

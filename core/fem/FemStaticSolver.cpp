@@ -2,6 +2,7 @@
 #include "fem/FemStaticSolver.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include <Eigen/CholmodSupport>
 
@@ -34,6 +35,50 @@ double largestFree(const Eigen::Matrix3Xd& gradient, const std::vector<char>& is
 
 }  // namespace
 
+bool FemStaticSolver::factorizeShifted(const std::vector<char>& isFixed, double& shift) {
+  m_isFactorized = false;
+  Eigen::SparseMatrix<double> shifted = m_hessian;
+  const double scale = m_hessian.diagonal().cwiseAbs().maxCoeff();
+  for (;;) {
+    if (shift > 0.0) {
+      shifted = m_hessian;
+      for (Eigen::Index d = 0; d < shifted.rows(); ++d) {
+        if (isFixed[static_cast<std::size_t>(d)] == 0) shifted.coeffRef(d, d) += shift;
+      }
+    }
+    m_factorization->cholesky.factorize(shifted);
+    if (m_factorization->cholesky.info() == Eigen::Success) break;  // positive definite
+    shift = shift > 0.0 ? 10.0 * shift : 1e-8 * scale;
+    if (shift > 1e8 * scale) return false;
+  }
+  m_isFactorized = true;
+  return true;
+}
+
+bool FemStaticSolver::factorize(const FemModel& model, const Eigen::Matrix3Xd& x,
+                                const std::vector<char>& isFixed, FemState& state) {
+  m_isFactorized = false;
+  state = model.evaluate(x, m_gradient, m_hessian, isFixed);
+  if (!state.isAdmissible) return false;
+  if (m_analysedFixed != isFixed) {
+    m_factorization->cholesky.analyzePattern(m_hessian);
+    m_analysedFixed = isFixed;
+  }
+  double shift = 0.0;
+  return factorizeShifted(isFixed, shift);
+}
+
+void FemStaticSolver::solveFactorized(Eigen::MatrixXd& rhs) const {
+  if (!m_isFactorized) throw std::logic_error("FemStaticSolver: nothing factorised to solve with");
+  for (Eigen::Index d = 0; d < rhs.rows(); ++d) {
+    if (m_analysedFixed[static_cast<std::size_t>(d)] != 0) rhs.row(d).setZero();
+  }
+  rhs = m_factorization->cholesky.solve(rhs).eval();
+  for (Eigen::Index d = 0; d < rhs.rows(); ++d) {
+    if (m_analysedFixed[static_cast<std::size_t>(d)] != 0) rhs.row(d).setZero();
+  }
+}
+
 FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x,
                                       const std::vector<char>& isFixed) {
   FemSolveReport report;
@@ -51,21 +96,8 @@ FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x
     ++report.iterations;
     for (Eigen::Index d = 0; d < dofs; ++d)
       rhs[d] = isFixed[static_cast<std::size_t>(d)] != 0 ? 0.0 : -m_gradient.data()[d];
-    // Factor, shifting until positive definite.
-    Eigen::SparseMatrix<double> shifted = m_hessian;
     const double scale = m_hessian.diagonal().cwiseAbs().maxCoeff();
-    for (;;) {
-      if (shift > 0.0) {
-        shifted = m_hessian;
-        for (Eigen::Index d = 0; d < dofs; ++d) {
-          if (isFixed[static_cast<std::size_t>(d)] == 0) shifted.coeffRef(d, d) += shift;
-        }
-      }
-      m_factorization->cholesky.factorize(shifted);
-      if (m_factorization->cholesky.info() == Eigen::Success) break;  // positive definite
-      shift = shift > 0.0 ? 10.0 * shift : 1e-8 * scale;
-      if (shift > 1e8 * scale) return report;  // no definite matrix within reach
-    }
+    if (!factorizeShifted(isFixed, shift)) return report;  // no definite matrix within reach
     step = m_factorization->cholesky.solve(rhs);
     // Backtracking on the energy while the step's predicted decrease stands above the energy's
     // round-off; below it (close to the solution) on the residual's size instead.

@@ -37,6 +37,7 @@ class FemStaticSolver {
   ~FemStaticSolver();
 
   void setTolerance(double tolerance_N) { m_tolerance_N = tolerance_N; }
+  void setMaxIterations(int iterations) { m_maxIterations = iterations; }
 
   /// From the guess in x (3 by #V, admissible), overwritten; isFixed: 3#V flags.
   FemSolveReport solve(const FemModel& model, Eigen::Matrix3Xd& x,
@@ -46,6 +47,15 @@ class FemStaticSolver {
   /// on the body there, negated (the reaction the grip feels).
   const Eigen::Matrix3Xd& gradient() const { return m_gradient; }
 
+  /// The Hessian at x assembled and factorised (shifted by mu I where it is not positive definite
+  /// on the free DOFs), and dE/dx there into gradient(): one Newton iteration's linear algebra,
+  /// for a caller that steps on its own (fem/HapticRateFem.h). @returns false where x is not
+  /// admissible or no shift within reach makes the matrix definite.
+  bool factorize(const FemModel& model, const Eigen::Matrix3Xd& x, const std::vector<char>& isFixed,
+                 FemState& state);
+  /// rhs (3#V by any) overwritten by the last factorisation's solve; fixed DOFs' rows zero.
+  void solveFactorized(Eigen::MatrixXd& rhs) const;
+
  private:
   double m_tolerance_N;
   int m_maxIterations;
@@ -54,6 +64,9 @@ class FemStaticSolver {
   struct Factorization;  // CHOLMOD's, kept out of this header
   std::unique_ptr<Factorization> m_factorization;
   std::vector<char> m_analysedFixed;  ///< the fixed set the pattern was analysed for
+  bool m_isFactorized = false;
+  /// Factorises m_hessian plus shift on the free DOFs, raising shift tenfold until definite.
+  bool factorizeShifted(const std::vector<char>& isFixed, double& shift);
 };
 
 }  // namespace tissuesim

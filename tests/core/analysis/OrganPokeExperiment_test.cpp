@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
-// The organ poke's FEM reference: a block poked as an organ gives the indentation test's force,
-// and what cannot be poked is refused.
+// The organ poke's FEM reference: a block poked as an organ gives the indentation test's force;
+// the contact sampled between the nodes converges in its spacing; at the haptic rate it follows the
+// static force where its updates come often enough, and lags where they do not; what cannot be
+// poked is refused.
 
 #include "analysis/OrganPokeExperiment.h"
 
+#include <cmath>
+#include <functional>
 #include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -52,6 +57,83 @@ TEST(OrganPoke, ABlockPokedAsAnOrganGivesTheIndentationTestsForce) {
   EXPECT_LE(organ.solving_s, organ.seconds);
 }
 
+/// A coarse block (4 x 4 x 2 cells of 2.5 mm, 405 quadratic nodes) for the haptic-rate pokes.
+TetMesh coarseBlock() { return makeBlockMesh({0.01, 0.01, 0.005}, {4, 4, 2}); }
+
+OrganPokeSetup coarseSampledPoke() {
+  OrganPokeSetup setup = smallBlockPoke();
+  setup.depths_m = {0.0003, 0.0006};
+  setup.contactSpacing_m = 0.0005;
+  return setup;
+}
+
+TEST(OrganPoke, TheSampledContactConvergesInItsSpacingAndMeetsMoreThanTheNodes) {
+  // On the coarse block (quadratic nodes 1.25 mm apart, the contact 1.6 to 2.2 mm across at 0.5
+  // to 1 mm): the points between the nodes read the same 0.5 and 0.25 mm apart, and more than
+  // the penalty on the nodes alone, which lets the probe sink between them.
+  const StrainEnergy& energy = test::liverEnergy();
+  const double kappa = defaultFemBulkModulus(energy);
+  const TetMesh block = coarseBlock();
+  std::vector<std::vector<double>> forces;
+  for (const double spacing_m : {0.0, 0.0005, 0.00025}) {
+    OrganPokeSetup setup = smallBlockPoke();
+    setup.depths_m = {0.0005, 0.001};
+    setup.contactSpacing_m = spacing_m;
+    const IndentationCurve curve = pokeOrganFem(energy, block, setup, kappa);
+    EXPECT_EQ(curve.unconvergedPoints, 0);
+    forces.push_back(curve.force_N);
+  }
+  for (std::size_t d = 0; d < 2; ++d) {
+    EXPECT_NEAR(forces[1][d] / forces[2][d], 1.0, 0.02) << d;
+    EXPECT_GT(forces[2][d], 1.5 * forces[0][d]) << d;
+  }
+}
+
+TEST(OrganPoke, AtTheHapticRateWithFrequentUpdatesItFollowsTheStaticForce) {
+  // 20 um of the probe's travel an update (20 mm/s, an update answering in 1 ms): well within
+  // the staggered iteration's reach, so each depth's force is the static one's.
+  const StrainEnergy& energy = test::liverEnergy();
+  const double kappa = defaultFemBulkModulus(energy);
+  const TetMesh block = coarseBlock();
+  const IndentationCurve still = pokeOrganFem(energy, block, coarseSampledPoke(), kappa);
+  HapticRateSettings settings;
+  settings.speed_m_s = 0.02;
+  settings.updateLatency_s = 0.001;
+  settings.startAbove_m = 0.0002;
+  const HapticRatePoke poke =
+      pokeOrganHapticRate(energy, block, coarseSampledPoke(), kappa, settings);
+  EXPECT_EQ(poke.nodes, 405);
+  ASSERT_EQ(poke.force_N.size(), 2u);
+  for (std::size_t d = 0; d < 2; ++d) {
+    ASSERT_GT(still.force_N[d], 0.0);
+    EXPECT_NEAR(poke.force_N[d] / still.force_N[d], 1.0, 0.03) << d;
+  }
+  // Each millisecond a contact solve and an update: 40 of them to 0.6 mm from 0.2 mm above.
+  EXPECT_EQ(poke.steps, static_cast<long>(poke.stepTimes_ms.size()));
+  EXPECT_GE(poke.steps, 40);
+  EXPECT_GE(poke.updates, poke.steps - 1);
+  EXPECT_EQ(poke.unconvergedSteps, 0);
+  EXPECT_EQ(poke.unsteppedUpdates, 0);
+  EXPECT_GT(poke.maxCandidates, 3);
+}
+
+TEST(OrganPoke, AtTheHapticRateUpdatesFarApartLagBehindTheStaticForce) {
+  // The same poke with an update every 0.3 mm of the probe's travel: the contact answers with
+  // the body linearised where it was, and the force at the first depth is not the static one.
+  const StrainEnergy& energy = test::liverEnergy();
+  const double kappa = defaultFemBulkModulus(energy);
+  const TetMesh block = coarseBlock();
+  const IndentationCurve still = pokeOrganFem(energy, block, coarseSampledPoke(), kappa);
+  HapticRateSettings settings;
+  settings.speed_m_s = 0.02;
+  settings.updateLatency_s = 0.015;
+  settings.startAbove_m = 0.0002;
+  const HapticRatePoke poke =
+      pokeOrganHapticRate(energy, block, coarseSampledPoke(), kappa, settings);
+  ASSERT_EQ(poke.force_N.size(), 2u);
+  EXPECT_GT(std::abs(poke.force_N[0] / still.force_N[0] - 1.0), 0.1);
+}
+
 TEST(OrganPoke, WhatCannotBePokedIsRefused) {
   const StrainEnergy& energy = test::liverEnergy();
   const double kappa = defaultFemBulkModulus(energy);
@@ -66,6 +148,18 @@ TEST(OrganPoke, WhatCannotBePokedIsRefused) {
   OrganPokeSetup backwards = smallBlockPoke();
   backwards.depths_m = {0.0005, 0.00025};
   EXPECT_THROW(pokeOrganFem(energy, block, backwards, kappa), std::invalid_argument);
+  for (const auto& change : std::vector<std::function<void(HapticRateSettings&)>>{
+           [](HapticRateSettings& s) { s.speed_m_s = 0.0; },
+           [](HapticRateSettings& s) { s.hapticStep_s = -0.001; },
+           [](HapticRateSettings& s) { s.updateLatency_s = -1.0; },
+           [](HapticRateSettings& s) { s.candidateMargin_m = -0.001; },
+           [](HapticRateSettings& s) { s.newtonIterations = -1; }}) {
+    HapticRateSettings settings;
+    change(settings);
+    EXPECT_THROW(pokeOrganHapticRate(energy, block, smallBlockPoke(), kappa, settings),
+                 std::invalid_argument);
+  }
+  EXPECT_THROW(pokeOrganHapticRate(energy, block, beside, kappa, {}), std::invalid_argument);
 }
 
 }  // namespace

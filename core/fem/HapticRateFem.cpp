@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "fem/HapticRateFem.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+namespace tissuesim {
+
+HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
+                             std::vector<CapsulePenalty::Point> surface, double candidateMargin_m,
+                             int newtonIterations)
+    : m_model(model),
+      m_isFixed(std::move(isFixed)),
+      m_surface(std::move(surface)),
+      m_candidateMargin_m(candidateMargin_m),
+      m_solver(1e-6, newtonIterations),
+      m_x(model.mesh().nodes_m) {
+  if (m_isFixed.size() != static_cast<std::size_t>(m_x.size()))
+    throw std::invalid_argument("HapticRateFem: one fixed flag per DOF");
+  if (!(candidateMargin_m >= 0.0))
+    throw std::invalid_argument("HapticRateFem: the candidates' margin must be >= 0");
+  if (newtonIterations < 0)
+    throw std::invalid_argument("HapticRateFem: an update's Newton iterations must be >= 0");
+  for (const CapsulePenalty::Point& point : m_surface) {
+    for (const int node : point.nodes) {
+      if (node < 0 || node >= m_x.cols())
+        throw std::invalid_argument("HapticRateFem: a surface point's node is not the mesh's");
+    }
+  }
+  m_model.setTangent(FemTangent::Definite);
+  m_model.setExtraEnergy(&m_loads);
+}
+
+HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
+                                       const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                                       double radius_m, CondensedCapsuleContact& next) {
+  HapticRateUpdate report;
+  // Where the contact in use has the body now; backtracked towards the last linearisation
+  // where that would invert or lock an element.
+  report.isStepped = true;
+  if (inUse.hasBody()) {
+    inUse.bodyPositions(m_trial);
+    report.isStepped = false;
+    double length = 1.0;
+    for (int halving = 0; halving < 30 && !report.isStepped; ++halving, length *= 0.5) {
+      m_candidate = m_x + length * (m_trial - m_x);
+      report.isStepped = m_model.evaluate(m_candidate).isAdmissible;
+    }
+    if (report.isStepped) m_x = m_candidate;
+  }
+  // Newton under the contact's forces now (as loads), from there; then the Hessian factorised
+  // where it ends (the solve's last factorisation is one iterate behind).
+  m_loads.nodes = inUse.candidates();
+  m_loads.forces_N = inUse.nodeForces();
+  const FemSolveReport solved = m_solver.solve(m_model, m_x, m_isFixed);
+  report.residual_N = solved.residual_N;
+  FemState state;
+  if (solved.iterations == 0 && !m_solver.factorize(m_model, m_x, m_isFixed, state)) {
+    report.isStepped = false;
+    return report;
+  }
+  // The body's own out-of-balance force (the loads taken off), and where the linear body
+  // settles with no load: x_rest = x - K^-1 dE/dx.
+  Eigen::Matrix3Xd internal = m_solver.gradient();
+  for (std::size_t l = 0; l < m_loads.nodes.size(); ++l)
+    internal.col(m_loads.nodes[l]) += m_loads.forces_N.col(static_cast<Eigen::Index>(l));
+  Eigen::MatrixXd correction = Eigen::Map<const Eigen::VectorXd>(internal.data(), internal.size());
+  m_solver.solveFactorized(correction);
+
+  // The candidates: the surface points near the probe where the body now is, and their nodes.
+  std::vector<int> points, nodes;
+  const Eigen::Vector3d axis = top_m - tip_m;
+  for (std::size_t p = 0; p < m_surface.size(); ++p) {
+    const CapsulePenalty::Point& point = m_surface[p];
+    const Eigen::Vector3d s = point.weights[0] * m_x.col(point.nodes[0]) +
+                              point.weights[1] * m_x.col(point.nodes[1]) +
+                              point.weights[2] * m_x.col(point.nodes[2]);
+    const double t = std::clamp((s - tip_m).dot(axis) / axis.squaredNorm(), 0.0, 1.0);
+    if ((s - (tip_m + t * axis)).norm() > radius_m + m_candidateMargin_m) continue;
+    points.push_back(static_cast<int>(p));
+    nodes.insert(nodes.end(), point.nodes.begin(), point.nodes.end());
+  }
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  const auto m = static_cast<Eigen::Index>(nodes.size());
+  const auto pointCount = static_cast<Eigen::Index>(points.size());
+  report.points = static_cast<int>(pointCount);
+  report.candidates = static_cast<int>(m);
+  next.setCandidates(nodes);
+  next.bodyAtRest() = m_x - Eigen::Map<const Eigen::Matrix3Xd>(correction.data(), 3, m_x.cols());
+  for (Eigen::Index j = 0; j < m; ++j)
+    next.freePositions().col(j) = next.bodyAtRest().col(nodes[static_cast<std::size_t>(j)]);
+  if (pointCount == 0) return report;
+  Eigen::MatrixXd& response = next.bodyResponse();
+  response.setZero(m_x.size(), 3 * m);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    for (int c = 0; c < 3; ++c) response(3 * nodes[static_cast<std::size_t>(j)] + c, 3 * j + c) = 1;
+  }
+  m_solver.solveFactorized(response);
+  for (Eigen::Index j = 0; j < m; ++j)
+    next.compliance().middleRows<3>(3 * j) =
+        response.middleRows<3>(3 * nodes[static_cast<std::size_t>(j)]);
+  Eigen::Matrix3Xi localNodes(3, pointCount);
+  Eigen::Matrix3Xd weights(3, pointCount);
+  Eigen::VectorXd stiffness_N_m(pointCount);
+  for (Eigen::Index j = 0; j < pointCount; ++j) {
+    const CapsulePenalty::Point& point =
+        m_surface[static_cast<std::size_t>(points[static_cast<std::size_t>(j)])];
+    for (int a = 0; a < 3; ++a) {
+      localNodes(a, j) = static_cast<int>(
+          std::lower_bound(nodes.begin(), nodes.end(), point.nodes[static_cast<std::size_t>(a)]) -
+          nodes.begin());
+    }
+    weights.col(j) = point.weights;
+    stiffness_N_m[j] = point.stiffness_N_m;
+  }
+  next.setPoints(localNodes, weights, stiffness_N_m);
+  return report;
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The FEM at its own rate, the probe's contact at the haptic rate (multirate haptics: Cavusoglu
+// and Tendick 2000; the contact against a condensed compliance as in Saupin, Duriez and Cotin
+// 2008). Two parts, each with its own clock:
+//
+//   update (slow, the FEM's rate): the body taken where the contact in use has it now, Newton
+//     iterations under the contact's forces there, and the body linearised where they end:
+//     K = d2E/dx2 factorised (CHOLMOD), the body's own out-of-balance force dE/dx, and
+//       x(f) = x_rest + B f,   x_rest = x - K^-1 dE/dx,   B = K^-1 E_c   (3#V by 3m)
+//     for forces f on the m nodes that carry the surface points near the probe (E_c: their unit
+//     loads; 3m + 1 solves): the next CondensedCapsuleContact, C = B's rows of those nodes,
+//     xFree their x_rest, the points' penalty on them.
+//   step (fast, 1 kHz): that contact solved for the probe's pose
+//   (forces/CondensedCapsuleContact.h).
+//
+// The iteration between the two is staggered: the body's nonlinearity (the tissue's stiffening,
+// large rotations, the contact's geometry over the body) enters at the update's rate, and between
+// updates the body answers the probe linearly. It holds while the probe travels a fraction of a
+// millimetre between updates (docs/performance-details.md has the reach measured). K is the
+// definite tangent (FemTangent::Definite), since the update factorises it with no line search
+// to catch an indefinite one; the equilibrium it iterates to is the exact energy's.
+//
+// Shapes: x 3 by #V (m); the surface points' nodes are the model's mesh's.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fem/FemModel.h"
+#include "fem/FemStaticSolver.h"
+#include "forces/CapsulePenalty.h"
+#include "forces/CondensedCapsuleContact.h"
+#include "forces/NodalLoads.h"
+
+namespace tissuesim {
+
+struct HapticRateUpdate {
+  bool isStepped = false;   ///< false: no admissible step or no definite Hessian (x kept)
+  int points = 0;           ///< the new contact's surface points
+  int candidates = 0;       ///< and the nodes that carry them
+  double residual_N = 0.0;  ///< max |dE/dx| on a free DOF after the Newton iterations
+};
+
+class HapticRateFem {
+ public:
+  /// `model` (its tangent set definite here, no extra energy: the contact is the haptic
+  /// loop's) must outlive this object. isFixed: 3#V flags. surface: the points the probe may
+  /// touch (CapsulePenalty's, on the model's nodes). A point within the probe's radius plus
+  /// candidateMargin_m of its axis segment at an update is in the next contact.
+  /// newtonIterations: an update's, >= 0 (0: the body linearised where the contact has it).
+  /// @throws std::invalid_argument on a size or setting out of range.
+  HapticRateFem(FemModel& model, std::vector<char> isFixed,
+                std::vector<CapsulePenalty::Point> surface, double candidateMargin_m,
+                int newtonIterations);
+
+  /// One update against the probe's pose as given, from the body where inUse (the contact the
+  /// haptic loop solves now) has it: fills next (allocates).
+  HapticRateUpdate update(const CondensedCapsuleContact& inUse, const Eigen::Vector3d& tip_m,
+                          const Eigen::Vector3d& top_m, double radius_m,
+                          CondensedCapsuleContact& next);
+
+  /// The body where the last update linearised it (3 by #V).
+  const Eigen::Matrix3Xd& positions() const { return m_x; }
+
+ private:
+  FemModel& m_model;
+  NodalLoads m_loads;
+  std::vector<char> m_isFixed;
+  std::vector<CapsulePenalty::Point> m_surface;
+  double m_candidateMargin_m;
+  FemStaticSolver m_solver;
+  Eigen::Matrix3Xd m_x, m_trial, m_candidate;
+};
+
+}  // namespace tissuesim
