@@ -43,6 +43,9 @@ double secondsBetween(Clock::time_point from, Clock::time_point to) {
 /// The share of the deepest force a quadratic row's solves may leave on a node.
 constexpr double kQuadraticKeptShare = 1e-5;
 
+/// The haptic-rate row's contact points this far apart (m): organ-poke's default.
+constexpr double kHapticRateSpacing_m = 0.001;
+
 /// The bundled scene with the row's knobs.
 SceneDescription sceneOf(const SceneDescription& bundled, const TradeRow& row) {
   SceneDescription scene = bundled;
@@ -282,6 +285,21 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
     row.organMeshPath = mesh.path;
     row.organMeshLabel = mesh.label;
     row.name = "fem quadratic tets, static, on the organ's mesh " + mesh.label;
+    rows.push_back(row);
+  }
+  if (settings.hapticRateMesh) {
+    TradeRow row = base;
+    row.knob = "fem-haptic-rate";
+    row.model = "fem";
+    row.element = "haptic-rate";
+    row.strainCells.clear();
+    row.integrator = "haptic-rate";
+    row.threads = 1;
+    row.bulkModulus_Pa = settings.tetBulkModulus_Pa;
+    row.organMeshPath = settings.hapticRateMesh->path;
+    row.organMeshLabel = settings.hapticRateMesh->label;
+    row.name = "fem quadratic tets at their own rate, the contact at 1 kHz, on the organ's mesh " +
+               settings.hapticRateMesh->label;
     rows.push_back(row);
   }
   for (const int refinement : settings.femRows) {
@@ -538,9 +556,43 @@ void TradeErrors::measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& o
   out.cost.events = out.organEvents;
 }
 
+void TradeErrors::measureHapticRateOrgan(const TradeRow& row, TradeMeasurement& out) {
+  const SceneDescription scene = weightlessPokeScene(m_bundled);
+  OrganPokeSetup setup = organPokeSetup(scene, m_settings.organDepths_m);
+  setup.contactSpacing_m = kHapticRateSpacing_m;
+  HapticRateSettings settings;
+  settings.speed_m_s = m_settings.organSpeed_m_s;
+  settings.updateLatency_s = m_settings.hapticRateLatency_s;
+  const TetMesh organ = readOrganMesh(row.organMeshPath);
+  HapticRatePoke poke;
+  try {
+    poke = pokeOrganHapticRate(m_tissue.energy, organ, setup, row.bulkModulus_Pa, settings);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(row.organMeshPath + ": " + error.what());
+  }
+  double stepping_s = 0.0;
+  for (const double step_ms : poke.stepTimes_ms) stepping_s += 1e-3 * step_ms;
+  out.organForce_N = poke.force_N;
+  out.organEvents = poke.unconvergedSteps;
+  out.organStepMedian_ms = percentile(poke.stepTimes_ms, 0.5);
+  out.organStepP99_ms = percentile(poke.stepTimes_ms, 0.99);
+  out.organStepsPerSecond = stepping_s > 0.0 ? static_cast<double>(poke.steps) / stepping_s : 0.0;
+  out.organUpdateMean_ms = poke.updates > 0 ? 1e3 * poke.updating_s / poke.updates : 0.0;
+  out.cost.nodes = poke.nodes;
+  out.cost.startup_s = poke.seconds - stepping_s - poke.updating_s;
+  out.cost.stepMedian_ms = out.organStepMedian_ms;
+  out.cost.stepP99_ms = out.organStepP99_ms;
+  out.cost.stepsPerSecond = out.organStepsPerSecond;
+  out.cost.events = out.organEvents;
+}
+
 void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {
   if (row.isQuadratic()) {
     measureQuadraticOrgan(row, out);
+    return;
+  }
+  if (row.isHapticRate()) {
+    measureHapticRateOrgan(row, out);
     return;
   }
   char key[512];

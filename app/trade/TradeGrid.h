@@ -22,6 +22,7 @@
 // rows are measured on the liver poke alone, error and cost.
 
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,11 +62,14 @@ struct TradeRow {
   /// "linear" (the simulator's tets, as above), or "quadratic": on the organ's mesh, the FEM
   /// reference's own element (10-node tets, one dilatation each, kappa bulkModulus_Pa) solved
   /// statically at each depth, its step a Newton iteration (assembly, factorisation, line search).
+  /// Or "haptic-rate": the same element at its own rate with the probe's contact, sampled on its
+  /// surface, at 1 kHz (fem/HapticRateFem.h), its step the contact's.
   std::string element = "linear";
 
   /// The FEM on an organ's mesh: measured on the liver poke alone, error and cost.
   bool isOnOrganMesh() const { return !organMeshPath.empty(); }
   bool isQuadratic() const { return element == "quadratic"; }
+  bool isHapticRate() const { return element == "haptic-rate"; }
 };
 
 /// A mesh of the organ on which the FEM is a row of the map.
@@ -108,8 +112,9 @@ struct TradeMeasurement {
   double organStepMedian_ms = 0.0;
   double organStepP99_ms = 0.0;
   double organStepsPerSecond = 0.0;
-  std::string organFailure;  ///< what stopped the liver poke, when something did
-  std::string failure;       ///< what stopped the row, when something did
+  double organUpdateMean_ms = 0.0;  ///< a haptic-rate row's FEM update, its wall time
+  std::string organFailure;         ///< what stopped the liver poke, when something did
+  std::string failure;              ///< what stopped the row, when something did
 };
 
 struct TradeSettings {
@@ -135,6 +140,11 @@ struct TradeSettings {
   /// liver poke alone; none without a liver poke.
   std::vector<OrganMesh> organMeshes;
   double organMeshBulkModulus_Pa = 10e6;  ///< their volume per node's
+  /// The mesh of the organ on which the reference's element at its own rate, with the contact
+  /// at 1 kHz, is a row (liver poke alone); none without a liver poke.
+  std::optional<OrganMesh> hapticRateMesh;
+  /// Its updates used this long after they start (s); 0: their own wall time.
+  double hapticRateLatency_s = 0.0;
   /// Where the quadratic rows' forces, once solved (minutes), are kept for the next map, beside
   /// those kept next to each mesh (`<mesh's stem>-poke.csv`, FemForceCache.h); empty: nowhere.
   std::string organCacheFolder;
@@ -181,6 +191,8 @@ class TradeErrors {
   /// the first row measured). For a row on an organ mesh, its cost fields too: nodes, start-up,
   /// the steps' median, 99th percentile and rate, events (no memory figure: it runs in this
   /// process).
+  /// A haptic-rate row's poke runs whole (seconds); its step is the contact's, its events the
+  /// contact steps that stopped short of their tolerance.
   /// A quadratic row's forces are read where they are kept (TradeSettings::organCacheFolder)
   /// and its Newton iterations timed to the first depth; else solved to every depth (minutes) and
   /// kept when no solve left more than a hundred-thousandth of the deepest force on a node. Its
@@ -189,6 +201,7 @@ class TradeErrors {
 
  private:
   void measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& out);
+  void measureHapticRateOrgan(const TradeRow& row, TradeMeasurement& out);
 
   const LoadedTissue& m_tissue;
   SceneDescription m_bundled;

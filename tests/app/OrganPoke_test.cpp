@@ -228,5 +228,58 @@ TEST(OrganPoke, TheReferencesElementOnTheOrgansMeshIsARowSolvedOnceAndTimedEachM
   std::filesystem::remove_all(folder);
 }
 
+TEST(OrganPoke, TheReferencesElementAtItsOwnRateIsARowTimedByItsContactStep) {
+  BundledMapPoke setup;
+  TradeSettings& settings = setup.settings;
+  // To 1 mm at 20 mm/s on a coarse mesh of the organ, each update used 5 ms after it starts
+  // (the same poke whatever the machine): the row's shape is what is checked here.
+  settings.organDepths_m = {0.0005, 0.001};
+  settings.organSpeed_m_s = 0.02;
+  settings.hapticRateLatency_s = 0.005;
+  settings.tetBulkModulus_Pa = defaultFemBulkModulus(setup.tissue.energy);
+  const std::string mesh = std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/liver-fem-coarse.msh";
+  settings.hapticRateMesh = OrganMesh{mesh, "coarse"};
+  const std::vector<TradeRow> rows = tradeRows(setup.bundled, settings);
+  std::vector<const TradeRow*> hapticRate;
+  for (const TradeRow& row : rows) {
+    if (row.knob == "fem-haptic-rate") hapticRate.push_back(&row);
+  }
+  ASSERT_EQ(hapticRate.size(), 1u);
+  const TradeRow& row = *hapticRate.front();
+  EXPECT_TRUE(row.isHapticRate());
+  EXPECT_TRUE(row.isOnOrganMesh());
+  EXPECT_FALSE(row.isQuadratic());
+  EXPECT_DOUBLE_EQ(row.bulkModulus_Pa, settings.tetBulkModulus_Pa);
+  settings.hapticRateMesh.reset();
+  for (const TradeRow& without : tradeRows(setup.bundled, settings))
+    EXPECT_NE(without.knob, "fem-haptic-rate");
+
+  TradeErrors errors(setup.tissue, setup.bundled, settings);
+  TradeMeasurement measured;
+  errors.measureOrgan(row, measured);
+  ASSERT_EQ(measured.organForce_N.size(), 2u);
+  EXPECT_GT(measured.organForce_N[0], 0.0);
+  EXPECT_GT(measured.organForce_N[1], measured.organForce_N[0]);
+  // Its step is the contact's: well under a millisecond, against an update of tens of them.
+  EXPECT_GT(measured.organStepMedian_ms, 0.0);
+  EXPECT_LE(measured.organStepMedian_ms, measured.organStepP99_ms);
+  EXPECT_GT(measured.organUpdateMean_ms, measured.organStepMedian_ms);
+  EXPECT_DOUBLE_EQ(measured.cost.stepMedian_ms, measured.organStepMedian_ms);
+  EXPECT_GT(measured.cost.startup_s, 0.0);
+  EXPECT_EQ(measured.cost.events, measured.organEvents);
+  // Organ-poke's haptic-rate row on the same mesh and settings (its contact 1 mm apart).
+  const SceneDescription weightless = weightlessPokeScene(setup.bundled);
+  OrganPokeSetup poke = organPokeSetup(weightless, settings.organDepths_m);
+  poke.contactSpacing_m = 0.001;
+  HapticRateSettings rate;
+  rate.speed_m_s = settings.organSpeed_m_s;
+  rate.updateLatency_s = settings.hapticRateLatency_s;
+  const HapticRatePoke direct = pokeOrganHapticRate(setup.tissue.energy, readTetMesh(mesh), poke,
+                                                    settings.tetBulkModulus_Pa, rate);
+  EXPECT_EQ(measured.cost.nodes, direct.nodes);
+  EXPECT_EQ(measured.organForce_N, direct.force_N);
+  EXPECT_EQ(measured.organEvents, direct.unconvergedSteps);
+}
+
 }  // namespace
 }  // namespace tissuesim::app

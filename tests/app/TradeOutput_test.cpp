@@ -418,5 +418,54 @@ TEST(TradeOutput, TheReferencesElementOnTheOrgansMeshIsAStaticRowOfTheLiverPoke)
   expectHeadersCellCount(md, text);
 }
 
+TEST(TradeOutput, TheReferencesElementAtItsOwnRateIsTimedByTheContactsStep) {
+  TradeMap map = sampleMap();
+  map.settings.organDepths_m = {0.001, 0.004};
+  map.organReference_N = {0.02, 0.2};
+  TradeRow row = graded("fem-haptic-rate", "fem at its own rate on graded");
+  row.element = "haptic-rate";
+  row.strainCells.clear();
+  row.integrator = "haptic-rate";
+  TradeMeasurement measured;
+  measured.cost.nodes = 1313;
+  measured.cost.stepMedian_ms = 0.1;
+  measured.cost.stepP99_ms = 0.5;
+  measured.cost.stepsPerSecond = 9000.0;
+  measured.cost.events = 3;
+  measured.organForce_N = {0.021, 0.19};  // +5 / -5 %
+  measured.organEvents = 3;
+  measured.organStepMedian_ms = 0.1;
+  measured.organStepP99_ms = 0.5;
+  measured.organStepsPerSecond = 9000.0;
+  measured.organUpdateMean_ms = 116.0;
+  const std::size_t index = appendOrganRow(map, row, measured);
+
+  EXPECT_TRUE(std::isnan(worstError(map, index)));
+  EXPECT_NEAR(worstOrganError(map, index), 5.0, 1e-9);
+  EXPECT_DOUBLE_EQ(organStepCost(map, index), 0.1);
+
+  const CsvTable csv = csvOf(map);
+  const std::size_t name = csv.column("name");
+  const std::size_t law = csv.column("law");
+  const std::size_t organPareto = csv.column("organ_pareto");
+  ASSERT_GT(law, 0u);
+  std::vector<std::string> fields;
+  for (const std::vector<std::string>& candidate : csv.rows) {
+    if (candidate[name] == row.name) fields = candidate;
+  }
+  ASSERT_FALSE(fields.empty());
+  EXPECT_EQ(fields[law], "fem-haptic-rate");
+  EXPECT_EQ(fields[organPareto], "1");  // 5 % at 0.1 ms: nothing beats it
+
+  const std::string md = tradeMarkdown(map);
+  const std::string text = markdownRow(md, "fem at its own rate on graded");
+  EXPECT_NE(text.find("| - (1313 nodes) | - | 0.100 / 0.500 (liver poke, the contact's step; an "
+                      "FEM update 116 ms) | 9000 |"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("| +5 / -5 (3 unsettled contact steps) |"), std::string::npos) << text;
+  expectHeadersCellCount(md, text);
+}
+
 }  // namespace
 }  // namespace tissuesim::app
