@@ -12,10 +12,11 @@
 namespace tissuesim {
 namespace {
 
-/// Newton's iterations a solve may take, the force left on a candidate it settles to (N), and
-/// the step below which it stops (m): under round-off for a body of millimetres.
+/// Newton's iterations a solve may take, the force left on a candidate it settles to (N: a
+/// hundredth of what a haptic device renders), and the step below which it stops (m: under
+/// round-off for a body of millimetres).
 constexpr int kMaxIterations = 30;
-constexpr double kForceTolerance_N = 1e-6;
+constexpr double kForceTolerance_N = 1e-5;
 constexpr double kStepTolerance_m = 1e-12;
 
 }  // namespace
@@ -86,7 +87,10 @@ double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eig
     const double k = m_pointStiffness_N_m[p];
     energy += k * terms.energy;
     if (gradient == nullptr) continue;
-    // The Gauss-Newton part, as CapsulePenalty's: the normal's turning left out.
+    // The Gauss-Newton part, as CapsulePenalty's: the normal's turning left out. With it the
+    // Hessian is indefinite wherever the probe presses hard against a soft body (each pressed
+    // point would slide off the round probe), so Newton is slower than quadratic along the
+    // surface.
     const Eigen::Matrix3d block = (k * terms.curvature) * normal * normal.transpose();
     for (int a = 0; a < 3; ++a) {
       const int j = m_pointNodes(a, p);

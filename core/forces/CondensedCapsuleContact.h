@@ -14,7 +14,8 @@
 // unknowns are the candidates' displacements u, not the points' forces, since the points are
 // many (hundreds near a probe) and the candidates few: E is minimised by Newton with a
 // backtracking search, its Hessian C^-1 + sum_p k_p e''(g_p) w w^T (n_p n_p^T), to a
-// micronewton on a candidate. The force on the capsule is minus the candidates' forces' sum.
+// hundredth of a millinewton on a candidate. The force on the capsule is minus the candidates'
+// forces' sum.
 //
 // Optionally the whole body follows the candidates' forces linearly: x = xRest + B f (xRest 3
 // by #V, B 3#V by 3m, the body's compliance on the candidates' columns).
