@@ -65,19 +65,52 @@ FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradien
 }
 
 FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradient,
-                            Eigen::SparseMatrix<double>& hessian,
-                            const std::vector<char>& isFixed) const {
+                            Eigen::SparseMatrix<double>& hessian, const std::vector<char>& isFixed,
+                            FemHessianAssembly* assembly) const {
   gradient.setZero(3, x.cols());
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(900 * static_cast<std::size_t>(m_mesh.tetCount()));
-  const FemState state = accumulate(x, &gradient, &triplets, &isFixed);
+  std::size_t elementEntries = 0;
+  const FemState state = accumulate(x, &gradient, &triplets, &isFixed, &elementEntries);
   const Eigen::Index dofs = 3 * x.cols();
+  const bool isKnown = assembly != nullptr && assembly->isFixed == isFixed &&
+                       assembly->slots.size() == elementEntries && hessian.rows() == dofs &&
+                       hessian.cols() == dofs && hessian.isCompressed();
+  if (isKnown) {
+    // The same elements and fixed DOFs as the pattern's: their entries added in place, the
+    // fixed diagonal's ones, and the extra energy's few entries looked up (inserted where new).
+    Eigen::Map<Eigen::VectorXd> values(hessian.valuePtr(), hessian.nonZeros());
+    values.setZero();
+    for (std::size_t e = 0; e < elementEntries; ++e)
+      values[assembly->slots[e]] += triplets[e].value();
+    for (Eigen::Index d = 0; d < dofs; ++d) {
+      if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0) hessian.coeffRef(d, d) = 1;
+    }
+    for (std::size_t e = elementEntries; e < triplets.size(); ++e)
+      hessian.coeffRef(triplets[e].row(), triplets[e].col()) += triplets[e].value();
+    if (!hessian.isCompressed()) {  // an entry was inserted: the slots are stale
+      hessian.makeCompressed();
+      assembly->slots.clear();
+    }
+    return state;
+  }
   for (Eigen::Index d = 0; d < dofs; ++d) {
     if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0)
       triplets.emplace_back(d, d, 1.0);
   }
   hessian.resize(dofs, dofs);
   hessian.setFromTriplets(triplets.begin(), triplets.end());
+  if (assembly != nullptr) {
+    assembly->isFixed = isFixed;
+    assembly->slots.resize(elementEntries);
+    for (std::size_t e = 0; e < elementEntries; ++e) {
+      const Eigen::Index column = triplets[e].col();
+      const int* begin = hessian.innerIndexPtr() + hessian.outerIndexPtr()[column];
+      const int* end = hessian.innerIndexPtr() + hessian.outerIndexPtr()[column + 1];
+      assembly->slots[e] =
+          std::lower_bound(begin, end, triplets[e].row()) - hessian.innerIndexPtr();
+    }
+  }
   return state;
 }
 
@@ -96,7 +129,7 @@ Eigen::Matrix3d deformationGradient(const Eigen::Matrix<double, 3, 10>& xe,
 
 FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                               std::vector<Eigen::Triplet<double>>* triplets,
-                              const std::vector<char>* isFixed) const {
+                              const std::vector<char>* isFixed, std::size_t* elementEntries) const {
   FemState state;
   state.minVolumeRatio = std::numeric_limits<double>::infinity();
   state.maxVolumeRatio = -std::numeric_limits<double>::infinity();
@@ -223,6 +256,7 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
       }
     }
   }
+  if (elementEntries != nullptr && triplets != nullptr) *elementEntries = triplets->size();
   if (m_extra != nullptr) {
     // Its entries on fixed rows and columns are left out, as the elements' are above.
     std::vector<Eigen::Triplet<double>> extra;

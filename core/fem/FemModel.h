@@ -50,6 +50,13 @@ inline constexpr double kFemBulkModulusFactor = 200.0;
 
 enum class FemTangent { Exact, Definite };
 
+/// Where each element entry of a Hessian goes among its stored values, for the fixed DOFs it
+/// was made with (FemModel::evaluate fills it).
+struct FemHessianAssembly {
+  std::vector<char> isFixed;
+  std::vector<Eigen::Index> slots;  ///< per element entry, in the assembly's order
+};
+
 struct FemState {
   bool isAdmissible = true;  ///< false: an element inverted or past the chain's locking
   double energy_J = 0.0;
@@ -74,9 +81,13 @@ class FemModel {
   /// The same, and dE/dx into gradient (3 by #V, resized): minus the internal forces.
   FemState evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradient) const;
   /// The same, and d^2E/dx^2 into hessian (3#V square), rows and columns of the DOFs flagged in
-  /// isFixed (3#V, or empty) replaced by the identity's.
+  /// isFixed (3#V, or empty) replaced by the identity's. With `assembly` (kept by the caller with
+  /// the same hessian from call to call), the elements' entries go straight into hessian's
+  /// values where its pattern is the one `assembly` was made for, in place of a new assembly
+  /// from triplets.
   FemState evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradient,
-                    Eigen::SparseMatrix<double>& hessian, const std::vector<char>& isFixed) const;
+                    Eigen::SparseMatrix<double>& hessian, const std::vector<char>& isFixed,
+                    FemHessianAssembly* assembly = nullptr) const;
 
  private:
   /// What a quadrature point keeps of the rest geometry: dN/dX (10 by 3) and its weight (m^3).
@@ -84,9 +95,12 @@ class FemModel {
     Eigen::Matrix<double, 10, 3> gradients;
     double weight_m3;
   };
+  /// elementEntries (when given): how many of the triplets are the elements' (the rest are the
+  /// extra energy's).
   FemState accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                       std::vector<Eigen::Triplet<double>>* triplets,
-                      const std::vector<char>* isFixed) const;
+                      const std::vector<char>* isFixed,
+                      std::size_t* elementEntries = nullptr) const;
 
   const QuadraticTetMesh& m_mesh;
   const StrainEnergy& m_energy;

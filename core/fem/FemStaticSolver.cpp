@@ -58,7 +58,7 @@ bool FemStaticSolver::factorizeShifted(const std::vector<char>& isFixed, double&
 bool FemStaticSolver::factorize(const FemModel& model, const Eigen::Matrix3Xd& x,
                                 const std::vector<char>& isFixed, FemState& state) {
   m_isFactorized = false;
-  state = model.evaluate(x, m_gradient, m_hessian, isFixed);
+  state = model.evaluate(x, m_gradient, m_hessian, isFixed, &m_assembly);
   if (!state.isAdmissible) return false;
   if (m_analysedFixed != isFixed) {
     m_factorization->cholesky.analyzePattern(m_hessian);
@@ -82,7 +82,7 @@ void FemStaticSolver::solveFactorized(Eigen::MatrixXd& rhs) const {
 FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x,
                                       const std::vector<char>& isFixed) {
   FemSolveReport report;
-  report.state = model.evaluate(x, m_gradient, m_hessian, isFixed);
+  report.state = model.evaluate(x, m_gradient, m_hessian, isFixed, &m_assembly);
   if (!report.state.isAdmissible) return report;
   if (m_analysedFixed != isFixed) {  // the fixed DOFs shape the pattern
     m_factorization->cholesky.analyzePattern(m_hessian);
@@ -123,8 +123,11 @@ FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x
       continue;
     }
     x = m_trial;
-    report.state = model.evaluate(x, m_gradient, m_hessian, isFixed);
+    // The Hessian only where another iteration will use it.
+    report.state = model.evaluate(x, m_gradient);
     report.residual_N = largestFree(m_gradient, isFixed);
+    if (report.residual_N > m_tolerance_N && report.iterations < m_maxIterations)
+      report.state = model.evaluate(x, m_gradient, m_hessian, isFixed, &m_assembly);
     shift *= 0.1;
     if (shift < 1e-14 * scale) shift = 0.0;
   }

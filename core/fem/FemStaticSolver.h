@@ -61,7 +61,8 @@ class FemStaticSolver {
   int m_maxIterations;
   Eigen::Matrix3Xd m_gradient, m_trialGradient, m_trial;
   Eigen::SparseMatrix<double> m_hessian;
-  struct Factorization;  // CHOLMOD's, kept out of this header
+  FemHessianAssembly m_assembly;  ///< m_hessian's pattern, kept from Hessian to Hessian
+  struct Factorization;           // CHOLMOD's, kept out of this header
   std::unique_ptr<Factorization> m_factorization;
   std::vector<char> m_analysedFixed;  ///< the fixed set the pattern was analysed for
   bool m_isFactorized = false;

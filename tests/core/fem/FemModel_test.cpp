@@ -133,6 +133,30 @@ TEST(FemModel, NewtonOnTheDefiniteTangentSettlesWhereTheExactOneDoes) {
   EXPECT_LT((settled[1] - settled[0]).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+TEST(FemModel, AKeptAssemblyGivesTheSameHessianAsANewOne) {
+  // Evaluated at one place to make the pattern, then at another through it: the same matrix as
+  // assembled anew there; and another fixed set makes a pattern of its own.
+  DeformedQuadraticBlock block;
+  std::vector<char> isFixed(static_cast<std::size_t>(block.x.size()), 0);
+  std::fill_n(isFixed.begin(), 9, char{1});
+  FemHessianAssembly assembly;
+  Eigen::Matrix3Xd gradient;
+  Eigen::SparseMatrix<double> kept, fresh;
+  block.model.evaluate(block.mesh.nodes_m, gradient, kept, isFixed, &assembly);
+  EXPECT_FALSE(assembly.slots.empty());
+  const Eigen::Index pattern = kept.nonZeros();
+  for (const std::vector<char>& fixed : {isFixed, std::vector<char>(isFixed.size(), 0)}) {
+    block.model.evaluate(block.x, gradient, kept, fixed, &assembly);
+    block.model.evaluate(block.x, gradient, fresh, fixed);
+    ASSERT_EQ(kept.nonZeros(), fresh.nonZeros());
+    const double scale = Eigen::MatrixXd(fresh).cwiseAbs().maxCoeff();
+    EXPECT_GT(scale, 0.0);
+    EXPECT_LT(Eigen::MatrixXd(kept - fresh).cwiseAbs().maxCoeff(), 1e-12 * scale);
+    EXPECT_EQ(assembly.isFixed, fixed);
+  }
+  EXPECT_GT(kept.nonZeros(), pattern);  // no fixed DOFs: more entries
+}
+
 /// The closed form of the same energy in homogeneous uniaxial stretch: F = diag(lambda, s, s),
 /// s such that the lateral stress vanishes; returns P_11 (Pa).
 double closedFormUniaxialStress(double lambda, double bulkModulus_Pa) {
