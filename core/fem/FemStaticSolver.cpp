@@ -82,6 +82,7 @@ void FemStaticSolver::solveFactorized(Eigen::MatrixXd& rhs) const {
 FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x,
                                       const std::vector<char>& isFixed) {
   FemSolveReport report;
+  m_isFactorized = false;
   report.state = model.evaluate(x, m_gradient, m_hessian, isFixed, &m_assembly);
   if (!report.state.isAdmissible) return report;
   if (m_analysedFixed != isFixed) {  // the fixed DOFs shape the pattern

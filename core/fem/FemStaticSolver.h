@@ -53,6 +53,8 @@ class FemStaticSolver {
   /// admissible or no shift within reach makes the matrix definite.
   bool factorize(const FemModel& model, const Eigen::Matrix3Xd& x, const std::vector<char>& isFixed,
                  FemState& state);
+  /// Whether a factorisation stands to solve with: the last solve()'s or factorize()'s.
+  bool isFactorized() const { return m_isFactorized; }
   /// rhs (3#V by any) overwritten by the last factorisation's solve; fixed DOFs' rows zero.
   void solveFactorized(Eigen::MatrixXd& rhs) const;
 

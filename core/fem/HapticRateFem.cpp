@@ -49,15 +49,17 @@ HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
     }
     if (report.isStepped) m_x = m_candidate;
   }
-  // Newton under the contact's forces now (as loads), from there; then the Hessian factorised
-  // where it ends (the solve's last factorisation is one iterate behind).
+  // Newton under the contact's forces now (as loads), from there; the solve's last
+  // factorisation (one iterate behind where it ends) is the linearisation, or, where it took no
+  // step, the Hessian factorised there.
   m_loads.nodes = inUse.candidates();
   m_loads.forces_N = inUse.nodeForces();
   const FemSolveReport solved = m_solver.solve(m_model, m_x, m_isFixed);
   report.residual_N = solved.residual_N;
   FemState state;
-  if (solved.iterations == 0 && !m_solver.factorize(m_model, m_x, m_isFixed, state)) {
+  if (!m_solver.isFactorized() && !m_solver.factorize(m_model, m_x, m_isFixed, state)) {
     report.isStepped = false;
+    next = inUse;  // the haptic loop keeps the contact it has
     return report;
   }
   // The body's own out-of-balance force (the loads taken off), and where the linear body

@@ -55,7 +55,8 @@ class HapticRateFem {
                 int newtonIterations);
 
   /// One update against the probe's pose as given, from the body where inUse (the contact the
-  /// haptic loop solves now) has it: fills next (allocates).
+  /// haptic loop solves now) has it: fills next (allocates); a copy of inUse where no definite
+  /// Hessian is within reach.
   HapticRateUpdate update(const CondensedCapsuleContact& inUse, const Eigen::Vector3d& tip_m,
                           const Eigen::Vector3d& top_m, double radius_m,
                           CondensedCapsuleContact& next);
