@@ -39,6 +39,8 @@ struct OrganPokeOptions {
   double updateLatency_ms = 0.0;
   /// The haptic-rate row's contact points this far apart (mm).
   double hapticRateSpacing_mm = 1.0;
+  /// Its FEM updates' Newton iterations.
+  int hapticRateIterations = HapticRateSettings{}.newtonIterations;
 };
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
@@ -116,6 +118,8 @@ void runOrganPoke(const OrganPokeOptions& options) {
     throw CommandError("--update-latency-ms must be in [0, 10000]");
   if (!(options.hapticRateSpacing_mm > 0.0) || options.hapticRateSpacing_mm > 10.0)
     throw CommandError("--haptic-rate-spacing-mm must be in (0, 10]");
+  if (options.hapticRateIterations < 0 || options.hapticRateIterations > 20)
+    throw CommandError("--haptic-rate-iterations must be in [0, 20]");
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.femCachePath.empty()) checkOutputWritable(options.femCachePath, "--fem-cache");
 
@@ -166,6 +170,7 @@ void runOrganPoke(const OrganPokeOptions& options) {
     HapticRateSettings settings;
     settings.speed_m_s = options.speed_mm_s / 1000.0;
     settings.updateLatency_s = options.updateLatency_ms / 1000.0;
+    settings.newtonIterations = options.hapticRateIterations;
     OrganPokeSetup setup = organPokeSetup(scene, depths_m);
     setup.contactSpacing_m = options.hapticRateSpacing_mm / 1000.0;
     HapticRatePoke poke;
@@ -251,6 +256,11 @@ void registerOrganPokeCommand(CLI::App& app) {
       ->add_option("--haptic-rate-spacing-mm", options->hapticRateSpacing_mm,
                    "With --haptic-rate-mesh: its contact's points between the quadratic "
                    "surface nodes this far apart")
+      ->capture_default_str();
+  command
+      ->add_option("--haptic-rate-iterations", options->hapticRateIterations,
+                   "With --haptic-rate-mesh: each FEM update's Newton iterations (0: the body "
+                   "linearised where the contact has it)")
       ->capture_default_str();
   command->callback([options] { runOrganPoke(*options); });
 }
