@@ -273,34 +273,30 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
       rows.push_back(row);
     }
   }
-  for (const OrganMesh& mesh : settings.organMeshes) {
+  // The reference's element on an organ's mesh, static or at its own rate.
+  const auto quadraticRow = [&](const OrganMesh& mesh, const char* knob, const char* element,
+                                const std::string& name) {
     TradeRow row = base;
-    row.knob = "fem-quadratic";
+    row.knob = knob;
     row.model = "fem";
-    row.element = "quadratic";
+    row.element = element;
     row.strainCells.clear();
-    row.integrator = "static";
+    row.integrator = row.isHapticRate() ? "haptic-rate" : "static";
     row.threads = 1;
     row.bulkModulus_Pa = settings.tetBulkModulus_Pa;
     row.organMeshPath = mesh.path;
     row.organMeshLabel = mesh.label;
-    row.name = "fem quadratic tets, static, on the organ's mesh " + mesh.label;
-    rows.push_back(row);
+    row.name = name + mesh.label;
+    return row;
+  };
+  for (const OrganMesh& mesh : settings.organMeshes) {
+    rows.push_back(quadraticRow(mesh, "fem-quadratic", "quadratic",
+                                "fem quadratic tets, static, on the organ's mesh "));
   }
   if (settings.hapticRateMesh) {
-    TradeRow row = base;
-    row.knob = "fem-haptic-rate";
-    row.model = "fem";
-    row.element = "haptic-rate";
-    row.strainCells.clear();
-    row.integrator = "haptic-rate";
-    row.threads = 1;
-    row.bulkModulus_Pa = settings.tetBulkModulus_Pa;
-    row.organMeshPath = settings.hapticRateMesh->path;
-    row.organMeshLabel = settings.hapticRateMesh->label;
-    row.name = "fem quadratic tets at their own rate, the contact at 1 kHz, on the organ's mesh " +
-               settings.hapticRateMesh->label;
-    rows.push_back(row);
+    rows.push_back(quadraticRow(
+        *settings.hapticRateMesh, "fem-haptic-rate", "haptic-rate",
+        "fem quadratic tets at their own rate, the contact at 1 kHz, on the organ's mesh "));
   }
   for (const int refinement : settings.femRows) {
     TradeRow row;

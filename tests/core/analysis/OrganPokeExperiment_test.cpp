@@ -89,24 +89,34 @@ TEST(OrganPoke, TheSampledContactConvergesInItsSpacingAndMeetsMoreThanTheNodes) 
   }
 }
 
+/// The coarse block's sampled poke statically, and at the haptic rate at 20 mm/s from 0.2 mm
+/// above with each update answering latency_s after it starts.
+struct HapticRateAgainstStatic {
+  IndentationCurve still;
+  HapticRatePoke poke;
+  explicit HapticRateAgainstStatic(double latency_s) {
+    const StrainEnergy& energy = test::liverEnergy();
+    const double kappa = defaultFemBulkModulus(energy);
+    const TetMesh block = coarseBlock();
+    still = pokeOrganFem(energy, block, coarseSampledPoke(), kappa);
+    HapticRateSettings settings;
+    settings.speed_m_s = 0.02;
+    settings.updateLatency_s = latency_s;
+    settings.startAbove_m = 0.0002;
+    poke = pokeOrganHapticRate(energy, block, coarseSampledPoke(), kappa, settings);
+  }
+};
+
 TEST(OrganPoke, AtTheHapticRateWithFrequentUpdatesItFollowsTheStaticForce) {
-  // 20 um of the probe's travel an update (20 mm/s, an update answering in 1 ms): well within
-  // the staggered iteration's reach, so each depth's force is the static one's.
-  const StrainEnergy& energy = test::liverEnergy();
-  const double kappa = defaultFemBulkModulus(energy);
-  const TetMesh block = coarseBlock();
-  const IndentationCurve still = pokeOrganFem(energy, block, coarseSampledPoke(), kappa);
-  HapticRateSettings settings;
-  settings.speed_m_s = 0.02;
-  settings.updateLatency_s = 0.001;
-  settings.startAbove_m = 0.0002;
-  const HapticRatePoke poke =
-      pokeOrganHapticRate(energy, block, coarseSampledPoke(), kappa, settings);
+  // 20 um of the probe's travel an update (an update answering in 1 ms): well within the
+  // staggered iteration's reach, so each depth's force is the static one's.
+  const HapticRateAgainstStatic run(0.001);
+  const HapticRatePoke& poke = run.poke;
   EXPECT_EQ(poke.nodes, 405);
   ASSERT_EQ(poke.force_N.size(), 2u);
   for (std::size_t d = 0; d < 2; ++d) {
-    ASSERT_GT(still.force_N[d], 0.0);
-    EXPECT_NEAR(poke.force_N[d] / still.force_N[d], 1.0, 0.03) << d;
+    ASSERT_GT(run.still.force_N[d], 0.0);
+    EXPECT_NEAR(poke.force_N[d] / run.still.force_N[d], 1.0, 0.03) << d;
   }
   // Each millisecond a contact solve and an update: 40 of them to 0.6 mm from 0.2 mm above.
   EXPECT_EQ(poke.steps, static_cast<long>(poke.stepTimes_ms.size()));
@@ -118,20 +128,11 @@ TEST(OrganPoke, AtTheHapticRateWithFrequentUpdatesItFollowsTheStaticForce) {
 }
 
 TEST(OrganPoke, AtTheHapticRateUpdatesFarApartLagBehindTheStaticForce) {
-  // The same poke with an update every 0.3 mm of the probe's travel: the contact answers with
-  // the body linearised where it was, and the force at the first depth is not the static one.
-  const StrainEnergy& energy = test::liverEnergy();
-  const double kappa = defaultFemBulkModulus(energy);
-  const TetMesh block = coarseBlock();
-  const IndentationCurve still = pokeOrganFem(energy, block, coarseSampledPoke(), kappa);
-  HapticRateSettings settings;
-  settings.speed_m_s = 0.02;
-  settings.updateLatency_s = 0.015;
-  settings.startAbove_m = 0.0002;
-  const HapticRatePoke poke =
-      pokeOrganHapticRate(energy, block, coarseSampledPoke(), kappa, settings);
-  ASSERT_EQ(poke.force_N.size(), 2u);
-  EXPECT_GT(std::abs(poke.force_N[0] / still.force_N[0] - 1.0), 0.1);
+  // An update every 0.3 mm of the probe's travel: the contact answers with the body linearised
+  // where it was, and the force at the first depth is not the static one.
+  const HapticRateAgainstStatic run(0.015);
+  ASSERT_EQ(run.poke.force_N.size(), 2u);
+  EXPECT_GT(std::abs(run.poke.force_N[0] / run.still.force_N[0] - 1.0), 0.1);
 }
 
 TEST(OrganPoke, WhatCannotBePokedIsRefused) {
