@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "forces/CapsuleGap.h"
+
 namespace tissuesim {
 
 HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
@@ -72,14 +74,10 @@ HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
 
   // The candidates: the surface points near the probe where the body now is, and their nodes.
   std::vector<int> points, nodes;
-  const Eigen::Vector3d axis = top_m - tip_m;
   for (std::size_t p = 0; p < m_surface.size(); ++p) {
     const CapsulePenalty::Point& point = m_surface[p];
-    const Eigen::Vector3d s = point.weights[0] * m_x.col(point.nodes[0]) +
-                              point.weights[1] * m_x.col(point.nodes[1]) +
-                              point.weights[2] * m_x.col(point.nodes[2]);
-    const double t = std::clamp((s - tip_m).dot(axis) / axis.squaredNorm(), 0.0, 1.0);
-    if ((s - (tip_m + t * axis)).norm() > radius_m + m_candidateMargin_m) continue;
+    if (capsuleGap(point.position(m_x), tip_m, top_m, radius_m).gap_m > m_candidateMargin_m)
+      continue;
     points.push_back(static_cast<int>(p));
     nodes.insert(nodes.end(), point.nodes.begin(), point.nodes.end());
   }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "forces/CapsuleGap.h"
 #include "forces/SmoothedPenalty.h"
 #include "numerics/NodeBlockMatrix.h"
 
@@ -14,20 +15,16 @@ CapsulePenalty::CapsulePenalty(std::vector<Point> points) : m_points(std::move(p
 }
 
 double CapsulePenalty::gap(const Eigen::Vector3d& s, Eigen::Vector3d& n) const {
-  const Eigen::Vector3d axis = top_m - tip_m;
-  const double t = std::clamp((s - tip_m).dot(axis) / axis.squaredNorm(), 0.0, 1.0);
-  const Eigen::Vector3d away = s - (tip_m + t * axis);
-  const double distance = away.norm();
-  // On the axis itself: push straight out of the tip.
-  n = distance > 0.0 ? Eigen::Vector3d(away / distance) : Eigen::Vector3d(-axis.normalized());
-  return distance - radius_m;
+  const CapsuleGap at = capsuleGap(s, tip_m, top_m, radius_m);
+  n = at.normal;
+  return at.gap_m;
 }
 
 double CapsulePenalty::energy(const Eigen::Matrix3Xd& x) const {
   double energy = 0.0;
   Eigen::Vector3d n;
   for (const Point& point : m_points) {
-    energy += point.stiffness_N_m * smoothedPenalty(gap(position(point, x), n)).energy;
+    energy += point.stiffness_N_m * smoothedPenalty(gap(point.position(x), n)).energy;
   }
   return energy;
 }
@@ -37,7 +34,7 @@ Eigen::Vector3d CapsulePenalty::reaction(const Eigen::Matrix3Xd& x) const {
   Eigen::Vector3d n;
   for (const Point& point : m_points) {
     // Minus the force on the surface.
-    onCapsule += point.stiffness_N_m * smoothedPenalty(gap(position(point, x), n)).slope * n;
+    onCapsule += point.stiffness_N_m * smoothedPenalty(gap(point.position(x), n)).slope * n;
   }
   return onCapsule;
 }
@@ -53,7 +50,7 @@ void CapsulePenalty::addForces(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& f,
   Eigen::Vector3d n;
   for (std::size_t p = 0; p < m_points.size(); ++p) {
     const Point& point = m_points[p];
-    const PenaltyTerms terms = smoothedPenalty(gap(position(point, x), n));
+    const PenaltyTerms terms = smoothedPenalty(gap(point.position(x), n));
     if (terms.curvature == 0.0) continue;
     const double k = point.stiffness_N_m;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -114,7 +111,7 @@ double CapsulePenalty::add(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient
   double energy = 0.0;
   Eigen::Vector3d n;
   for (const Point& point : m_points) {
-    const PenaltyTerms terms = smoothedPenalty(gap(position(point, x), n));
+    const PenaltyTerms terms = smoothedPenalty(gap(point.position(x), n));
     if (terms.curvature == 0.0) continue;
     const double k = point.stiffness_N_m;
     energy += k * terms.energy;

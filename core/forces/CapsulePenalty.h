@@ -35,6 +35,11 @@ class CapsulePenalty final : public ForceField, public FemExtraEnergy {
     std::array<int, 3> nodes{};
     Eigen::Vector3d weights{1.0, 0.0, 0.0};
     double stiffness_N_m = 0.0;
+    /// s_p at positions x (3 by #V, m).
+    Eigen::Vector3d position(const Eigen::Matrix3Xd& x) const {
+      return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) +
+             weights[2] * x.col(nodes[2]);
+    }
   };
 
   explicit CapsulePenalty(std::vector<Point> points);
@@ -68,10 +73,6 @@ class CapsulePenalty final : public ForceField, public FemExtraEnergy {
     double stiffness_N_m;
     Eigen::Vector3d n;
   };
-  Eigen::Vector3d position(const Point& point, const Eigen::Matrix3Xd& x) const {
-    return point.weights[0] * x.col(point.nodes[0]) + point.weights[1] * x.col(point.nodes[1]) +
-           point.weights[2] * x.col(point.nodes[2]);
-  }
   /// The gap g of a position and the unit normal n there.
   double gap(const Eigen::Vector3d& s, Eigen::Vector3d& n) const;
 

@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "forces/CapsuleGap.h"
 #include "forces/SmoothedPenalty.h"
 
 namespace tissuesim {
@@ -68,7 +69,6 @@ double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eig
                                              const Eigen::Vector3d& top_m, double radius_m,
                                              Eigen::VectorXd* gradient,
                                              Eigen::MatrixXd* hessian) const {
-  const Eigen::Vector3d axis = top_m - tip_m;
   double energy = 0.0;
   for (Eigen::Index p = 0; p < m_pointNodes.cols(); ++p) {
     Eigen::Vector3d s = Eigen::Vector3d::Zero();
@@ -76,14 +76,10 @@ double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eig
       const int j = m_pointNodes(a, p);
       s += m_pointWeights(a, p) * (m_free.col(j) + u.segment<3>(3 * j));
     }
-    const double t = std::clamp((s - tip_m).dot(axis) / axis.squaredNorm(), 0.0, 1.0);
-    const Eigen::Vector3d away = s - (tip_m + t * axis);
-    const double distance = away.norm();
-    const PenaltyTerms terms = smoothedPenalty(distance - radius_m);
+    const CapsuleGap at = capsuleGap(s, tip_m, top_m, radius_m);
+    const PenaltyTerms terms = smoothedPenalty(at.gap_m);
     if (terms.curvature == 0.0) continue;
-    // On the axis itself: push straight out of the tip.
-    const Eigen::Vector3d normal =
-        distance > 0.0 ? Eigen::Vector3d(away / distance) : Eigen::Vector3d(-axis.normalized());
+    const Eigen::Vector3d& normal = at.normal;
     const double k = m_pointStiffness_N_m[p];
     energy += k * terms.energy;
     if (gradient == nullptr) continue;
