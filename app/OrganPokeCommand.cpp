@@ -49,8 +49,7 @@ constexpr double kMaxDepth_mm = 30.0;
 /// The FEM reference's forces at `depths_m`: from --fem-cache when it holds them for these
 /// inputs, else solved (minutes) and kept there.
 std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescription& scene,
-                              const std::vector<double>& depths_m) {
-  const LoadedTissue tissue(scene.tissue.string());
+                              const LoadedTissue& tissue, const std::vector<double>& depths_m) {
   const OrganPokeSetup setup = organPokeSetup(scene, depths_m);
   const double bulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
   const std::uint64_t key = femReferenceKey(scene, options.femMeshPath, setup, bulkModulus_Pa);
@@ -130,7 +129,8 @@ void runOrganPoke(const OrganPokeOptions& options) {
   std::optional<TetMesh> hapticRateOrgan;
   if (!options.hapticRateMeshPath.empty())
     hapticRateOrgan = readOrganMesh(options.hapticRateMeshPath);
-  const std::vector<double> femForce_N = femForces(options, scene, depths_m);
+  const LoadedTissue tissue(scene.tissue.string());
+  const std::vector<double> femForce_N = femForces(options, scene, tissue, depths_m);
   // The simulator as the scene sets it up, on its own mesh or on the surface meshed anew.
   struct Row {
     std::string mesh;
@@ -165,7 +165,6 @@ void runOrganPoke(const OrganPokeOptions& options) {
     }
   }
   if (hapticRateOrgan) {
-    const LoadedTissue tissue(scene.tissue.string());
     const TetMesh& organ = *hapticRateOrgan;
     HapticRateSettings settings;
     settings.speed_m_s = options.speed_mm_s / 1000.0;
