@@ -94,8 +94,8 @@ case "${1:-}" in
     # Not the image and window tests: Mesa's llvmpipe and Qt's X plugin are not built with
     # ASan, leak by design at exit, and are slow under it. Nor the minute-long soak (its
     # five-second version runs here). They run in `test`.
-    # SANITIZE_SKIP_LONG=1 (CI) leaves out, too, the four tests that take 2.5 to 6 minutes each
-    # under ASan (13 to 36 s in Release): probes held deep, quasi-Newton against implicit Euler,
+    # SANITIZE_SKIP_LONG=1 (CI) leaves out, too, the four tests that take 1.5 to 4 minutes each
+    # under ASan (6 to 37 s in Release): probes held deep, quasi-Newton against implicit Euler,
     # the FEM's volume cells on a Gmsh mesh, the liver's recovery from deep and fast pokes. They
     # repeat, for many steps, paths that shorter tests take under ASan; they run in `test`. And
     # two that repeat on the 20,000-spring liver what runs here on the smaller ones: the drawn
