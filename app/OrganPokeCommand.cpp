@@ -187,15 +187,21 @@ void runOrganPoke(const OrganPokeOptions& options) {
     char latency[64] = "their own wall time";
     if (options.updateLatency_ms > 0.0)
       std::snprintf(latency, sizeof latency, "%g ms", options.updateLatency_ms);
+    const double meanUpdate_ms = poke.updates > 0 ? 1e3 * poke.updating_s / poke.updates : 0.0;
+    // What decides whether the staggered iteration holds: the probe's travel between the FEM's
+    // linearisations (docs/performance-details.md measures its reach).
+    const double travel_mm =
+        options.speed_mm_s *
+        (options.updateLatency_ms > 0.0 ? options.updateLatency_ms : meanUpdate_ms) / 1000.0;
     std::fprintf(stderr,
                  "haptic rate (%s): %d nodes; %ld contact steps at %.3g ms median, %.3g ms p99, "
                  "%ld unsettled; %ld FEM updates at %.0f ms mean, %.0f ms longest, each used "
-                 "%s after it started, %ld without a step; at most %d contact nodes; %.1f s\n",
+                 "%s after it started (%.2f mm of the probe's travel), %ld without a step; at "
+                 "most %d contact nodes; %.1f s\n",
                  options.hapticRateMeshPath.c_str(), poke.nodes, poke.steps, quantile(0.5),
-                 quantile(0.99), poke.unconvergedSteps, poke.updates,
-                 poke.updates > 0 ? 1e3 * poke.updating_s / poke.updates : 0.0,
-                 1e3 * poke.longestUpdate_s, latency, poke.unsteppedUpdates, poke.maxCandidates,
-                 poke.seconds);
+                 quantile(0.99), poke.unconvergedSteps, poke.updates, meanUpdate_ms,
+                 1e3 * poke.longestUpdate_s, latency, travel_mm, poke.unsteppedUpdates,
+                 poke.maxCandidates, poke.seconds);
     for (std::size_t d = 0; d < depths_m.size(); ++d) {
       const double error = 100.0 * (poke.force_N[d] / femForce_N[d] - 1.0);
       std::fprintf(stderr, "%5.1f mm: fem %.4f N, haptic rate %.4f N (%+.0f %%)\n",
