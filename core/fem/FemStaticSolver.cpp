@@ -115,19 +115,18 @@ FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x
     // round-off; below it (close to the solution) on the residual's size instead.
     const double slope = -step.dot(rhs);  // dE along the step (< 0)
     const bool isEnergyResolved = -slope > 1e-11 * std::abs(report.state.energy_J);
+    // Each trial with its gradient: the accepted one's is the next iteration's, not evaluated
+    // again.
     double length = 1.0;
     bool isAccepted = false;
+    FemState trialState;
     for (int halving = 0; halving < 30 && !isAccepted; ++halving, length *= 0.5) {
       m_trial = x + length * Eigen::Map<const Eigen::Matrix3Xd>(step.data(), 3, x.cols());
-      if (isEnergyResolved) {
-        const FemState trialState = model.evaluate(m_trial);
-        isAccepted = trialState.isAdmissible &&
-                     trialState.energy_J <= report.state.energy_J + 1e-4 * length * slope;
-      } else {
-        const FemState trialState = model.evaluate(m_trial, m_trialGradient);
-        isAccepted =
-            trialState.isAdmissible && largestFree(m_trialGradient, isFixed) < report.residual_N;
-      }
+      trialState = model.evaluate(m_trial, m_trialGradient);
+      if (!trialState.isAdmissible) continue;
+      isAccepted = isEnergyResolved
+                       ? trialState.energy_J <= report.state.energy_J + 1e-4 * length * slope
+                       : largestFree(m_trialGradient, isFixed) < report.residual_N;
     }
     if (!isAccepted) {
       shift = shift > 0.0 ? 10.0 * shift : 1e-8 * scale;
@@ -135,9 +134,10 @@ FemSolveReport FemStaticSolver::solve(const FemModel& model, Eigen::Matrix3Xd& x
       continue;
     }
     x = m_trial;
-    // The Hessian only where another iteration will use it.
-    report.state = model.evaluate(x, m_gradient);
+    std::swap(m_gradient, m_trialGradient);
+    report.state = trialState;
     report.residual_N = largestFree(m_gradient, isFixed);
+    // The Hessian only where another iteration will use it.
     if (report.residual_N > m_tolerance_N && report.iterations < m_maxIterations)
       report.state = model.evaluate(x, m_gradient, m_hessian, isFixed, &m_assembly);
     shift *= 0.1;
