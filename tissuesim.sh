@@ -23,7 +23,7 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
   libfcl-dev libccd-dev libassimp-dev libsuitesparse-dev libvtk9-qt-dev qtbase5-dev
-  libopenblas0-pthread  # CHOLMOD's dense kernels: Debian's reference BLAS is 2.6 times slower
+  libopenblas0-pthread  # CHOLMOD's dense kernels, far faster than Debian's reference BLAS
   xvfb xauth libgl1-mesa-dri
   clang-format
 )
@@ -99,12 +99,13 @@ case "${1:-}" in
     # Not the image and window tests: Mesa's llvmpipe and Qt's X plugin are not built with
     # ASan, leak by design at exit, and are slow under it. Nor the minute-long soak (its
     # five-second version runs here). They run in `test`.
-    # SANITIZE_SKIP_LONG=1 (CI) leaves out, too, the four tests that take 1.5 to 4 minutes each
-    # under ASan (6 to 37 s in Release): probes held deep, quasi-Newton against implicit Euler,
-    # the FEM's volume cells on a Gmsh mesh, the liver's recovery from deep and fast pokes. They
-    # repeat, for many steps, paths that shorter tests take under ASan; they run in `test`. And
-    # two that repeat on the 20,000-spring liver what runs here on the smaller ones: the drawn
-    # surface's contact (its 1,000 and 5,300-spring cases stay) and the bundled poke.
+    # SANITIZE_SKIP_LONG=1 (CI) leaves out, too, the four tests that take minutes each under ASan
+    # (docs/performance-details.md, "The build", has their times): probes held deep, quasi-Newton
+    # against implicit Euler, the FEM's volume cells on a Gmsh mesh, the liver's recovery from
+    # deep and fast pokes. They repeat, for many steps, paths that shorter tests take under ASan;
+    # they run in `test`. And two that repeat on the 20,000-spring liver what runs here on the
+    # smaller ones: the drawn surface's contact (its 1,000 and 5,300-spring cases stay) and the
+    # bundled poke.
     long='Simulation\.(AProbeHeldSevenToNineCentimetresDeepComesToRest|QuasiNewtonPokesTheLiverAsImplicitEulerDoes|OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode|TheLiverRecoversItsShapeAfterDeepAndFastPokes|OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet)$|DrawnSurfaceContact\.TheTipMeetsTheDrawnLiverAndStaysOutOfItAt2N/liver20000'
     say "testing build-asan (all but the image and window tests, the long soak${SANITIZE_SKIP_LONG:+ and six long tests})"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 OPENBLAS_NUM_THREADS=$blas_threads \
