@@ -136,14 +136,39 @@ case "${1:-}" in
     seconds=${FUZZ_SECONDS:-12}
     # A file that hangs a library in the isolated readers costs 2 s here, not the program's 60.
     export TISSUESIM_READER_SECONDS=2
-    for target in ${FUZZ_TARGETS:-tissue_file scene_file instrument_script tet_mesh_gmsh tet_mesh_tetgen surface_file vtk_mesh fit_csv recording}; do
-      say "fuzzing $target for $seconds s"
-      mkdir -p "build-fuzz/corpus/$target" build-fuzz/findings
+    # JOBS targets at once, one core each, each into its own log: its final figures are shown
+    # when it ends, its whole log when it finds something (and the stage then fails).
+    mkdir -p build-fuzz/findings build-fuzz/logs
+    fuzz_one() {
+      local target=$1 log=build-fuzz/logs/$1.log
+      mkdir -p "build-fuzz/corpus/$target"
       # New inputs go to build-fuzz/corpus; the seeds in tests/fuzz/corpus are only read.
-      "build-fuzz/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -max_len=65536 \
+      if "build-fuzz/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -max_len=65536 \
         -print_final_stats=1 -artifact_prefix="build-fuzz/findings/$target-" \
-        "build-fuzz/corpus/$target" "tests/fuzz/corpus/$target"
+        "build-fuzz/corpus/$target" "tests/fuzz/corpus/$target" >"$log" 2>&1; then
+        say "fuzzed $target for $seconds s: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$') runs"
+      else
+        cat "$log" >&2
+        say "fuzzing $target failed (its log above; an input that fails is kept in build-fuzz/findings/)"
+        return 1
+      fi
+    }
+    failed=0
+    running=0
+    for target in ${FUZZ_TARGETS:-tissue_file scene_file instrument_script tet_mesh_gmsh tet_mesh_tetgen surface_file vtk_mesh fit_csv recording}; do
+      if [ "$running" -ge "$JOBS" ]; then
+        wait -n || failed=1
+        running=$((running - 1))
+      fi
+      say "fuzzing $target for $seconds s"
+      fuzz_one "$target" &
+      running=$((running + 1))
     done
+    while [ "$running" -gt 0 ]; do
+      wait -n || failed=1
+      running=$((running - 1))
+    done
+    [ "$failed" -eq 0 ]
     ;;
   bench)
     install_packages
