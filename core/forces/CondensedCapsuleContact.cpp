@@ -19,6 +19,9 @@ namespace {
 constexpr int kMaxIterations = 30;
 constexpr double kForceTolerance_N = 1e-5;
 constexpr double kStepTolerance_m = 1e-12;
+/// Gauss-Newton's iterations before the exact Hessian is tried: most solves, warm-started from
+/// the last step's, settle within them.
+constexpr int kGaussNewtonIterations = 3;
 
 }  // namespace
 
@@ -39,6 +42,8 @@ void CondensedCapsuleContact::setCandidates(const std::vector<int>& nodes) {
   m_step.setZero(3 * m);
   m_work.setZero(3 * m);
   m_hessian.setZero(3 * m, 3 * m);
+  m_turning.setZero(3 * m, 3 * m);
+  m_exact.setZero(3 * m, 3 * m);
   m_bodyRest.resize(3, 0);
   m_bodyResponse.resize(0, 0);
 }
@@ -67,8 +72,8 @@ void CondensedCapsuleContact::setPoints(const Eigen::Matrix3Xi& localNodes,
 
 double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                                              const Eigen::Vector3d& top_m, double radius_m,
-                                             Eigen::VectorXd* gradient,
-                                             Eigen::MatrixXd* hessian) const {
+                                             Eigen::VectorXd* gradient, Eigen::MatrixXd* hessian,
+                                             Eigen::MatrixXd* turning) const {
   double energy = 0.0;
   for (Eigen::Index p = 0; p < m_pointNodes.cols(); ++p) {
     Eigen::Vector3d s = Eigen::Vector3d::Zero();
@@ -83,17 +88,23 @@ double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eig
     const double k = m_pointStiffness_N_m[p];
     energy += k * terms.energy;
     if (gradient == nullptr) continue;
-    // The Gauss-Newton part, as CapsulePenalty's: the normal's turning left out. With it the
-    // Hessian is indefinite wherever the probe presses hard against a soft body (each pressed
-    // point would slide off the round probe), so Newton is slower than quadratic along the
-    // surface.
+    // The Gauss-Newton part, as CapsulePenalty's, into `hessian`; the normal's turning, k e'
+    // d2g/ds2 (negative semidefinite under penetration), into `turning`. With the turning the
+    // Hessian can be indefinite where the probe presses hard against a soft body (a pressed
+    // point would slide off the round probe); without it Newton converges only linearly along
+    // the surface.
     const Eigen::Matrix3d block = (k * terms.curvature) * normal * normal.transpose();
+    Eigen::Matrix3d turningBlock = Eigen::Matrix3d::Zero();
+    if (turning != nullptr)
+      turningBlock = (k * terms.slope) * capsuleGapCurvature(at, tip_m, top_m);
     for (int a = 0; a < 3; ++a) {
       const int j = m_pointNodes(a, p);
       gradient->segment<3>(3 * j) += (m_pointWeights(a, p) * k * terms.slope) * normal;
       for (int b = 0; b < 3; ++b) {
-        hessian->block<3, 3>(3 * j, 3 * m_pointNodes(b, p)) +=
-            (m_pointWeights(a, p) * m_pointWeights(b, p)) * block;
+        const double w = m_pointWeights(a, p) * m_pointWeights(b, p);
+        hessian->block<3, 3>(3 * j, 3 * m_pointNodes(b, p)) += w * block;
+        if (turning != nullptr)
+          turning->block<3, 3>(3 * j, 3 * m_pointNodes(b, p)) += w * turningBlock;
       }
     }
   }
@@ -107,24 +118,42 @@ Eigen::Vector3d CondensedCapsuleContact::solve(const Eigen::Vector3d& tip_m,
   for (; m_iterations < kMaxIterations; ++m_iterations) {
     m_gradient.noalias() = m_inverse * m_u;
     m_hessian = m_inverse;
-    const double energy = 0.5 * m_u.dot(m_gradient) +
-                          pointsEnergy(m_u, tip_m, top_m, radius_m, &m_gradient, &m_hessian);
+    // Past Gauss-Newton's first iterations, the exact Hessian where it is positive definite
+    // (quadratic convergence along the surface too), else with a half or a quarter of the
+    // normals' turning, else Gauss-Newton's.
+    const bool isExactTried = m_iterations >= kGaussNewtonIterations;
+    if (isExactTried) m_turning.setZero();
+    const double energy =
+        0.5 * m_u.dot(m_gradient) + pointsEnergy(m_u, tip_m, top_m, radius_m, &m_gradient,
+                                                 &m_hessian, isExactTried ? &m_turning : nullptr);
     if (m_gradient.size() == 0 || m_gradient.cwiseAbs().maxCoeff() < kForceTolerance_N) {
       m_converged = true;
       break;
     }
-    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> cholesky(m_hessian);  // in place: no allocation
-    if (cholesky.info() != Eigen::Success) break;
     m_step = -m_gradient;
-    cholesky.solveInPlace(m_step);
+    bool isSolved = false;
+    for (double share = 1.0; isExactTried && !isSolved && share > 0.2; share *= 0.5) {
+      m_exact = m_hessian + share * m_turning;
+      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> exact(m_exact);  // in place: no allocation
+      if (exact.info() == Eigen::Success) {
+        exact.solveInPlace(m_step);
+        isSolved = true;
+      }
+    }
+    if (!isSolved) {
+      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> cholesky(m_hessian);
+      if (cholesky.info() != Eigen::Success) break;
+      cholesky.solveInPlace(m_step);
+    }
     const double slope = m_step.dot(m_gradient);
     double length = 1.0;
     bool isAccepted = false;
     for (int halving = 0; halving < 30 && !isAccepted; ++halving, length *= 0.5) {
       m_trialU = m_u + length * m_step;
       m_work.noalias() = m_inverse * m_trialU;
-      const double trial = 0.5 * m_trialU.dot(m_work) +
-                           pointsEnergy(m_trialU, tip_m, top_m, radius_m, nullptr, nullptr);
+      const double trial =
+          0.5 * m_trialU.dot(m_work) +
+          pointsEnergy(m_trialU, tip_m, top_m, radius_m, nullptr, nullptr, nullptr);
       isAccepted = trial <= energy + 1e-4 * length * slope;
       if (isAccepted) break;
     }

@@ -13,9 +13,12 @@
 // capsule's axis segment, k_p its penalty (N/m), e the smoothed penalty (SmoothedPenalty.h). The
 // unknowns are the candidates' displacements u, not the points' forces, since the points are
 // many (hundreds near a probe) and the candidates few: E is minimised by Newton with a
-// backtracking search, its Hessian C^-1 + sum_p k_p e''(g_p) w w^T (n_p n_p^T), to a
-// hundredth of a millinewton on a candidate. The force on the capsule is minus the candidates'
-// forces' sum.
+// backtracking search, its Hessian C^-1 + sum_p k_p e''(g_p) w w^T (n_p n_p^T) (Gauss-Newton's,
+// always positive definite) for the first iterations, then with the normals' turning
+// k_p e'(g_p) w w^T d2g_p/ds2 added, or a half or a quarter of it, where that is still
+// positive definite (Gauss-Newton alone converges only linearly along the surface), to a
+// hundredth of a millinewton on a candidate. The
+// force on the capsule is minus the candidates' forces' sum.
 //
 // Optionally the whole body follows the candidates' forces linearly: x = xRest + B f (xRest 3
 // by #V, B 3#V by 3m, the body's compliance on the candidates' columns).
@@ -70,10 +73,12 @@ class CondensedCapsuleContact {
   int iterations() const { return m_iterations; }
 
  private:
-  /// The points' penalty energy at u (J), their gradient and Hessian added where non-null.
+  /// The points' penalty energy at u (J), their gradient and Gauss-Newton Hessian added where
+  /// non-null (both or neither), and the normals' turning, the rest of the exact Hessian, where
+  /// `turning` is (with them).
   double pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                       const Eigen::Vector3d& top_m, double radius_m, Eigen::VectorXd* gradient,
-                      Eigen::MatrixXd* hessian) const;
+                      Eigen::MatrixXd* hessian, Eigen::MatrixXd* turning) const;
 
   std::vector<int> m_nodes;
   Eigen::MatrixXd m_compliance, m_inverse;  ///< C and C^-1
@@ -82,7 +87,7 @@ class CondensedCapsuleContact {
   Eigen::Matrix3Xd m_pointWeights;
   Eigen::VectorXd m_pointStiffness_N_m;
   Eigen::VectorXd m_u, m_trialU, m_gradient, m_step, m_work;
-  Eigen::MatrixXd m_hessian;
+  Eigen::MatrixXd m_hessian, m_turning, m_exact;  ///< Gauss-Newton's, the rest, their sum
   Eigen::Matrix3Xd m_bodyRest;
   Eigen::MatrixXd m_bodyResponse;
   bool m_converged = true;
