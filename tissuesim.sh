@@ -98,7 +98,8 @@ case "${1:-}" in
     build build-asan -DTISSUESIM_SANITIZE=ON
     # Not the image and window tests: Mesa's llvmpipe and Qt's X plugin are not built with
     # ASan, leak by design at exit, and are slow under it. Nor the minute-long soak (its
-    # five-second version runs here). They run in `test`.
+    # five-second version runs here), nor the lint checks (the sources' layout, licences and
+    # layering: nothing built runs in them). They run in `test`.
     # SANITIZE_SKIP_LONG=1 (CI) leaves out, too, the four tests that take minutes each under ASan
     # (docs/performance-details.md, "The build", has their times): probes held deep, quasi-Newton
     # against implicit Euler, the FEM's volume cells on a Gmsh mesh, the liver's recovery from
@@ -109,9 +110,9 @@ case "${1:-}" in
     # smoothed strains' poke (their force fields' own tests stay), the Mullins set of a deep fast
     # poke without weight, the cursor jump (the tool proxy's own tests stay).
     long='Simulation\.(AProbeHeldSevenToNineCentimetresDeepComesToRest|QuasiNewtonPokesTheLiverAsImplicitEulerDoes|OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode|TheLiverRecoversItsShapeAfterDeepAndFastPokes|OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet|TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecovers|WeightlessTheMullinsPermanentSetOfADeepFastPokeIsUnderHalfAMillimetre|ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous)$|DrawnSurfaceContact\.TheTipMeetsTheDrawnLiverAndStaysOutOfItAt2N/liver20000'
-    say "testing build-asan (all but the image and window tests, the long soak${SANITIZE_SKIP_LONG:+ and nine long tests})"
+    say "testing build-asan (all but the image, window and lint tests, the long soak${SANITIZE_SKIP_LONG:+ and nine long tests})"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 OPENBLAS_NUM_THREADS=$blas_threads \
-      ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE "image|gui|soak" \
+      ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE "image|gui|soak|lint" \
       ${SANITIZE_SKIP_LONG:+-E "$long"}
     ;;
   tsan)
