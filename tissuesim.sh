@@ -107,8 +107,9 @@ case "${1:-}" in
     # they run in `test`. And two that repeat on the 20,000-spring liver what runs here on the
     # smaller ones: the drawn surface's contact (its 1,000 and 5,300-spring cases stay) and the
     # bundled poke. And three long scene runs whose parts shorter tests take under ASan: the
-    # smoothed strains' poke (a short poke per face and the force fields' own tests stay), the Mullins set of a deep fast
-    # poke without weight, the cursor jump (the tool proxy's own tests stay).
+    # smoothed strains' poke (a short poke per face and the force fields' own tests stay), the
+    # Mullins set of a deep fast poke without weight, the cursor jump (the tool proxy's own tests
+    # stay).
     long='Simulation\.(AProbeHeldSevenToNineCentimetresDeepComesToRest|QuasiNewtonPokesTheLiverAsImplicitEulerDoes|OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode|TheLiverRecoversItsShapeAfterDeepAndFastPokes|OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet|TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecovers|WeightlessTheMullinsPermanentSetOfADeepFastPokeIsUnderHalfAMillimetre|ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous)$|DrawnSurfaceContact\.TheTipMeetsTheDrawnLiverAndStaysOutOfItAt2N/liver20000'
     say "testing build-asan (all but the image, window and lint tests, the long soak${SANITIZE_SKIP_LONG:+ and nine long tests})"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 OPENBLAS_NUM_THREADS=$blas_threads \
