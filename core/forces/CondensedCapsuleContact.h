@@ -17,8 +17,8 @@
 // always positive definite) for the first iterations, then with the normals' turning
 // k_p e'(g_p) w w^T d2g_p/ds2 added, or a half or a quarter of it, where that is still
 // positive definite (Gauss-Newton alone converges only linearly along the surface), to a
-// hundredth of a millinewton on a candidate. The
-// force on the capsule is minus the candidates' forces' sum.
+// hundredth of a millinewton on a candidate. The force on the capsule is minus the candidates'
+// forces' sum.
 //
 // Optionally the whole body follows the candidates' forces linearly: x = xRest + B f (xRest 3
 // by #V, B 3#V by 3m, the body's compliance on the candidates' columns).

@@ -736,6 +736,24 @@ TEST(Simulation, OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode) 
   EXPECT_GT(peaks[1], 4.0 * peaks[0]);
 }
 
+/// The bundled scene with the FEM (strain per `strainCells`: tets, faces or nodes) on a Gmsh mesh
+/// of the liver, a volume per node at 10 MPa, no softening, weightless and off its tray (a softer
+/// liver would sag further under gravity, away from the probe), damped to come to rest sooner.
+SceneDescription weightlessGmshFemScene(const char* strainCells) {
+  SceneDescription description = pokeScene();
+  description.model = "fem";
+  description.isSoftening = false;
+  description.bulkModulus_Pa = 1e7;
+  description.volumeCells = "nodes";
+  description.strainCells = strainCells;
+  description.gravity_m_s2.setZero();
+  description.tray.reset();
+  description.massDamping_1_s = 30.0;
+  description.tetMesh->file = std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/liver-fem-coarse.msh";
+  description.tetMesh->metresPerUnit = 1.0;
+  return description;
+}
+
 TEST(Simulation, TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecovers) {
   // effects.strain_cells faces and nodes (FS-FEM and NS-FEM, softer than the linear tets' FEM by
   // construction, per node softer than per face) on the same Gmsh mesh, the same poke and a
@@ -745,19 +763,8 @@ TEST(Simulation, TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecover
   // the other two stop at the deepest point, which keeps this test short under the sanitizers.)
   std::map<std::string, double> peaks;
   for (const char* cells : {"tets", "faces", "nodes"}) {
-    SceneDescription description = pokeScene();
-    description.model = "fem";
-    description.isSoftening = false;
-    description.bulkModulus_Pa = 1e7;
-    description.volumeCells = "nodes";
-    description.strainCells = cells;
-    description.gravity_m_s2.setZero();
-    description.tray.reset();
-    description.massDamping_1_s = 30.0;  // the weightless liver comes to rest sooner
-    description.tetMesh->file =
-        std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/liver-fem-coarse.msh";
-    description.tetMesh->metresPerUnit = 1.0;
-    ScriptedPoke scene(0.02, 0.5, description);  // 3 mm into the surface at 0.5 s
+    // 2 cm down at 4 cm/s: the tool meets this mesh after 7.5 mm, 12.5 mm into it at 0.5 s.
+    ScriptedPoke scene(0.02, 0.5, weightlessGmshFemScene(cells));
     Simulation& simulation = scene.simulation;
     const Eigen::Matrix3Xd settled = simulation.startState().x;
     const bool isFaces = std::string(cells) == "faces";
@@ -787,17 +794,7 @@ TEST(Simulation, AShortPokeOfTheFemWithStrainPerFacePushesWithNoEvent) {
   // below the scene's start), goes 2.5 mm in at 4 cm/s and back out. Every step good, a push
   // that grows with depth, no instability event. (The test above, minutes under the sanitizers,
   // runs in the Release suite; this one runs in both.)
-  SceneDescription description = pokeScene();
-  description.model = "fem";
-  description.isSoftening = false;
-  description.bulkModulus_Pa = 1e7;
-  description.volumeCells = "nodes";
-  description.strainCells = "faces";
-  description.gravity_m_s2.setZero();
-  description.tray.reset();
-  description.massDamping_1_s = 30.0;
-  description.tetMesh->file = std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/liver-fem-coarse.msh";
-  description.tetMesh->metresPerUnit = 1.0;
+  SceneDescription description = weightlessGmshFemScene("faces");
   description.instrument->tipStart_m += 0.007 * description.instrument->direction;
   ScriptedPoke scene(0.003, 0.075, description);
   Simulation& simulation = scene.simulation;
