@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <stdexcept>
 #include <utility>
 
@@ -14,6 +13,7 @@
 #include "fem/FemStaticSolver.h"
 #include "fem/HapticRateFem.h"
 #include "fem/QuadraticTetMesh.h"
+#include "fem/SampledSurface.h"
 #include "forces/CapsulePenalty.h"
 #include "mesh/TriangleSurface.h"
 
@@ -23,35 +23,10 @@ namespace {
 /// The probe's shaft beyond the tip's hemisphere (m): longer than any organ is deep.
 constexpr double kShaftLength_m = 0.3;
 
-/// The boundary's quadratic faces each cut into four triangles through its edges' midpoints.
-Eigen::Matrix3Xi surfacePieces(const TetMesh& organ, const QuadraticTetMesh& quadratic) {
-  std::map<std::pair<int, int>, int> midpointOf;
-  for (Eigen::Index t = 0; t < quadratic.tetCount(); ++t) {
-    for (int e = 0; e < 6; ++e) {
-      const int a = quadratic.tets(kQuadraticTetEdges[e][0], t);
-      const int b = quadratic.tets(kQuadraticTetEdges[e][1], t);
-      midpointOf[{std::min(a, b), std::max(a, b)}] = quadratic.tets(4 + e, t);
-    }
-  }
-  const auto midpoint = [&](int a, int b) {
-    return midpointOf.at({std::min(a, b), std::max(a, b)});
-  };
-  const Eigen::Matrix3Xi faces = boundaryFaces(organ);
-  Eigen::Matrix3Xi pieces(3, 4 * faces.cols());
-  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
-    const int a = faces(0, f), b = faces(1, f), c = faces(2, f);
-    const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-    pieces.middleCols<4>(4 * f) << a, ab, ca, ab,  //
-        ab, b, bc, bc,                             //
-        ca, bc, c, ca;
-  }
-  return pieces;
-}
-
 /// Each quadratic boundary node's share of the surface (m^2; 0 off the surface): the linear
 /// boundary's faces, each cut into four at its edges' midpoints.
 Eigen::VectorXd surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quadratic) {
-  return vertexAreas(quadratic.nodes_m, surfacePieces(organ, quadratic));
+  return vertexAreas(quadratic.nodes_m, quadraticSurfacePieces(organ, quadratic));
 }
 
 /// What both FEM pokes share: the organ's quadratic mesh, the entry point, the held DOFs and the
@@ -71,31 +46,9 @@ struct PokeBody {
     }
     if (fixedCount == 0) throw std::invalid_argument("no node of the organ lies in the fixed box");
     if (setup.contactSpacing_m > 0.0) {
-      // The boundary's quadratic pieces, each cut into small triangles about the spacing
-      // apart, the penalty at each one's centroid: a point between three nodes with its share
-      // of the area.
-      const Eigen::Matrix3Xi pieces = surfacePieces(organ, mesh);
-      for (Eigen::Index f = 0; f < pieces.cols(); ++f) {
-        const Eigen::Vector3d a = mesh.nodes_m.col(pieces(0, f));
-        const Eigen::Vector3d b = mesh.nodes_m.col(pieces(1, f));
-        const Eigen::Vector3d c = mesh.nodes_m.col(pieces(2, f));
-        if (((a + b + c) / 3.0 - entry).norm() > setup.contactReach_m) continue;
-        const double area = 0.5 * (b - a).cross(c - a).norm();
-        const int cuts = std::max(
-            1, static_cast<int>(std::ceil(std::sqrt(2.0 * area) / setup.contactSpacing_m)));
-        const double share = area / (cuts * cuts) * setup.pressureStiffness_Pa_m;
-        for (int i = 0; i < cuts; ++i) {
-          for (int j = 0; i + j < cuts; ++j) {
-            // The upright small triangle at (i, j), and the inverted one beside it.
-            for (int flip = 0; flip < (i + j + 1 < cuts ? 2 : 1); ++flip) {
-              const double u = (i + (flip == 0 ? 1.0 : 2.0) / 3.0) / cuts;
-              const double v = (j + (flip == 0 ? 1.0 : 2.0) / 3.0) / cuts;
-              points.push_back(
-                  {{pieces(0, f), pieces(1, f), pieces(2, f)}, {1.0 - u - v, u, v}, share});
-            }
-          }
-        }
-      }
+      points =
+          sampleSurfacePoints(mesh, quadraticSurfacePieces(organ, mesh), setup.contactSpacing_m,
+                              setup.pressureStiffness_Pa_m, entry, setup.contactReach_m);
       return;
     }
     const Eigen::VectorXd shares = surfaceShares(organ, mesh);
