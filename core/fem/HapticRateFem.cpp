@@ -37,16 +37,33 @@ HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
 HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
                                        const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
                                        double radius_m, CondensedCapsuleContact& next) {
+  if (inUse.hasBody()) inUse.bodyPositions(m_body);
+  const HapticRateUpdate report = update(inUse.hasBody() ? &m_body : nullptr, inUse.candidates(),
+                                         inUse.nodeForces(), tip_m, top_m, radius_m, next);
+  if (!report.hasNext) next = inUse;  // the haptic loop keeps the contact it has
+  return report;
+}
+
+void HapticRateFem::restart() { m_x = m_model.mesh().nodes_m; }
+
+HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
+                                       const std::vector<int>& candidates,
+                                       const Eigen::Matrix3Xd& candidateForces_N,
+                                       const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                                       double radius_m, CondensedCapsuleContact& next) {
+  if (candidateForces_N.cols() != static_cast<Eigen::Index>(candidates.size()))
+    throw std::invalid_argument("HapticRateFem: one force per candidate");
   HapticRateUpdate report;
   // Where the contact in use has the body now; backtracked towards the last linearisation
   // where that would invert or lock an element.
   report.isStepped = true;
-  if (inUse.hasBody()) {
-    inUse.bodyPositions(m_trial);
+  if (body_m != nullptr) {
+    if (body_m->cols() != m_x.cols())
+      throw std::invalid_argument("HapticRateFem: the body's positions are not the mesh's");
     report.isStepped = false;
     double length = 1.0;
     for (int halving = 0; halving < 30 && !report.isStepped; ++halving, length *= 0.5) {
-      m_candidate = m_x + length * (m_trial - m_x);
+      m_candidate = m_x + length * (*body_m - m_x);
       report.isStepped = m_model.evaluate(m_candidate).isAdmissible;
     }
     if (report.isStepped) m_x = m_candidate;
@@ -54,14 +71,23 @@ HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
   // Newton under the contact's forces now (as loads), from there; the solve's last
   // factorisation (one iterate behind where it ends) is the linearisation, or, where it took no
   // step, the Hessian factorised there.
-  m_loads.nodes = inUse.candidates();
-  m_loads.forces_N = inUse.nodeForces();
+  m_loads.nodes = candidates;
+  m_loads.forces_N = candidateForces_N;
   const FemSolveReport solved = m_solver.solve(m_model, m_x, m_isFixed);
   report.residual_N = solved.residual_N;
+  // Linearised far from its balance, the body's x_rest (below) is a long linear extrapolation of
+  // a nonlinear body, and can fold it inside out: the contact in use is kept instead.
+  const double largestLoad_N =
+      candidateForces_N.size() > 0 ? candidateForces_N.colwise().norm().maxCoeff() : 0.0;
+  if (solved.residual_N > kLinearisableResidual_N + kLinearisableLoadShare * largestLoad_N) {
+    report.hasNext = false;
+    report.isOutOfBalance = true;
+    return report;
+  }
   FemState state;
   if (!m_solver.isFactorized() && !m_solver.factorize(m_model, m_x, m_isFixed, state)) {
     report.isStepped = false;
-    next = inUse;  // the haptic loop keeps the contact it has
+    report.hasNext = false;
     return report;
   }
   // The body's own out-of-balance force (the loads taken off), and where the linear body

@@ -36,14 +36,24 @@
 namespace tissuesim {
 
 struct HapticRateUpdate {
-  bool isStepped = false;   ///< false: no admissible step or no definite Hessian (x kept)
-  int points = 0;           ///< the new contact's surface points
-  int candidates = 0;       ///< and the nodes that carry them
-  double residual_N = 0.0;  ///< max |dE/dx| on a free DOF after the Newton iterations
+  bool isStepped = false;       ///< false: no admissible step or no definite Hessian (x kept)
+  bool hasNext = true;          ///< false: no new contact made (no definite Hessian within reach,
+                                ///< or isOutOfBalance)
+  bool isOutOfBalance = false;  ///< Newton left more than the linearisation allows (below)
+  int points = 0;               ///< the new contact's surface points
+  int candidates = 0;           ///< and the nodes that carry them
+  double residual_N = 0.0;      ///< max |dE/dx| on a free DOF after the Newton iterations
 };
 
 class HapticRateFem {
  public:
+  /// An update whose Newton iterations leave more than this on a free DOF (N), plus this share of
+  /// the largest load on a node, makes no new contact: the probe has moved further than one
+  /// update can follow (the updates of a poke the scheme follows leave far less:
+  /// docs/performance-details.md, "The FEM at its own rate in a scene").
+  static constexpr double kLinearisableResidual_N = 0.05;
+  static constexpr double kLinearisableLoadShare = 0.05;
+
   /// `model` (its tangent set definite here, no extra energy: the contact is the haptic
   /// loop's) must outlive this object. isFixed: 3#V flags. surface: the points the probe may
   /// touch (CapsulePenalty's, on the model's nodes). A point within the probe's radius plus
@@ -61,6 +71,19 @@ class HapticRateFem {
                           const Eigen::Vector3d& top_m, double radius_m,
                           CondensedCapsuleContact& next);
 
+  /// The same from the body where a contact had it: body_m (3 by #V; null: where the last update
+  /// linearised it), the contact's candidates and the forces on them (3 by m, N). Where no
+  /// definite Hessian is within reach, `next` is left as it was (hasNext false). For a caller
+  /// that updates from a copy of what its contact held (the haptic loop solving on meanwhile).
+  /// @throws std::invalid_argument on a size that is not the mesh's or the candidates'.
+  HapticRateUpdate update(const Eigen::Matrix3Xd* body_m, const std::vector<int>& candidates,
+                          const Eigen::Matrix3Xd& candidateForces_N, const Eigen::Vector3d& tip_m,
+                          const Eigen::Vector3d& top_m, double radius_m,
+                          CondensedCapsuleContact& next);
+
+  /// The next update starts from the body at rest (after a reset of the scene).
+  void restart();
+
   /// The body where the last update linearised it (3 by #V).
   const Eigen::Matrix3Xd& positions() const { return m_x; }
 
@@ -71,7 +94,7 @@ class HapticRateFem {
   std::vector<CapsulePenalty::Point> m_surface;
   double m_candidateMargin_m;
   FemStaticSolver m_solver;
-  Eigen::Matrix3Xd m_x, m_trial, m_candidate;
+  Eigen::Matrix3Xd m_x, m_body, m_candidate;
 };
 
 }  // namespace tissuesim

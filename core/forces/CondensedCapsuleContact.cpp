@@ -182,10 +182,22 @@ void CondensedCapsuleContact::startFrom(const CondensedCapsuleContact& other) {
 }
 
 void CondensedCapsuleContact::bodyPositions(Eigen::Matrix3Xd& x) const {
-  x = m_bodyRest;
+  x.resize(3, m_bodyRest.cols());
+  firstBodyPositions(m_forces, x);
+}
+
+void CondensedCapsuleContact::firstBodyPositions(Eigen::Matrix3Xd& x) const {
+  firstBodyPositions(m_forces, x);
+}
+
+void CondensedCapsuleContact::firstBodyPositions(const Eigen::Matrix3Xd& forces_N,
+                                                 Eigen::Matrix3Xd& x) const {
+  const Eigen::Index n = x.cols();
+  x = m_bodyRest.leftCols(n);
   if (!hasBody()) return;
   Eigen::Map<Eigen::VectorXd>(x.data(), x.size()).noalias() +=
-      m_bodyResponse * Eigen::Map<const Eigen::VectorXd>(m_forces.data(), m_forces.size());
+      m_bodyResponse.topRows(3 * n) *
+      Eigen::Map<const Eigen::VectorXd>(forces_N.data(), forces_N.size());
 }
 
 }  // namespace tissuesim
