@@ -7,6 +7,7 @@
 
 #include "app/CommandError.h"
 #include "material/TissueFile.h"
+#include "sim/HapticRateReach.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim::app {
@@ -42,17 +43,27 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
   }
   const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction,
                              false};
+  // The FEM at its own rate follows the probe only so fast (sim/HapticRateReach.h): its tool
+  // moves no faster, and its default poke goes 1.5 cm along the tool at that speed.
+  const bool isHapticRate = description.model == "fem-haptic-rate";
+  ToolMotionLimits limits;
+  double pokeDepth_m = kDefaultPokeDepth_m, pokeTime_s = kDefaultPokePressTime_s;
+  if (isHapticRate) {
+    limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(description);
+    pokeDepth_m = kHapticRateDefaultPokeDepth_m;
+    pokeTime_s = pokeDepth_m / limits.maxSpeed_m_s;
+  }
   if (driver == InstrumentDriver::Live) {
     // The window's tool follows the mouse as a proxy (bounded speed and acceleration), so a
     // cursor jump never drives it through the tissue.
-    m_live = std::make_unique<LiveInstrument>(start, ToolMotionLimits{});
+    m_live = std::make_unique<LiveInstrument>(start, limits);
     m_simulation->setInstrumentSource(m_live.get());
   } else {
     try {
       m_script = scriptPath.empty()
                      ? std::make_unique<InstrumentScript>(InstrumentScript::poke(
                            {description.instrument->tipStart_m, description.instrument->direction},
-                           kDefaultPokeDepth_m, kDefaultPokePressTime_s))
+                           pokeDepth_m, pokeTime_s))
                      : std::make_unique<InstrumentScript>(InstrumentScript::load(scriptPath));
     } catch (const std::invalid_argument& error) {
       throw CommandError(error.what());

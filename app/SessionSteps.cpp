@@ -135,7 +135,7 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
                         {"frames", exporter->frameCount()},
                         {"wall_seconds", exportWall_s}};
   }
-  const bool isFem = scene.model == "fem";
+  const bool isFem = scene.model != "springs";
   std::printf(
       "%s: %ld steps of %.3g ms, %.0f Hz (real-time factor %.2f), %ld %s; max tool force "
       "%.3f N, max penetration %.2f mm, max stretch %.3f; %zu instability events\n",

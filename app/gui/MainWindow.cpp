@@ -296,10 +296,14 @@ bool MainWindow::loadScene(const QString& path) {
   m_pose = simulation.instrumentPose();
   m_softeningAction->setChecked(simulation.isSoftening());
   // The FEM's tets have no stress softening to turn on.
-  const bool isFem = simulation.scene().model == "fem";
+  const bool isFem = simulation.scene().model != "springs";
   m_softeningAction->setEnabled(!isFem);
   m_softeningAction->setToolTip(isFem ? "The FEM model has no stress softening" : "");
   m_gravityAction->setChecked(simulation.gravity().squaredNorm() > 0.0);
+  // The FEM at its own rate is weightless, held by its fixed region alone (docs/scene-file.md).
+  const bool isWeightless = simulation.scene().model == "fem-haptic-rate";
+  m_gravityAction->setEnabled(!isWeightless);
+  m_gravityAction->setToolTip(isWeightless ? "The FEM at its own rate models no gravity" : "");
   m_forcePlot->clear();
   updateMaterialChart();
   m_loop = std::make_unique<RealTimeLoop>(simulation);
@@ -767,8 +771,8 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
   // bundled size): simulated time then runs slow, and the status says so.
   const QString model =
       QString("%1 %2")
-          .arg(simulation.scene().model == "fem" ? simulation.geometry().mesh.tetCount()
-                                                 : simulation.springMesh().springCount())
+          .arg(simulation.scene().model != "springs" ? simulation.geometry().mesh.tetCount()
+                                                     : simulation.springMesh().springCount())
           .arg(QString::fromStdString(elasticModelWords(simulation.scene())));
   const bool isBehind =
       !isPaused() && m_physicsHz > 0.0 && m_physicsHz < 0.9 / simulation.timeStep_s();

@@ -228,17 +228,22 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                          {"model", "softening", "volume_term_kpa", "volume_cells", "strain_cells",
                           "spring_law", "stiffness_scale"});
     scene.model = effects.string("model", "springs");
-    if (scene.model != "springs" && scene.model != "fem")
-      effects.fail("effects.model", "= \"" + scene.model + "\"; expected springs or fem");
-    const bool isFem = scene.model == "fem";
+    if (scene.model != "springs" && scene.model != "fem" && scene.model != "fem-haptic-rate") {
+      effects.fail("effects.model",
+                   "= \"" + scene.model + "\"; expected springs, fem or fem-haptic-rate");
+    }
+    const bool isFem = scene.model != "springs";
     // The FEM's tets carry no stress softening (the Mullins effect lives in the springs).
     scene.isSoftening = effects.boolean("softening", !isFem);
-    if (isFem && scene.isSoftening)
-      effects.fail("effects.softening", "must be false with model fem, which has no softening");
+    if (isFem && scene.isSoftening) {
+      effects.fail("effects.softening",
+                   "must be false with model " + scene.model + ", which has no softening");
+    }
     scene.bulkModulus_Pa = effects.number("volume_term_kpa", 0.0, 0.0, false) * 1000.0;
-    if (isFem && !(scene.bulkModulus_Pa > 0.0))
+    if (isFem && !(scene.bulkModulus_Pa > 0.0)) {
       effects.fail("effects.volume_term_kpa",
-                   "must be > 0 with model fem: it is the FEM's volumetric part");
+                   "must be > 0 with model " + scene.model + ": it is the FEM's volumetric part");
+    }
     scene.volumeCells = effects.string("volume_cells", "cubes");
     if (scene.volumeCells != "cubes" && scene.volumeCells != "nodes")
       effects.fail("effects.volume_cells",
@@ -249,7 +254,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     if (scene.strainCells != "tets" && scene.strainCells != "faces" && scene.strainCells != "nodes")
       effects.fail("effects.strain_cells",
                    "= \"" + scene.strainCells + "\"; expected tets, faces or nodes");
-    if (scene.strainCells != "tets" && !isFem)
+    if (scene.strainCells != "tets" && scene.model != "fem")
       effects.fail("effects.strain_cells", "= \"" + scene.strainCells + "\" is for model fem");
     scene.springLaw = effects.string("spring_law", "eesm");
     scene.stiffnessScale = effects.number("stiffness_scale", 0.0, 0.0, false);
@@ -261,7 +266,7 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   if (fields.has("physics")) {
     const Fields physics(fields.at("physics"), "physics", source,
                          {"time_step_ms", "integrator", "mass_damping_per_s", "newton_iterations",
-                          "cg_tolerance", "threads"});
+                          "cg_tolerance", "threads", "fem_update_latency_ms"});
     scene.timeStep_s = physics.number("time_step_ms", 1.0, 0.0, true) / 1000.0;
     scene.integrator = physics.string("integrator", "implicit");
     if (scene.integrator != "explicit" && scene.integrator != "implicit" &&
@@ -281,6 +286,10 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                    "= " + given.str() + "; expected a whole number from 1 to 64");
     }
     scene.threads = static_cast<int>(threads);
+    scene.femUpdateLatency_s = physics.number("fem_update_latency_ms", 100.0, 0.0, false) / 1000.0;
+    if (physics.has("fem_update_latency_ms") && scene.model != "fem-haptic-rate") {
+      physics.fail("physics.fem_update_latency_ms", "is for effects.model fem-haptic-rate");
+    }
   }
   if (fields.has("assessment")) {
     const Fields assessment(fields.at("assessment"), "assessment", source,
@@ -289,6 +298,18 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
         assessment.number("force_threshold_n", scene.assessment.toolForceThreshold_N, 0.0, true);
     if (assessment.has("damage_stretch"))
       scene.assessment.damageStretch = assessment.number("damage_stretch", 0.0, 1.0, true);
+  }
+  // The body at its own rate is weightless and held by its fixed nodes alone
+  // (sim/HapticRateBody.h), and it is there for the probe.
+  if (scene.model == "fem-haptic-rate") {
+    if (!scene.instrument)
+      fields.fail("instrument", "is missing; effects.model fem-haptic-rate is the probe's model");
+    if (scene.tray)
+      fields.fail("tray",
+                  "is not modelled with effects.model fem-haptic-rate; hold the organ by "
+                  "its fixed_region");
+    if (scene.gravity_m_s2.squaredNorm() > 0.0)
+      fields.fail("gravity_m_s2", "must be zero with effects.model fem-haptic-rate (weightless)");
   }
   // Its fixed initial Hessian is built from the springs' rest stiffness.
   if (scene.model == "fem" && scene.integrator == "quasi-newton") {

@@ -86,8 +86,10 @@ struct SceneDescription {
   /// fem/SmoothedStrainForceField.h). With model fem only.
   std::string strainCells = "tets";
   double stiffnessScale = 0.0;  ///< > 0: V_e factor; 0: the lattice's small-strain calibration
-  /// What carries the elasticity: "springs" (the EESM network) or "fem" (the tissue's
-  /// isochoric energy per tet with the volume term per cube; fem/TetIsochoricForceField.h).
+  /// What carries the elasticity: "springs" (the EESM network), "fem" (the tissue's
+  /// isochoric energy per tet with the volume term per cube; fem/TetIsochoricForceField.h) or
+  /// "fem-haptic-rate" (the continuum reference's element at its own rate, the probe's contact
+  /// at the haptic rate; sim/HapticRateBody.h).
   std::string model = "springs";
   std::string springLaw = "eesm";
   double timeStep_s = 1e-3;
@@ -97,6 +99,9 @@ struct SceneDescription {
   int newtonIterations = 2;       ///< Newton iterations per step
   double linearTolerance = 1e-6;  ///< CG relative tolerance per Newton iteration
   int threads = 1;                ///< threads for the spring passes (results do not depend on it)
+  /// With model fem-haptic-rate: each FEM update used this long after it starts (s; the step
+  /// waits for one not done by then), or 0: as soon as it is done (the window's real time alone).
+  double femUpdateLatency_s = 0.1;
   SceneAssessment assessment;
 };
 

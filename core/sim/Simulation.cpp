@@ -2,6 +2,7 @@
 #include "sim/Simulation.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include "integrators/ImplicitEulerSolver.h"
 #include "integrators/IntegratorChoice.h"
 #include "material/TissueFile.h"
+#include "sim/HapticRateBody.h"
 
 namespace tissuesim {
 namespace {
@@ -114,13 +116,28 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   // With the FEM the springs stay for the mesh's structure, the colour map's stretches and
   // the grasp, with no stiffness: the tets carry the elasticity.
   const bool isFem = scene.model == "fem";
-  const double stiffnessScale = isFem ? 0.0
+  const bool isHapticRate = scene.model == "fem-haptic-rate";
+  // The quadratic body at its own rate carries the elasticity and the volume (its dilatation per
+  // tet at volume_term_kpa); the springs stay as with the FEM.
+  std::unique_ptr<HapticRateBody> hapticRate;
+  if (isHapticRate) {
+    const SceneInstrument& tool = *scene.instrument;
+    HapticRateBodySettings settings;
+    settings.probeRadius_m = tool.shaftRadius_m;
+    settings.latencySteps = std::lround(scene.femUpdateLatency_s / scene.timeStep_s);
+    const Eigen::Vector3d tip = tool.tipStart_m - tool.shaftRadius_m * tool.direction;
+    hapticRate = std::make_unique<HapticRateBody>(
+        m_geometry.mesh, m_geometry.fixedNodes, scene.fixed.box_m, *energy, scene.bulkModulus_Pa,
+        settings, tip, tip - tool.shaftLength_m * tool.direction);
+  }
+  const double stiffnessScale = isFem || isHapticRate ? 0.0
                                 : scene.stiffnessScale > 0.0
                                     ? scene.stiffnessScale
                                     : simulatorStiffnessScale(*energy, *table, bulkModulus_Pa);
   springMesh.volume_m3 *= stiffnessScale;
 
   // Dependents first: each holds references into the ones before it.
+  m_hapticRate.reset();
   m_integrator.reset();
   m_system.reset();
   m_friction.reset();
@@ -134,6 +151,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   m_parameters = std::move(newParameters);
   m_energy = std::move(energy);
   m_table = std::move(table);
+  m_hapticRate = std::move(hapticRate);
   m_stiffnessScale = stiffnessScale;
   m_bulkModulus_Pa = bulkModulus_Pa;
   // Rebuilt in place: views of the scene keep a reference to the spring mesh across a new tissue.
@@ -154,12 +172,13 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_springs->setThreadPool(m_pool.get());
   }
   const bool isNodal = scene.volumeCells == "nodes";
-  if (bulkModulus_Pa > 0.0 && !isNodal) {
+  const bool hasVolumeTerm = bulkModulus_Pa > 0.0 && !isHapticRate;
+  if (hasVolumeTerm && !isNodal) {
     m_volume = std::make_unique<VolumeForceField>(*m_springMesh, bulkModulus_Pa);
     m_volume->setThreadPool(m_pool.get());
   }
   m_system = std::make_unique<MechanicalSystem>(*m_springs, m_volume.get());
-  if (bulkModulus_Pa > 0.0 && isNodal) {
+  if (hasVolumeTerm && isNodal) {
     m_nodalVolume = std::make_unique<NodalVolumeForceField>(m_springMesh->restPositions_m,
                                                             m_springMesh->tets, bulkModulus_Pa);
     m_nodalVolume->setThreadPool(m_pool.get());
@@ -190,7 +209,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   for (const int node : m_geometry.fixedNodes) m_system->fixNode(node);
 
   m_integrator = makeIntegrator(scene.integrator, realTimeIntegratorSettings(scene));
-  if (scene.instrument) {
+  if (scene.instrument && !isHapticRate) {
     // The grasper reaches surface nodes within two shaft radii of the tip.
     const Eigen::Matrix3Xi faces = boundaryFaces(m_geometry.mesh);
     std::vector<int> surfaceNodes(faces.data(), faces.data() + faces.size());
@@ -297,6 +316,7 @@ void Simulation::reset() {
   m_latestEventKind = nullptr;
   m_activeConditions.clear();
   if (m_grasp) m_grasp->release();
+  if (m_hapticRate) m_hapticRate->reset();
   m_assessment->restart(m_pose.tip_m);
 }
 
@@ -327,6 +347,7 @@ StepOutcome Simulation::step() {
     record("non-finite", "the state held a value that is not finite; the last good state (t = " +
                              std::to_string(m_time_s) + " s) was put back");
   }
+  if (m_hapticRate) return stepHapticRate();
   const double next = m_time_s + m_timeStep_s;
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
   findContacts();
@@ -345,11 +366,6 @@ StepOutcome Simulation::step() {
   // Conditions are checked every step; their text is built only when one is on, so a quiet
   // step allocates nothing here.
   m_conditionsNow.clear();
-  const auto check = [&](bool isOn, const char* kind, const auto& describe) {
-    if (!isOn) return;
-    m_conditionsNow.push_back(kind);
-    record(kind, describe());
-  };
   const StepReport& r = outcome.integrator;
   check(r.refused, "refused", [&] { return r.reason; });
   check(!r.isFinite, "non-finite", [&] { return r.reason; });
@@ -394,6 +410,47 @@ StepOutcome Simulation::step() {
     m_assessment->addStep(m_state.x, m_pose.tip_m, outcome.contact.toolForce_N.norm(),
                           m_timeStep_s);
   }
+  return outcome;
+}
+
+StepOutcome Simulation::stepHapticRate() {
+  StepOutcome outcome;
+  const double next = m_time_s + m_timeStep_s;
+  if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
+  const SceneInstrument& tool = *m_scene.instrument;
+  const Eigen::Vector3d centre = m_pose.tip_m - tool.shaftRadius_m * m_pose.direction;
+  const HapticRateStep haptic =
+      m_hapticRate->step(centre, centre - tool.shaftLength_m * m_pose.direction, m_state.x);
+  outcome.contact.toolForce_N = haptic.probeForce_N;
+  outcome.integrator.converged = haptic.isSettled;
+  outcome.integrator.iterations = haptic.contactIterations;
+  double maxStretch = 1.0;
+  const SpringMesh& mesh = *m_springMesh;
+  for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+    maxStretch = std::max(
+        maxStretch, (m_state.x.col(mesh.springs(0, s)) - m_state.x.col(mesh.springs(1, s))).norm() /
+                        mesh.restLength_m[s]);
+  }
+  outcome.maxStretch = maxStretch;
+
+  m_conditionsNow.clear();
+  check(!haptic.isSettled, "unconverged", [&] {
+    return "the probe's contact stopped short of its tolerance after " +
+           std::to_string(haptic.contactIterations) + " iterations (" +
+           std::to_string(haptic.candidates) + " surface nodes)";
+  });
+  check(haptic.isUpdateRefused, "refused", [&] {
+    return "an FEM update was refused (" + m_hapticRate->updateProblem() +
+           "); the contact in use is kept until one is not";
+  });
+  const int inverted = VolumeForceField::inspect(mesh, m_state.x, m_pool.get()).invertedTetCount;
+  check(inverted > 0, "inverted", [&] { return std::to_string(inverted) + " inverted tets"; });
+  m_activeConditions.swap(m_conditionsNow);
+
+  m_time_s = next;
+  ++m_steps;
+  m_lastGoodState.x = m_state.x;
+  m_assessment->addStep(m_state.x, m_pose.tip_m, outcome.contact.toolForce_N.norm(), m_timeStep_s);
   return outcome;
 }
 

@@ -20,7 +20,10 @@
 // Instabilities (refused or non-finite steps, Newton not converged, springs past locking, collapsed
 // springs, inverted tets) are detected every step and recorded as events when they start; a refused
 // or non-finite step leaves the last good state in place, so the simulation stays usable.
-// Deterministic: no clocks, no threads, no randomness inside.
+// Deterministic: no clocks, no randomness inside; threads only where the result does not depend
+// on them (the spring passes' pool; the FEM's updates with effects.model fem-haptic-rate at a
+// fixed latency, physics.fem_update_latency_ms; at 0 each update is used when it is done, which
+// depends on the machine).
 
 #include <map>
 #include <memory>
@@ -42,6 +45,8 @@
 #include "springs/SpringForceField.h"
 
 namespace tissuesim {
+
+class HapticRateBody;  // sim/HapticRateBody.h (not here: FemModel.h's names meet Qt's macros)
 
 struct InstabilityEvent {
   long step;
@@ -122,6 +127,8 @@ class Simulation {
   const SpringForceField& springs() const { return *m_springs; }
   const SceneGeometry& geometry() const { return m_geometry; }
   const SceneDescription& scene() const { return m_scene; }
+  /// The quadratic body at its own rate (null unless effects.model is fem-haptic-rate).
+  const HapticRateBody* hapticRateBody() const { return m_hapticRate.get(); }
   /// The first 100 events since the start or the last reset.
   const std::vector<InstabilityEvent>& events() const { return m_events; }
   /// All of them, kept or not.
@@ -145,6 +152,16 @@ class Simulation {
   void settle();
   /// The contacts of the coming step at m_state: the instrument's, then the tray's.
   void findContacts();
+  /// step() with effects.model fem-haptic-rate: the probe's contact at this rate, the body's
+  /// updates on their own thread (sim/HapticRateBody.h).
+  StepOutcome stepHapticRate();
+  /// Records the conditions on now (each step's m_conditionsNow), their text built only then.
+  template <typename Describe>
+  void check(bool isOn, const char* kind, const Describe& describe) {
+    if (!isOn) return;
+    m_conditionsNow.push_back(kind);
+    record(kind, describe());
+  }
 
   SceneDescription m_scene;
   SceneGeometry m_geometry;
@@ -160,6 +177,7 @@ class Simulation {
   std::unique_ptr<TetIsochoricForceField> m_tets;        ///< effects.model fem
   /// The same with effects.strain_cells faces or nodes.
   std::unique_ptr<SmoothedStrainForceField> m_smoothedStrain;
+  std::unique_ptr<HapticRateBody> m_hapticRate;  ///< effects.model fem-haptic-rate
   std::unique_ptr<MechanicalSystem> m_system;
   std::unique_ptr<TimeIntegrator> m_integrator;
   std::unique_ptr<SessionAssessment> m_assessment;

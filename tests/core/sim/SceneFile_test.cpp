@@ -69,6 +69,14 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   EXPECT_EQ(nodal.strainCells, "tets");
   EXPECT_EQ(loadSceneFile(scenePath("fem.json")).volumeCells, "cubes");
   EXPECT_EQ(loadSceneFile(scenePath("fem-face-strain.json")).strainCells, "faces");
+  const SceneDescription hapticRate = loadSceneFile(scenePath("fem-haptic-rate.json"));
+  EXPECT_EQ(hapticRate.model, "fem-haptic-rate");
+  EXPECT_FALSE(hapticRate.isSoftening);
+  EXPECT_DOUBLE_EQ(hapticRate.femUpdateLatency_s, 0.05);
+  EXPECT_DOUBLE_EQ(
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-fem-haptic-rate.json")
+          .femUpdateLatency_s,
+      0.1);  // the default: the scheme's reach at a slow poke, deterministic
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
@@ -112,7 +120,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"tray-no-height.json", "field 'tray.height_m' is missing"},
         BadScene{"tray-zero-stiffness.json", "field 'tray.stiffness_pa_per_m' = 0 is out of range"},
         BadScene{"tray-negative-friction.json", "field 'tray.friction' = -0.2 is out of range"},
-        BadScene{"unknown-model.json", "field 'effects.model' = \"mpm\"; expected springs or fem"},
+        BadScene{"unknown-model.json",
+                 "field 'effects.model' = \"mpm\"; expected springs, fem or fem-haptic-rate"},
+        BadScene{"fem-haptic-rate-tray.json",
+                 "field 'tray' is not modelled with effects.model fem-haptic-rate"},
+        BadScene{"fem-haptic-rate-gravity.json",
+                 "field 'gravity_m_s2' must be zero with effects.model fem-haptic-rate"},
+        BadScene{"fem-haptic-rate-no-instrument.json",
+                 "field 'instrument' is missing; effects.model fem-haptic-rate is the probe's"},
+        BadScene{"fem-haptic-rate-softening.json",
+                 "field 'effects.softening' must be false with model fem-haptic-rate"},
+        BadScene{"fem-latency-springs.json",
+                 "field 'physics.fem_update_latency_ms' is for effects.model fem-haptic-rate"},
         BadScene{"fem-softening.json",
                  "field 'effects.softening' must be false with model fem, which has no softening"},
         BadScene{"fem-no-volume.json",

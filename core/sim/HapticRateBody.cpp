@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "sim/HapticRateBody.h"
+
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "fem/SampledSurface.h"
+
+namespace tissuesim {
+namespace {
+
+/// 3 #V flags: the fixed corners, each edge's midpoint between two of them, and every node in
+/// the fixed box (a midpoint there too: the FEM reference holds all its nodes in the box).
+std::vector<char> fixedDofs(const QuadraticTetMesh& mesh, const std::vector<int>& fixedNodes,
+                            const std::optional<Eigen::AlignedBox3d>& fixedBox_m) {
+  std::vector<char> isFixedNode(static_cast<std::size_t>(mesh.nodeCount()), 0);
+  for (const int node : fixedNodes) {
+    if (node < 0 || node >= mesh.cornerCount)
+      throw std::invalid_argument("HapticRateBody: a fixed node is not the mesh's");
+    isFixedNode[static_cast<std::size_t>(node)] = 1;
+  }
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+    for (int e = 0; e < 6; ++e) {
+      const auto a = static_cast<std::size_t>(mesh.tets(kQuadraticTetEdges[e][0], t));
+      const auto b = static_cast<std::size_t>(mesh.tets(kQuadraticTetEdges[e][1], t));
+      if (isFixedNode[a] && isFixedNode[b])
+        isFixedNode[static_cast<std::size_t>(mesh.tets(4 + e, t))] = 1;
+    }
+  }
+  if (fixedBox_m) {
+    for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
+      if (fixedBox_m->contains(mesh.nodes_m.col(i))) isFixedNode[static_cast<std::size_t>(i)] = 1;
+    }
+  }
+  std::vector<char> isFixed(3 * isFixedNode.size(), 0);
+  for (std::size_t i = 0; i < isFixedNode.size(); ++i) {
+    if (isFixedNode[i]) std::fill_n(isFixed.begin() + static_cast<std::ptrdiff_t>(3 * i), 3, 1);
+  }
+  return isFixed;
+}
+
+}  // namespace
+
+HapticRateBody::HapticRateBody(const TetMesh& mesh, const std::vector<int>& fixedNodes,
+                               const std::optional<Eigen::AlignedBox3d>& fixedBox_m,
+                               const StrainEnergy& energy, double bulkModulus_Pa,
+                               const HapticRateBodySettings& settings, const Eigen::Vector3d& tip_m,
+                               const Eigen::Vector3d& top_m)
+    : m_settings(settings), m_mesh(makeQuadraticTetMesh(mesh)) {
+  if (!(settings.probeRadius_m > 0.0) || !(settings.contactSpacing_m > 0.0) ||
+      !(settings.pressureStiffness_Pa_m > 0.0) || settings.latencySteps < 0)
+    throw std::invalid_argument(
+        "HapticRateBody: the probe's radius, the spacing and the penalty must be > 0, the "
+        "latency >= 0");
+  std::vector<CapsulePenalty::Point> points =
+      sampleSurfacePoints(m_mesh, quadraticSurfacePieces(mesh, m_mesh), settings.contactSpacing_m,
+                          settings.pressureStiffness_Pa_m, Eigen::Vector3d::Zero(),
+                          std::numeric_limits<double>::infinity());
+  m_surfacePoints = points.size();
+  m_model = std::make_unique<FemModel>(m_mesh, energy, bulkModulus_Pa);
+  m_fem = std::make_unique<HapticRateFem>(*m_model, fixedDofs(m_mesh, fixedNodes, fixedBox_m),
+                                          std::move(points), settings.candidateMargin_m,
+                                          settings.newtonIterations);
+  const HapticRateUpdate atRest = m_fem->update(nullptr, {}, Eigen::Matrix3Xd(3, 0), tip_m, top_m,
+                                                settings.probeRadius_m, m_start);
+  if (!atRest.hasNext)
+    throw std::invalid_argument("HapticRateBody: the body at rest has no definite Hessian");
+  restartSettled();
+  m_worker = std::thread([this] { work(); });
+}
+
+HapticRateBody::~HapticRateBody() {
+  {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_shouldStop = true;
+  }
+  m_wake.notify_all();
+  m_worker.join();
+}
+
+void HapticRateBody::work() {
+  std::unique_lock<std::mutex> lock(m_mutex);
+  for (;;) {
+    m_wake.wait(lock, [this] { return m_hasJob || m_shouldStop; });
+    if (m_shouldStop) return;
+    lock.unlock();
+    HapticRateUpdate report;
+    std::string error;
+    try {
+      report = m_fem->update(m_jobHasBody ? &m_jobBody : nullptr, m_jobCandidates, m_jobForces,
+                             m_jobTip, m_jobTop, m_settings.probeRadius_m, *m_next);
+      if (report.isOutOfBalance) {
+        error = "its Newton iterations left " + std::to_string(report.residual_N) +
+                " N out of balance: the probe moved further than one update can follow";
+      } else if (!report.hasNext) {
+        error = "no definite Hessian within reach of the body's state";
+      }
+    } catch (const std::exception& e) {  // the haptic loop keeps its contact; the reason is kept
+      report.hasNext = false;
+      error = e.what();
+    }
+    lock.lock();
+    m_jobReport = report;
+    m_jobError = std::move(error);
+    m_hasJob = false;
+    m_isJobDone = true;
+    m_done.notify_all();
+  }
+}
+
+void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m) {
+  // The worker is idle: the job's fields are the haptic thread's until the job is posted. They
+  // take the contact's last settled state; where that contact is the one the worker is about to
+  // overwrite, the job's fields keep it for the updates after this one.
+  if (m_settledOwner != nullptr) {
+    m_jobHasBody = m_settledOwner->hasBody();
+    if (m_jobHasBody) {
+      m_jobBody.resize(3, m_mesh.nodeCount());
+      m_settledOwner->firstBodyPositions(m_settledForces, m_jobBody);
+    }
+    m_jobCandidates = m_settledOwner->candidates();
+    m_jobForces = m_settledForces;
+    if (m_settledOwner == m_next) m_settledOwner = nullptr;
+  }
+  m_jobTip = tip_m;
+  m_jobTop = top_m;
+  m_stepsSinceUpdate = 0;
+  m_isInFlight = true;
+  {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_hasJob = true;
+    m_isJobDone = false;
+  }
+  m_wake.notify_all();
+}
+
+void HapticRateBody::waitForUpdate() {
+  std::unique_lock<std::mutex> lock(m_mutex);
+  m_done.wait(lock, [this] { return m_isJobDone; });
+}
+
+HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                                    Eigen::Matrix3Xd& corners_m) {
+  HapticRateStep outcome;
+  if (m_isInFlight) {
+    bool isTaken = false;
+    if (m_settings.latencySteps > 0) {
+      isTaken = m_stepsSinceUpdate >= m_settings.latencySteps;
+      if (isTaken) waitForUpdate();
+    } else {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      isTaken = m_isJobDone;
+    }
+    if (isTaken) {
+      m_isInFlight = false;
+      ++m_updates;
+      if (m_jobReport.hasNext) {
+        m_next->startFrom(*m_inUse);
+        std::swap(m_inUse, m_next);
+        m_isRefusing = false;
+      } else {
+        m_isRefusing = true;
+        m_updateProblem = m_jobError;
+      }
+    }
+  }
+  const Eigen::Vector3d reaction = m_inUse->solve(tip_m, top_m, m_settings.probeRadius_m);
+  outcome.isSettled = m_inUse->converged();
+  outcome.contactIterations = m_inUse->iterations();
+  outcome.candidates = static_cast<int>(m_inUse->candidates().size());
+  outcome.isUpdateRefused = m_isRefusing;
+  // A step that does not settle (the probe gone past what the body linearised at the last update
+  // can answer) is rolled back: the body and the probe's force stay at the last settled step's.
+  if (outcome.isSettled) {
+    m_settledForces = m_inUse->nodeForces();
+    m_settledOwner = m_inUse;
+    m_inUse->firstBodyPositions(corners_m);
+    m_settledCorners = corners_m;
+    m_settledProbeForce_N = reaction;
+  } else {
+    corners_m = m_settledCorners;
+  }
+  outcome.probeForce_N = m_settledProbeForce_N;
+  if (!m_isInFlight) startUpdate(tip_m, top_m);
+  ++m_stepsSinceUpdate;
+  return outcome;
+}
+
+void HapticRateBody::restartSettled() {
+  *m_inUse = m_start;
+  m_settledOwner = m_inUse;
+  m_settledForces.setZero(3, static_cast<Eigen::Index>(m_start.candidates().size()));
+  m_settledCorners = m_mesh.nodes_m.leftCols(m_mesh.cornerCount);
+  m_settledProbeForce_N.setZero();
+}
+
+void HapticRateBody::reset() {
+  if (m_isInFlight) waitForUpdate();
+  m_isInFlight = false;
+  m_fem->restart();
+  restartSettled();
+  m_updates = 0;
+  m_isRefusing = false;
+  m_updateProblem.clear();
+}
+
+}  // namespace tissuesim

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// A scene's organ as the continuum reference's element at its own rate, the probe's contact at
+// the haptic rate (effects.model "fem-haptic-rate"; fem/HapticRateFem.h has the scheme): the
+// scene's tet mesh made quadratic (one dilatation per tet, FemModel.h), its surface sampled for
+// the probe's penalty (fem/SampledSurface.h), the fixed nodes held, weightless.
+//
+// Two clocks on two threads. The haptic step (the caller's, 1 kHz) solves the probe's contact
+// against the body's compliance condensed onto the surface nodes near it, and moves the whole
+// body linearly with the contact's forces: x = x_rest + B f. An update (a worker thread of its
+// own) takes the contact's forces and the body where the step started it, runs Newton under them
+// and linearises the body there; the haptic step takes the new contact from then on:
+//
+//   latencySteps > 0: exactly that many steps after the update started (the step waits for it
+//     if it is not done): deterministic, as a recorded session or a test needs;
+//   latencySteps = 0: from the first step after it is done (the window's real time).
+//
+// The next update starts at the step that takes the last one in, from the contact's last settled
+// state: a step whose contact does not settle is rolled back to it (the body drawn and the force
+// reported are the last settled ones). Shapes: positions 3 by #V
+// (m), the first #corners of them the scene's mesh's nodes in its order.
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "fem/FemModel.h"
+#include "fem/HapticRateFem.h"
+#include "fem/QuadraticTetMesh.h"
+#include "forces/CondensedCapsuleContact.h"
+#include "material/StrainEnergy.h"
+#include "mesh/TetMesh.h"
+
+namespace tissuesim {
+
+struct HapticRateBodySettings {
+  double probeRadius_m = 0.0025;
+  double contactSpacing_m = 0.001;       ///< the surface's penalty points, about this far apart
+  double pressureStiffness_Pa_m = 1e11;  ///< the probe's penalty per unit area
+  double candidateMargin_m = 0.001;      ///< HapticRateFem's
+  int newtonIterations = 2;              ///< an update's
+  long latencySteps = 0;                 ///< > 0: fixed (deterministic); 0: when done
+};
+
+/// One haptic step's outcome.
+struct HapticRateStep {
+  Eigen::Vector3d probeForce_N = Eigen::Vector3d::Zero();  ///< on the probe
+  bool isSettled = true;  ///< the contact's Newton met its tolerance (else rolled back)
+  int contactIterations = 0;
+  /// The last update taken in could not linearise the body (no definite Hessian within reach,
+  /// Newton left out of balance, or an error: `updateProblem`); the contact in use was kept.
+  bool isUpdateRefused = false;
+  int candidates = 0;  ///< the surface nodes the contact in use can move
+};
+
+class HapticRateBody {
+ public:
+  /// fixedNodes: the mesh's held nodes (with the quadratic nodes between two of them); every
+  /// quadratic node in fixedBox_m (when given) is held too, as the FEM reference holds it. The
+  /// probe (its hemisphere's centre at tip_m, the shaft's end at top_m) starts there; the body at
+  /// rest is linearised before this returns. `energy` must outlive this object.
+  /// @throws std::invalid_argument on a mesh, node or setting out of range.
+  HapticRateBody(const TetMesh& mesh, const std::vector<int>& fixedNodes,
+                 const std::optional<Eigen::AlignedBox3d>& fixedBox_m, const StrainEnergy& energy,
+                 double bulkModulus_Pa, const HapticRateBodySettings& settings,
+                 const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
+  ~HapticRateBody();
+  HapticRateBody(const HapticRateBody&) = delete;
+  HapticRateBody& operator=(const HapticRateBody&) = delete;
+
+  /// One haptic step with the probe there; corners_m (3 by #corners, sized by the caller) gets
+  /// the mesh's nodes. Allocates only when an update's contact comes in.
+  HapticRateStep step(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                      Eigen::Matrix3Xd& corners_m);
+  /// Back to the body at rest (an update in flight is waited for and dropped).
+  void reset();
+
+  Eigen::Index nodeCount() const { return m_mesh.nodeCount(); }
+  Eigen::Index tetCount() const { return m_mesh.tetCount(); }
+  std::size_t surfacePoints() const { return m_surfacePoints; }
+  long updates() const { return m_updates; }  ///< taken in since the start or the last reset
+  /// The last refused update's reason (empty when none was).
+  const std::string& updateProblem() const { return m_updateProblem; }
+
+ private:
+  void startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
+  /// The contact in use and the last settled step: the body at rest's.
+  void restartSettled();
+  void waitForUpdate();
+  void work();
+
+  HapticRateBodySettings m_settings;
+  QuadraticTetMesh m_mesh;
+  std::unique_ptr<FemModel> m_model;
+  std::unique_ptr<HapticRateFem> m_fem;
+  std::size_t m_surfacePoints = 0;
+  CondensedCapsuleContact m_start;  ///< the body at rest linearised
+  CondensedCapsuleContact m_contacts[2];
+  CondensedCapsuleContact* m_inUse = &m_contacts[0];
+  CondensedCapsuleContact* m_next = &m_contacts[1];
+  // The last settled step: the forces on its contact's candidates (N) and that contact (null once
+  // the worker overwrites it: the job's fields then hold that state), the corners, the force.
+  Eigen::Matrix3Xd m_settledForces;
+  CondensedCapsuleContact* m_settledOwner = nullptr;
+  Eigen::Matrix3Xd m_settledCorners;
+  Eigen::Vector3d m_settledProbeForce_N = Eigen::Vector3d::Zero();
+  long m_updates = 0;
+  long m_stepsSinceUpdate = 0;
+  bool m_isInFlight = false;
+  bool m_isRefusing = false;  ///< the last update taken in was refused
+  std::string m_updateProblem;
+
+  // The job the worker takes (written by the haptic thread while the worker is idle).
+  Eigen::Matrix3Xd m_jobBody;
+  bool m_jobHasBody = false;
+  std::vector<int> m_jobCandidates;
+  Eigen::Matrix3Xd m_jobForces;
+  Eigen::Vector3d m_jobTip = Eigen::Vector3d::Zero(), m_jobTop = Eigen::Vector3d::Zero();
+  HapticRateUpdate m_jobReport;
+  std::string m_jobError;
+
+  std::mutex m_mutex;
+  std::condition_variable m_wake, m_done;
+  bool m_hasJob = false, m_isJobDone = false, m_shouldStop = false;
+  std::thread m_worker;
+};
+
+}  // namespace tissuesim
