@@ -17,8 +17,8 @@
 //
 // The next update starts at the step that takes the last one in, from the contact's last settled
 // state: a step whose contact does not settle is rolled back to it (the body drawn and the force
-// reported are the last settled ones). Shapes: positions 3 by #V
-// (m), the first #corners of them the scene's mesh's nodes in its order.
+// reported are the last settled ones). Shapes: positions 3 by #V (m), the first #corners of them
+// the scene's mesh's nodes in its order.
 
 #include <condition_variable>
 #include <memory>

@@ -310,6 +310,8 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                   "its fixed_region");
     if (scene.gravity_m_s2.squaredNorm() > 0.0)
       fields.fail("gravity_m_s2", "must be zero with effects.model fem-haptic-rate (weightless)");
+    if (!scene.fixed.box_m && scene.fixed.nodes.empty())
+      fields.fail("fixed_region", "is missing; effects.model fem-haptic-rate holds the body by it");
   }
   // Its fixed initial Hessian is built from the springs' rest stiffness.
   if (scene.model == "fem" && scene.integrator == "quasi-newton") {

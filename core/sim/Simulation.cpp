@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 #include <utility>
 
@@ -126,9 +127,14 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     settings.probeRadius_m = tool.shaftRadius_m;
     settings.latencySteps = std::lround(scene.femUpdateLatency_s / scene.timeStep_s);
     const Eigen::Vector3d tip = tool.tipStart_m - tool.shaftRadius_m * tool.direction;
-    hapticRate = std::make_unique<HapticRateBody>(
-        m_geometry.mesh, m_geometry.fixedNodes, scene.fixed.box_m, *energy, scene.bulkModulus_Pa,
-        settings, tip, tip - tool.shaftLength_m * tool.direction);
+    try {
+      hapticRate = std::make_unique<HapticRateBody>(
+          m_geometry.mesh, m_geometry.fixedNodes, scene.fixed.box_m, *energy, scene.bulkModulus_Pa,
+          settings, tip, tip - tool.shaftLength_m * tool.direction);
+    } catch (const std::invalid_argument& error) {
+      throw SceneFileError(scene.source.string() +
+                           ": effects.model fem-haptic-rate: " + error.what());
+    }
   }
   const double stiffnessScale = isFem || isHapticRate ? 0.0
                                 : scene.stiffnessScale > 0.0

@@ -130,6 +130,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "field 'instrument' is missing; effects.model fem-haptic-rate is the probe's"},
         BadScene{"fem-haptic-rate-softening.json",
                  "field 'effects.softening' must be false with model fem-haptic-rate"},
+        BadScene{"fem-haptic-rate-unheld.json",
+                 "field 'fixed_region' is missing; effects.model fem-haptic-rate holds the body"},
         BadScene{"fem-latency-springs.json",
                  "field 'physics.fem_update_latency_ms' is for effects.model fem-haptic-rate"},
         BadScene{"fem-softening.json",
