@@ -229,6 +229,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
 const char* eventKindWords(const char* kind) {
   static constexpr std::pair<std::string_view, const char*> kWords[] = {
       {"refused", "a step refused"},
+      {"outrun", "the probe outran the FEM's updates"},
       {"non-finite", "a non-finite step, rolled back"},
       {"unconverged", "a step left unconverged"},
       {"locking", "springs past locking"},
@@ -445,7 +446,7 @@ StepOutcome Simulation::stepHapticRate() {
            std::to_string(haptic.contactIterations) + " iterations (" +
            std::to_string(haptic.candidates) + " surface nodes)";
   });
-  check(haptic.isUpdateRefused, "refused", [&] {
+  check(haptic.isUpdateRefused, "outrun", [&] {
     return "an FEM update was refused (" + m_hapticRate->updateProblem() +
            "); the contact in use is kept until one is not";
   });

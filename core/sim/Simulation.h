@@ -51,7 +51,9 @@ class HapticRateBody;  // sim/HapticRateBody.h (not here: FemModel.h's names mee
 struct InstabilityEvent {
   long step;
   double time_s;
-  std::string kind;  ///< refused, non-finite, unconverged, locking, collapsed, inverted, unsettled
+  /// refused, non-finite, unconverged, locking, collapsed, inverted, unsettled, outrun (an FEM
+  /// update at its own rate refused: effects.model fem-haptic-rate)
+  std::string kind;
   std::string detail;
 };
 
