@@ -109,10 +109,10 @@ case "${1:-}" in
     # bundled poke. And three long scene runs whose parts shorter tests take under ASan: the
     # smoothed strains' poke (a short poke per face and the force fields' own tests stay), the
     # Mullins set of a deep fast poke without weight, the cursor jump (the tool proxy's own tests
-    # stay). And the FEM at its own rate's liver poke against the reference (its shorter pokes
-    # through the same scene stay).
-    long='Simulation\.(AProbeHeldSevenToNineCentimetresDeepComesToRest|QuasiNewtonPokesTheLiverAsImplicitEulerDoes|OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode|TheLiverRecoversItsShapeAfterDeepAndFastPokes|OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet|TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecovers|WeightlessTheMullinsPermanentSetOfADeepFastPokeIsUnderHalfAMillimetre|ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous)$|HapticRateBody\.TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference$|DrawnSurfaceContact\.TheTipMeetsTheDrawnLiverAndStaysOutOfItAt2N/liver20000'
-    say "testing build-asan (all but the image, window and lint tests, the long soak${SANITIZE_SKIP_LONG:+ and ten long tests})"
+    # stay). And the FEM at its own rate's liver poke against the reference and `run` on its scene
+    # (its shorter pokes through the same scene stay).
+    long='Simulation\.(AProbeHeldSevenToNineCentimetresDeepComesToRest|QuasiNewtonPokesTheLiverAsImplicitEulerDoes|OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode|TheLiverRecoversItsShapeAfterDeepAndFastPokes|OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet|TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecovers|WeightlessTheMullinsPermanentSetOfADeepFastPokeIsUnderHalfAMillimetre|ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous)$|HapticRateBody\.TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference$|cli\.run_fem_haptic_rate$|DrawnSurfaceContact\.TheTipMeetsTheDrawnLiverAndStaysOutOfItAt2N/liver20000'
+    say "testing build-asan (all but the image, window and lint tests, the long soak${SANITIZE_SKIP_LONG:+ and eleven long tests})"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 OPENBLAS_NUM_THREADS=$blas_threads \
       ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE "image|gui|soak|lint" \
       ${SANITIZE_SKIP_LONG:+-E "$long"}
@@ -125,10 +125,10 @@ case "${1:-}" in
     say "building build-tsan (the files of the threaded tests only)"
     cmake --build build-tsan -j "$JOBS" --target threaded_tests
     say "threaded tests under ThreadSanitizer"
-    # CHOLMOD's OpenMP loops and OpenBLAS (in the FEM updates of HapticRateBody's tests) on one
+    # CHOLMOD's OpenMP loops and OpenBLAS (in the FEM updates of HapticRateBody's test) on one
     # thread each: neither libgomp nor OpenBLAS is instrumented, and TSan reads their threads'
     # writes to the solver's workspace as races with the thread that started them.
-    TSAN_OPTIONS=halt_on_error=1 OMP_THREAD_LIMIT=1 OPENBLAS_NUM_THREADS=1 build-tsan/tests/threaded_tests --gtest_filter='TripleBuffer.*:RealTimeLoop.*:ForkJoinPool.*:SpringForceField.ResultsDoNotDependOnTheThreadCount:BlockConjugateGradient.ResultsDoNotDependOnTheThreadCount:NodeBlockMatrix.ResultsDoNotDependOnTheThreadCount:SystemOperator.PartsAreIndependentOfOrderAndThreads:VolumeForceField.InspectionOnThePoolFindsWhatTheSerialOneDoes:VolumeForceField.PassesOnThePoolAreBitIdenticalToTheSerialOnes:NodalVolumeForceField.PassesOnThePoolAreBitIdenticalToTheSerialOnes:TetIsochoricForceField.OneThreadAndTwoGiveTheSameBits:*SmoothedStrain.PassesOnThePoolAreBitIdenticalToTheSerialOnes/*:SessionAssessment.OneThreadAndTwoGiveTheSameFigures:ParallelPasses.*:HapticRateBody.AFixedLatencyPokeIsTheSameRunToRunAndLeavesTheBodyAtRest:HapticRateBody.AResetWithAnUpdateInFlightStartsAfresh'
+    TSAN_OPTIONS=halt_on_error=1 OMP_THREAD_LIMIT=1 OPENBLAS_NUM_THREADS=1 build-tsan/tests/threaded_tests --gtest_filter='TripleBuffer.*:RealTimeLoop.*:ForkJoinPool.*:SpringForceField.ResultsDoNotDependOnTheThreadCount:BlockConjugateGradient.ResultsDoNotDependOnTheThreadCount:NodeBlockMatrix.ResultsDoNotDependOnTheThreadCount:SystemOperator.PartsAreIndependentOfOrderAndThreads:VolumeForceField.InspectionOnThePoolFindsWhatTheSerialOneDoes:VolumeForceField.PassesOnThePoolAreBitIdenticalToTheSerialOnes:NodalVolumeForceField.PassesOnThePoolAreBitIdenticalToTheSerialOnes:TetIsochoricForceField.OneThreadAndTwoGiveTheSameBits:*SmoothedStrain.PassesOnThePoolAreBitIdenticalToTheSerialOnes/*:SessionAssessment.OneThreadAndTwoGiveTheSameFigures:ParallelPasses.*:HapticRateBody.AResetWithAnUpdateInFlightStartsAfresh'
     ;;
   fuzz)
     PACKAGES+=(clang libclang-rt-14-dev)  # the compiler and its libFuzzer runtime
