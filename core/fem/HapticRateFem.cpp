@@ -100,10 +100,12 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
 
   // The candidates: the surface points near the probe where the body now is, and their nodes.
   std::vector<int> points, nodes;
+  // A point the probe has passed through (kPassedThrough_m: inside a body reset to rest, or gone
+  // past what the updates followed) is no contact: pushing it out would throw the body about.
   for (std::size_t p = 0; p < m_surface.size(); ++p) {
     const CapsulePenalty::Point& point = m_surface[p];
-    if (capsuleGap(point.position(m_x), tip_m, top_m, radius_m).gap_m > m_candidateMargin_m)
-      continue;
+    const double gap_m = capsuleGap(point.position(m_x), tip_m, top_m, radius_m).gap_m;
+    if (gap_m > m_candidateMargin_m || gap_m < -kPassedThrough_m) continue;
     points.push_back(static_cast<int>(p));
     nodes.insert(nodes.end(), point.nodes.begin(), point.nodes.end());
   }

@@ -53,11 +53,15 @@ class HapticRateFem {
   /// docs/performance-details.md, "The FEM at its own rate in a scene").
   static constexpr double kLinearisableResidual_N = 0.05;
   static constexpr double kLinearisableLoadShare = 0.05;
+  /// A surface point deeper inside the probe than this at an update (m) is no contact: the
+  /// penalty holds a pressed point within micrometres of the probe, so the probe has passed it.
+  static constexpr double kPassedThrough_m = 1e-4;
 
   /// `model` (its tangent set definite here, no extra energy: the contact is the haptic
   /// loop's) must outlive this object. isFixed: 3#V flags. surface: the points the probe may
   /// touch (CapsulePenalty's, on the model's nodes). A point within the probe's radius plus
-  /// candidateMargin_m of its axis segment at an update is in the next contact.
+  /// candidateMargin_m of its axis segment at an update is in the next contact, unless it is
+  /// more than kPassedThrough_m inside the probe (passed through, not pressed).
   /// newtonIterations: an update's, >= 0 (0: the body linearised where the contact has it).
   /// @throws std::invalid_argument on a size or setting out of range.
   HapticRateFem(FemModel& model, std::vector<char> isFixed,

@@ -15,7 +15,9 @@
 
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
+#include "sim/HapticRateReach.h"
 #include "sim/InstrumentScript.h"
+#include "sim/RealTimeLoop.h"
 #include "sim/SceneFile.h"
 #include "sim/Simulation.h"
 
@@ -173,6 +175,41 @@ TEST(HapticRateBody, APokeTooFastToFollowIsReportedAndTheLiverComesBack) {
   EXPECT_GT(kinds.count("unconverged") + kinds.count("outrun"), 0u) << "reported";
   EXPECT_LT(largestStretch, 3.0);
   EXPECT_LT((simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff(), 1e-6);
+}
+
+TEST(HapticRateBody, AResetWithTheProbeDeepInTheLiverReportsNothingAsItWithdraws) {
+  // The window's reset: the liver back at rest while the tool, 5 mm into it, goes back to the
+  // scene's start through its proxy at the speed the scheme follows. The probe is then inside a
+  // body it never pressed; it leaves without an event and without pushing the liver about.
+  const SceneDescription scene = hapticRateScene();
+  Simulation simulation(scene);
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  const InstrumentPose start{scene.instrument->tipStart_m, direction};
+  ToolMotionLimits limits;
+  limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(scene);
+  LiveInstrument tool(start, limits);
+  simulation.setInstrumentSource(&tool);
+  const Eigen::Vector3d entry = entryPoint(simulation);
+  tool.setPose({entry + 0.005 * direction, direction});
+  for (int n = 0; n < 3000; ++n) simulation.step();
+  ASSERT_GT(simulation.instrumentPose().tip_m.dot(direction), entry.dot(direction) + 0.0049);
+  ASSERT_GT(simulation.assessment().summary().peakToolForce_N, 0.1) << "it pressed";
+  ASSERT_TRUE(simulation.events().empty());
+  simulation.reset();
+  tool.setPose(start);
+  double largestForce_N = 0.0, largestMove_m = 0.0;
+  for (int n = 0; n < 3000; ++n) {
+    const StepOutcome outcome = simulation.step();
+    largestForce_N = std::max(largestForce_N, outcome.contact.toolForce_N.norm());
+    largestMove_m =
+        std::max(largestMove_m,
+                 (simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff());
+  }
+  EXPECT_LT((simulation.instrumentPose().tip_m - start.tip_m).norm(), 1e-9) << "back at start";
+  for (const InstabilityEvent& event : simulation.events())
+    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  EXPECT_LT(largestForce_N, 0.01);
+  EXPECT_LT(largestMove_m, 2e-4);
 }
 
 TEST(HapticRateBody, AResetWithAnUpdateInFlightStartsAfresh) {
