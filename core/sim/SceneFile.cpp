@@ -290,6 +290,13 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     if (physics.has("fem_update_latency_ms") && scene.model != "fem-haptic-rate") {
       physics.fail("physics.fem_update_latency_ms", "is for effects.model fem-haptic-rate");
     }
+    // A body that answers the probe a whole second late follows nothing a hand does.
+    if (scene.femUpdateLatency_s > 1.0) {
+      std::ostringstream given;
+      given << scene.femUpdateLatency_s * 1000.0;
+      physics.fail("physics.fem_update_latency_ms",
+                   "= " + given.str() + " is out of range; expected 0 to 1000");
+    }
   }
   if (fields.has("assessment")) {
     const Fields assessment(fields.at("assessment"), "assessment", source,

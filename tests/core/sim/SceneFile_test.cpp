@@ -130,6 +130,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "field 'instrument' is missing; effects.model fem-haptic-rate is the probe's"},
         BadScene{"fem-haptic-rate-softening.json",
                  "field 'effects.softening' must be false with model fem-haptic-rate"},
+        BadScene{
+            "fem-haptic-rate-late.json",
+            "field 'physics.fem_update_latency_ms' = 5000 is out of range; expected 0 to 1000"},
         BadScene{"fem-haptic-rate-unheld.json",
                  "field 'fixed_region' is missing; effects.model fem-haptic-rate holds the body"},
         BadScene{"fem-latency-springs.json",
