@@ -186,10 +186,6 @@ void CondensedCapsuleContact::bodyPositions(Eigen::Matrix3Xd& x) const {
   firstBodyPositions(m_forces, x);
 }
 
-void CondensedCapsuleContact::firstBodyPositions(Eigen::Matrix3Xd& x) const {
-  firstBodyPositions(m_forces, x);
-}
-
 void CondensedCapsuleContact::firstBodyPositions(const Eigen::Matrix3Xd& forces_N,
                                                  Eigen::Matrix3Xd& x) const {
   const Eigen::Index n = x.cols();

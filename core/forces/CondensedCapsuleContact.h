@@ -55,9 +55,8 @@ class CondensedCapsuleContact {
   bool hasBody() const { return m_bodyResponse.size() > 0; }
   /// The whole body at the last solve's forces (3 by #V; allocates when x is not that size).
   void bodyPositions(Eigen::Matrix3Xd& x) const;
-  /// Its first x.cols() nodes alone (x sized by the caller, at most #V columns; no allocation).
-  void firstBodyPositions(Eigen::Matrix3Xd& x) const;
-  /// The same under the candidates' forces given (3 by m, N) in place of the last solve's.
+  /// Its first x.cols() nodes alone (x sized by the caller, at most #V columns; no allocation),
+  /// under the candidates' forces given (3 by m, N; nodeForces() for the last solve's).
   void firstBodyPositions(const Eigen::Matrix3Xd& forces_N, Eigen::Matrix3Xd& x) const;
 
   /// The next solve starts from the displacement other's forces give here, on the candidates

@@ -155,7 +155,6 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
     }
     if (isTaken) {
       m_isInFlight = false;
-      ++m_updates;
       if (m_jobReport.hasNext) {
         m_next->startFrom(*m_inUse);
         std::swap(m_inUse, m_next);
@@ -176,7 +175,7 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
   if (outcome.isSettled) {
     m_settledForces = m_inUse->nodeForces();
     m_settledOwner = m_inUse;
-    m_inUse->firstBodyPositions(corners_m);
+    m_inUse->firstBodyPositions(m_settledForces, corners_m);
     m_settledCorners = corners_m;
     m_settledProbeForce_N = reaction;
   } else {
@@ -201,7 +200,6 @@ void HapticRateBody::reset() {
   m_isInFlight = false;
   m_fem->restart();
   restartSettled();
-  m_updates = 0;
   m_isRefusing = false;
   m_updateProblem.clear();
 }

@@ -85,7 +85,6 @@ class HapticRateBody {
   Eigen::Index nodeCount() const { return m_mesh.nodeCount(); }
   Eigen::Index tetCount() const { return m_mesh.tetCount(); }
   std::size_t surfacePoints() const { return m_surfacePoints; }
-  long updates() const { return m_updates; }  ///< taken in since the start or the last reset
   /// The last refused update's reason (empty when none was).
   const std::string& updateProblem() const { return m_updateProblem; }
 
@@ -111,7 +110,6 @@ class HapticRateBody {
   CondensedCapsuleContact* m_settledOwner = nullptr;
   Eigen::Matrix3Xd m_settledCorners;
   Eigen::Vector3d m_settledProbeForce_N = Eigen::Vector3d::Zero();
-  long m_updates = 0;
   long m_stepsSinceUpdate = 0;
   bool m_isInFlight = false;
   bool m_isRefusing = false;  ///< the last update taken in was refused

@@ -86,8 +86,8 @@ void SessionAssessment::setDamageStretch(double damageStretch) {
   }
 }
 
-void SessionAssessment::addStep(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m,
-                                double toolForce_N, double dt_s) {
+double SessionAssessment::addStep(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m,
+                                  double toolForce_N, double dt_s) {
   // The springs: each part its own range, its largest stretch and the volume it newly damaged.
   struct PartResult {
     double largestSquared = 0.0;
@@ -115,7 +115,9 @@ void SessionAssessment::addStep(const Eigen::Matrix3Xd& x, const Eigen::Vector3d
     }
     results[static_cast<std::size_t>(part)] = result;
   });
+  double stepLargestSquared = 0.0;
   for (const PartResult& result : results) {
+    stepLargestSquared = std::max(stepLargestSquared, result.largestSquared);
     m_largestStretchSquared = std::max(m_largestStretchSquared, result.largestSquared);
     m_damagedCount += result.newlyDamaged;
     m_damagedVolume_m3 += result.newlyDamagedVolume_m3;
@@ -131,6 +133,7 @@ void SessionAssessment::addStep(const Eigen::Matrix3Xd& x, const Eigen::Vector3d
   }
   if (toolForce_N > m_thresholds.toolForce_N) m_aboveThreshold_s += dt_s;
   m_duration_s += dt_s;
+  return std::sqrt(stepLargestSquared);
 }
 
 AssessmentSummary SessionAssessment::summary() const {

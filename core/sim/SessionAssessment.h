@@ -66,9 +66,10 @@ class SessionAssessment {
 
   /// One step of duration dt_s that ended at positions x (3 by #V, m) with the tool's tip at
   /// tip_m and a force of toolForce_N (N) on it. The path runs from the tip given to the last
-  /// restart() (the origin before any).
-  void addStep(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m, double toolForce_N,
-               double dt_s);
+  /// restart() (the origin before any). @returns the step's largest stretch (its springs' are
+  /// measured here anyway).
+  double addStep(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m, double toolForce_N,
+                 double dt_s);
   /// A new session, with the tool's tip at toolTip_m (where its path starts): every figure and
   /// every spring's damage cleared.
   void restart(const Eigen::Vector3d& toolTip_m);

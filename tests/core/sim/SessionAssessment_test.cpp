@@ -34,7 +34,7 @@ TEST(SessionAssessment, DamagedVolumeIsTheDamagedSpringsShareAndStaysAfterReleas
   const SpringMesh mesh = blockSprings();
   SessionAssessment assessment(mesh, {8.0, 1.18});
   const Eigen::Matrix3Xd x = stretched(mesh, {1.25, 1.0, 1.0});
-  assessment.addStep(x, Eigen::Vector3d::Zero(), 0.0, kDt_s);
+  EXPECT_NEAR(assessment.addStep(x, Eigen::Vector3d::Zero(), 0.0, kDt_s), 1.25, 1e-12);
   // Independently: each spring's share is a sixth of the tets whose edge it is; the damaged are
   // those stretched to 1.18 or more at x.
   double expectedVolume = 0.0;
@@ -57,8 +57,9 @@ TEST(SessionAssessment, DamagedVolumeIsTheDamagedSpringsShareAndStaysAfterReleas
   EXPECT_GT(summary.damagedFraction(), 0.0);
   EXPECT_LT(summary.damagedFraction(), 1.0);
 
-  // Back at rest: the damage is kept, the largest stretch too.
-  assessment.addStep(mesh.restPositions_m, Eigen::Vector3d::Zero(), 0.0, kDt_s);
+  // Back at rest: the damage is kept, the largest stretch too; the step's own is 1.
+  EXPECT_NEAR(assessment.addStep(mesh.restPositions_m, Eigen::Vector3d::Zero(), 0.0, kDt_s), 1.0,
+              1e-12);
   summary = assessment.summary();
   EXPECT_EQ(summary.damagedSpringCount, expectedCount);
   EXPECT_NEAR(summary.largestStretch, 1.25, 1e-12);
