@@ -73,8 +73,9 @@ void CondensedCapsuleContact::setPoints(const Eigen::Matrix3Xi& localNodes,
 double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                                              const Eigen::Vector3d& top_m, double radius_m,
                                              Eigen::VectorXd* gradient, Eigen::MatrixXd* hessian,
-                                             Eigen::MatrixXd* turning) const {
+                                             Eigen::MatrixXd* turning, bool* touching) const {
   double energy = 0.0;
+  if (touching != nullptr) *touching = false;
   for (Eigen::Index p = 0; p < m_pointNodes.cols(); ++p) {
     Eigen::Vector3d s = Eigen::Vector3d::Zero();
     for (int a = 0; a < 3; ++a) {
@@ -84,6 +85,7 @@ double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eig
     const CapsuleGap at = capsuleGap(s, tip_m, top_m, radius_m);
     const PenaltyTerms terms = smoothedPenalty(at.gap_m);
     if (terms.curvature == 0.0) continue;
+    if (touching != nullptr) *touching = true;
     const Eigen::Vector3d& normal = at.normal;
     const double k = m_pointStiffness_N_m[p];
     energy += k * terms.energy;
@@ -123,15 +125,23 @@ Eigen::Vector3d CondensedCapsuleContact::solve(const Eigen::Vector3d& tip_m,
     // normals' turning, else Gauss-Newton's.
     const bool isExactTried = m_iterations >= kGaussNewtonIterations;
     if (isExactTried) m_turning.setZero();
-    const double energy =
-        0.5 * m_u.dot(m_gradient) + pointsEnergy(m_u, tip_m, top_m, radius_m, &m_gradient,
-                                                 &m_hessian, isExactTried ? &m_turning : nullptr);
-    if (m_gradient.size() == 0 || m_gradient.cwiseAbs().maxCoeff() < kForceTolerance_N) {
+    bool isTouching = false;
+    const double energy = 0.5 * m_u.dot(m_gradient) +
+                          pointsEnergy(m_u, tip_m, top_m, radius_m, &m_gradient, &m_hessian,
+                                       isExactTried ? &m_turning : nullptr, &isTouching);
+    // Where nothing touches, settled means unloaded, exactly (Newton's next step takes it
+    // there): within the tolerance, a force below it on each node would stay on for good (the
+    // updates take it as a load, and the body as its state).
+    const bool isWithinTolerance =
+        isTouching ? m_gradient.cwiseAbs().maxCoeff() < kForceTolerance_N : m_u.isZero(0.0);
+    if (m_gradient.size() == 0 || isWithinTolerance) {
       m_converged = true;
       break;
     }
     m_step = -m_gradient;
-    bool isSolved = false;
+    // Touching nothing, Newton's step is exactly back to the unloaded candidates.
+    bool isSolved = !isTouching;
+    if (isSolved) m_step = -m_u;
     for (double share = 1.0; isExactTried && !isSolved && share > 0.2; share *= 0.5) {
       m_exact = m_hessian + share * m_turning;
       Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> exact(m_exact);  // in place: no allocation

@@ -78,10 +78,11 @@ class CondensedCapsuleContact {
  private:
   /// The points' penalty energy at u (J), their gradient and Gauss-Newton Hessian added where
   /// non-null (both or neither), and the normals' turning, the rest of the exact Hessian, where
-  /// `turning` is (with them).
+  /// `turning` is (with them); touching: whether any point is within the penalty's reach.
   double pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                       const Eigen::Vector3d& top_m, double radius_m, Eigen::VectorXd* gradient,
-                      Eigen::MatrixXd* hessian, Eigen::MatrixXd* turning) const;
+                      Eigen::MatrixXd* hessian, Eigen::MatrixXd* turning,
+                      bool* touching = nullptr) const;
 
   std::vector<int> m_nodes;
   Eigen::MatrixXd m_compliance, m_inverse;  ///< C and C^-1

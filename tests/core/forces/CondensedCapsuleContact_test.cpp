@@ -7,11 +7,13 @@
 
 #include "forces/CondensedCapsuleContact.h"
 
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 
+#include "forces/CapsuleGap.h"
 #include "forces/CapsulePenalty.h"
 #include "forces/SmoothedPenalty.h"
 
@@ -170,6 +172,41 @@ TEST(CondensedCapsuleContact, NoContactNoForce) {
   EXPECT_EQ(patch.contact.solve(above.tip, above.top, kRadius_m).norm(), 0.0);
   EXPECT_TRUE(patch.contact.converged());
   EXPECT_EQ(patch.contact.positions(), patch.contact.freePositions());
+}
+
+TEST(CondensedCapsuleContact, AWarmStartTheProbeHasLeftLetsGoExactly) {
+  // A light press leaves forces on the nodes below the solve's tolerance; the next contact
+  // starts from them with the probe gone. Touching nothing, settled is unloaded, exactly: a
+  // force kept within the tolerance would stay on for good where each solve starts from the last.
+  CoupledPatch pressed;
+  // Pressed a tenth of a micrometre past the point nearest the round tip.
+  const auto nearestGap_m = [&](double depth_m) {
+    const Probe probe(depth_m);
+    double nearest_m = 1.0;
+    for (Eigen::Index p = 0; p < pressed.localNodes.cols(); ++p) {
+      Eigen::Vector3d s = Eigen::Vector3d::Zero();
+      for (int a = 0; a < 3; ++a)
+        s += pressed.weights(a, p) * pressed.contact.freePositions().col(pressed.localNodes(a, p));
+      nearest_m = std::min(nearest_m, capsuleGap(s, probe.tip, probe.top, kRadius_m).gap_m);
+    }
+    return nearest_m;
+  };
+  double depth_m = 0.0;
+  for (int n = 0; n < 20; ++n) depth_m += nearestGap_m(depth_m) + 6e-8;
+  ASSERT_NEAR(nearestGap_m(depth_m), -6e-8, 1e-9);
+  const Probe light(depth_m);
+  pressed.contact.solve(light.tip, light.top, kRadius_m);
+  ASSERT_TRUE(pressed.contact.converged());
+  const double largest_N = pressed.contact.nodeForces().cwiseAbs().maxCoeff();
+  ASSERT_GT(largest_N, 0.0) << "it touched";
+  ASSERT_LT(largest_N, 1e-5) << "below the tolerance";
+  CoupledPatch left;
+  left.contact.startFrom(pressed.contact);
+  const Probe above(-0.001);
+  EXPECT_EQ(left.contact.solve(above.tip, above.top, kRadius_m).norm(), 0.0);
+  EXPECT_TRUE(left.contact.converged());
+  EXPECT_EQ(left.contact.positions(), left.contact.freePositions());
+  EXPECT_EQ(left.contact.nodeForces().cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(CondensedCapsuleContact, BadPointsAreRefused) {
