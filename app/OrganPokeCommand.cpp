@@ -41,6 +41,8 @@ struct OrganPokeOptions {
   double hapticRateSpacing_mm = 1.0;
   /// Its FEM updates' Newton iterations.
   int hapticRateIterations = HapticRateSettings{}.newtonIterations;
+  /// Its body's bulk modulus (kPa; 0: the reference's).
+  double hapticRateVolumeTerm_kPa = 0.0;
 };
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
@@ -119,6 +121,8 @@ void runOrganPoke(const OrganPokeOptions& options) {
     throw CommandError("--haptic-rate-spacing-mm must be in (0, 10]");
   if (options.hapticRateIterations < 0 || options.hapticRateIterations > 20)
     throw CommandError("--haptic-rate-iterations must be in [0, 20]");
+  if (!(options.hapticRateVolumeTerm_kPa >= 0.0) || options.hapticRateVolumeTerm_kPa > 1e7)
+    throw CommandError("--haptic-rate-volume-term-kpa must be in [0, 1e7]");
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.femCachePath.empty()) checkOutputWritable(options.femCachePath, "--fem-cache");
 
@@ -174,8 +178,10 @@ void runOrganPoke(const OrganPokeOptions& options) {
     setup.contactSpacing_m = options.hapticRateSpacing_mm / 1000.0;
     HapticRatePoke poke;
     try {
-      poke = pokeOrganHapticRate(tissue.energy, organ, setup, defaultFemBulkModulus(tissue.energy),
-                                 settings);
+      const double bulkModulus_Pa = options.hapticRateVolumeTerm_kPa > 0.0
+                                        ? 1000.0 * options.hapticRateVolumeTerm_kPa
+                                        : defaultFemBulkModulus(tissue.energy);
+      poke = pokeOrganHapticRate(tissue.energy, organ, setup, bulkModulus_Pa, settings);
     } catch (const std::invalid_argument& error) {
       throw CommandError(options.hapticRateMeshPath + ": " + error.what());
     }
@@ -267,6 +273,9 @@ void registerOrganPokeCommand(CLI::App& app) {
                    "With --haptic-rate-mesh: each FEM update's Newton iterations (0: the body "
                    "linearised where the contact has it)")
       ->capture_default_str();
+  command->add_option("--haptic-rate-volume-term-kpa", options->hapticRateVolumeTerm_kPa,
+                      "With --haptic-rate-mesh: its body's bulk modulus (default: the "
+                      "reference's)");
   command->callback([options] { runOrganPoke(*options); });
 }
 
