@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "app/CommandError.h"
+#include "fem/BlasThreads.h"
 #include "material/TissueFile.h"
 #include "sim/HapticRateReach.h"
 #include "sim/SceneFile.h"
@@ -49,7 +50,9 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
   ToolMotionLimits limits;
   double pokeDepth_m = kDefaultPokeDepth_m, pokeTime_s = kDefaultPokePressTime_s;
   if (isHapticRate) {
-    limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(description);
+    // Its updates share the cores with the step and the drawing (fem/BlasThreads.h).
+    keepBlasToOneThread();
+    limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(description, m_simulation->energy());
     pokeDepth_m = kHapticRateDefaultPokeDepth_m;
     pokeTime_s = pokeDepth_m / limits.maxSpeed_m_s;
   }

@@ -44,7 +44,10 @@ HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
   return report;
 }
 
-void HapticRateFem::restart() { m_x = m_model.mesh().nodes_m; }
+void HapticRateFem::restart() {
+  m_x = m_model.mesh().nodes_m;
+  m_lastLargestLoad_N = 0.0;
+}
 
 HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
                                        const std::vector<int>& candidates,
@@ -79,7 +82,10 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
   // a nonlinear body, and can fold it inside out: the contact in use is kept instead.
   const double largestLoad_N =
       candidateForces_N.size() > 0 ? candidateForces_N.colwise().norm().maxCoeff() : 0.0;
-  if (solved.residual_N > kLinearisableResidual_N + kLinearisableLoadShare * largestLoad_N) {
+  // A body the probe has just let go of still springs back from the last update's load.
+  const double loadBorne_N = std::max(largestLoad_N, m_lastLargestLoad_N);
+  m_lastLargestLoad_N = largestLoad_N;
+  if (solved.residual_N > kLinearisableResidual_N + kLinearisableLoadShare * loadBorne_N) {
     report.hasNext = false;
     report.isOutOfBalance = true;
     return report;

@@ -89,7 +89,8 @@ void HapticRateBody::work() {
     HapticRateUpdate report;
     std::string error;
     try {
-      report = m_fem->update(m_jobHasBody ? &m_jobBody : nullptr, m_jobCandidates, m_jobForces,
+      const bool isFromContact = m_jobHasBody && !m_jobGoesOn;
+      report = m_fem->update(isFromContact ? &m_jobBody : nullptr, m_jobCandidates, m_jobForces,
                              m_jobTip, m_jobTop, m_settings.probeRadius_m, *m_next);
       if (report.isOutOfBalance) {
         error = "its Newton iterations left " + std::to_string(report.residual_N) +
@@ -124,6 +125,10 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
     m_jobForces = m_settledForces;
     if (m_settledOwner == m_next) m_settledOwner = nullptr;
   }
+  // After a refused update the next one goes on from where that one's Newton iterations ended
+  // (the FEM's own state), nearer the balance: from the kept contact's body again, under the same
+  // forces, it would repeat the refused one exactly.
+  m_jobGoesOn = m_isRefusing;
   m_jobTip = tip_m;
   m_jobTop = top_m;
   m_stepsSinceUpdate = 0;

@@ -85,6 +85,7 @@ class HapticRateBody {
   Eigen::Index nodeCount() const { return m_mesh.nodeCount(); }
   Eigen::Index tetCount() const { return m_mesh.tetCount(); }
   std::size_t surfacePoints() const { return m_surfacePoints; }
+  const HapticRateBodySettings& settings() const { return m_settings; }
   /// The last refused update's reason (empty when none was).
   const std::string& updateProblem() const { return m_updateProblem; }
 
@@ -118,6 +119,7 @@ class HapticRateBody {
   // The job the worker takes (written by the haptic thread while the worker is idle).
   Eigen::Matrix3Xd m_jobBody;
   bool m_jobHasBody = false;
+  bool m_jobGoesOn = false;  ///< from the FEM's own state (the last update was refused)
   std::vector<int> m_jobCandidates;
   Eigen::Matrix3Xd m_jobForces;
   Eigen::Vector3d m_jobTip = Eigen::Vector3d::Zero(), m_jobTop = Eigen::Vector3d::Zero();

@@ -3,28 +3,31 @@
 // How fast the probe may move in a scene whose model is fem-haptic-rate (sim/HapticRateBody.h):
 // between two FEM updates the body answers the probe linearly, about where the last update left
 // it, and that holds while the probe travels a fraction of a millimetre between updates (the
-// staggered iteration's reach, measured on the liver poke: docs/performance-details.md, "The
-// probe's contact sampled on the quadratic surface"). The window's tool and the default poke
+// staggered iteration's reach, measured on the liver poke: docs/performance-details.md, "One
+// Newton iteration an update on a softer volume term"). The window's tool and the default poke
 // move no faster than that reach per update.
 
+#include "material/StrainEnergy.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim {
 
-/// The probe's travel between updates that the scheme holds within 10 % of the reference (m).
-inline constexpr double kHapticRateReach_m = 0.0006;
+/// The probe's travel between updates that the scheme holds within 10 % of the reference (m),
+/// for an update's Newton iterations and its body's bulk modulus: two iterations, or one on a
+/// body whose bulk modulus is at most a tenth of the reference's (defaultFemBulkModulus), hold
+/// 0.6 mm; one iteration on a stiffer volume term, which that iteration leaves further from its
+/// balance, holds half that.
+double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, const StrainEnergy& energy);
+
 /// The time an update takes where the scene uses each one when it is done (latency 0): about
 /// what one takes on one core of a desktop machine for the bundled body (s).
-inline constexpr double kHapticRateUpdateGuess_s = 0.1;
+double hapticRateUpdateGuess_s(int newtonIterations);
 
 /// The default poke's travel along the tool in such a scene (m): from the bundled scene's start,
 /// about 7 mm into the liver, where the continuum reference still has its equilibrium.
 inline constexpr double kHapticRateDefaultPokeDepth_m = 0.015;
 
-/// The probe's speed limit for the scene (m/s): its reach per update.
-inline double hapticRateToolSpeed_m_s(const SceneDescription& scene) {
-  return kHapticRateReach_m /
-         (scene.femUpdateLatency_s > 0.0 ? scene.femUpdateLatency_s : kHapticRateUpdateGuess_s);
-}
+/// The probe's speed limit for the scene with its tissue (m/s): its reach per update.
+double hapticRateToolSpeed_m_s(const SceneDescription& scene, const StrainEnergy& energy);
 
 }  // namespace tissuesim

@@ -96,7 +96,8 @@ struct SceneDescription {
   std::string integrator = "implicit";
   double massDamping_1_s = 0.0;
   // Implicit: the speed/accuracy trade of these two is measured in docs/performance.md.
-  int newtonIterations = 2;       ///< Newton iterations per step
+  int newtonIterations =
+      2;  ///< Newton iterations per step (implicit); per FEM update (fem-haptic-rate)
   double linearTolerance = 1e-6;  ///< CG relative tolerance per Newton iteration
   int threads = 1;                ///< threads for the spring passes (results do not depend on it)
   /// With model fem-haptic-rate: each FEM update used this long after it starts (s; the step

@@ -126,6 +126,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     HapticRateBodySettings settings;
     settings.probeRadius_m = tool.shaftRadius_m;
     settings.latencySteps = std::lround(scene.femUpdateLatency_s / scene.timeStep_s);
+    settings.newtonIterations = scene.newtonIterations;
     const Eigen::Vector3d tip = tool.tipStart_m - tool.shaftRadius_m * tool.direction;
     try {
       hapticRate = std::make_unique<HapticRateBody>(

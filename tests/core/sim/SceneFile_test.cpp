@@ -73,10 +73,11 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   EXPECT_EQ(hapticRate.model, "fem-haptic-rate");
   EXPECT_FALSE(hapticRate.isSoftening);
   EXPECT_DOUBLE_EQ(hapticRate.femUpdateLatency_s, 0.05);
-  EXPECT_DOUBLE_EQ(
-      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-fem-haptic-rate.json")
-          .femUpdateLatency_s,
-      0.1);  // the default: the scheme's reach at a slow poke, deterministic
+  // The defaults: updates used a fixed 100 ms after they start (deterministic), two Newton
+  // iterations each (the reach of docs/scene-file.md at any bulk modulus).
+  const SceneDescription byDefault = loadSceneFile(scenePath("fem-haptic-rate-defaults.json"));
+  EXPECT_DOUBLE_EQ(byDefault.femUpdateLatency_s, 0.1);
+  EXPECT_EQ(byDefault.newtonIterations, 2);
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
