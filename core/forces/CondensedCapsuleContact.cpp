@@ -117,6 +117,8 @@ Eigen::Vector3d CondensedCapsuleContact::solve(const Eigen::Vector3d& tip_m,
                                                const Eigen::Vector3d& top_m, double radius_m) {
   m_converged = false;
   m_iterations = 0;
+  m_residual_N = 0.0;
+  bool isResidualKnown = false;
   for (; m_iterations < kMaxIterations; ++m_iterations) {
     m_gradient.noalias() = m_inverse * m_u;
     m_hessian = m_inverse;
@@ -136,6 +138,8 @@ Eigen::Vector3d CondensedCapsuleContact::solve(const Eigen::Vector3d& tip_m,
         isTouching ? m_gradient.cwiseAbs().maxCoeff() < kForceTolerance_N : m_u.isZero(0.0);
     if (m_gradient.size() == 0 || isWithinTolerance) {
       m_converged = true;
+      isResidualKnown = true;
+      m_residual_N = isTouching ? m_gradient.cwiseAbs().maxCoeff() : 0.0;
       break;
     }
     m_step = -m_gradient;
@@ -173,6 +177,12 @@ Eigen::Vector3d CondensedCapsuleContact::solve(const Eigen::Vector3d& tip_m,
       m_converged = true;
       break;
     }
+  }
+  if (!isResidualKnown && m_u.size() > 0) {  // what is left where it stopped
+    m_gradient.noalias() = m_inverse * m_u;
+    m_hessian = m_inverse;
+    pointsEnergy(m_u, tip_m, top_m, radius_m, &m_gradient, &m_hessian, nullptr);
+    m_residual_N = m_gradient.cwiseAbs().maxCoeff();
   }
   m_work.noalias() = m_inverse * m_u;
   m_forces = Eigen::Map<const Eigen::Matrix3Xd>(m_work.data(), 3, m_forces.cols());

@@ -69,11 +69,13 @@ class CondensedCapsuleContact {
                         double radius_m);
 
   /// At the last solve: the candidates' positions (3 by m), the forces on them (3 by m, N),
-  /// whether Newton met its tolerance, and its iterations.
+  /// whether Newton met its tolerance, its iterations, and the largest force it left out of
+  /// balance on a candidate (N; below the tolerance where it converged).
   const Eigen::Matrix3Xd& positions() const { return m_positions; }
   const Eigen::Matrix3Xd& nodeForces() const { return m_forces; }
   bool converged() const { return m_converged; }
   int iterations() const { return m_iterations; }
+  double residual_N() const { return m_residual_N; }
 
  private:
   /// The points' penalty energy at u (J), their gradient and Gauss-Newton Hessian added where
@@ -96,6 +98,7 @@ class CondensedCapsuleContact {
   Eigen::MatrixXd m_bodyResponse;
   bool m_converged = true;
   int m_iterations = 0;
+  double m_residual_N = 0.0;
 };
 
 }  // namespace tissuesim

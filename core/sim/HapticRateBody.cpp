@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/HapticRateBody.h"
 
+#include <algorithm>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -171,7 +172,11 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
     }
   }
   const Eigen::Vector3d reaction = m_inUse->solve(tip_m, top_m, m_settings.probeRadius_m);
-  outcome.isSettled = m_inUse->converged();
+  outcome.contactResidual_N = m_inUse->residual_N();
+  outcome.isSettled =
+      m_inUse->converged() ||
+      outcome.contactResidual_N <=
+          std::max(kSettledContactResidual_N, kSettledContactResidualShare * reaction.norm());
   outcome.contactIterations = m_inUse->iterations();
   outcome.candidates = static_cast<int>(m_inUse->candidates().size());
   outcome.isUpdateRefused = m_isRefusing;

@@ -49,11 +49,20 @@ struct HapticRateBodySettings {
   long latencySteps = 0;                 ///< > 0: fixed (deterministic); 0: when done
 };
 
+/// A contact step whose Newton stops at its iteration budget with no more than this left on a
+/// node (N), or no more than this share of the probe's force, is settled: the springs' rule for
+/// an unconverged step (sim/Simulation.cpp), a thousandth of the newton a trainee feels. Sliding
+/// the pressed probe sideways, the points slipping round it, leaves the contact's Newton creeping
+/// at tens of micronewtons past its budget.
+inline constexpr double kSettledContactResidual_N = 1e-3;
+inline constexpr double kSettledContactResidualShare = 1e-2;
+
 /// One haptic step's outcome.
 struct HapticRateStep {
   Eigen::Vector3d probeForce_N = Eigen::Vector3d::Zero();  ///< on the probe
-  bool isSettled = true;  ///< the contact's Newton met its tolerance (else rolled back)
+  bool isSettled = true;  ///< the contact settled (above; else rolled back)
   int contactIterations = 0;
+  double contactResidual_N = 0.0;  ///< the largest force its Newton left on a node
   /// The last update taken in could not linearise the body (no definite Hessian within reach,
   /// Newton left out of balance, or an error: `updateProblem`); the contact in use was kept.
   bool isUpdateRefused = false;

@@ -437,7 +437,8 @@ StepOutcome Simulation::stepHapticRate() {
   check(!haptic.isSettled, "unconverged", [&] {
     return "the probe's contact stopped short of its tolerance after " +
            std::to_string(haptic.contactIterations) + " iterations (" +
-           std::to_string(haptic.candidates) + " surface nodes)";
+           std::to_string(haptic.candidates) + " surface nodes), " +
+           std::to_string(haptic.contactResidual_N) + " N left on a node";
   });
   check(haptic.isUpdateRefused, "outrun", [&] {
     return "an FEM update was refused (" + m_hapticRate->updateProblem() +

@@ -135,6 +135,7 @@ TEST(CondensedCapsuleContact, ItSettlesWhereThePenaltysForcesBalanceTheBody) {
   // Within the solve's tolerance, 1e-5 N on each candidate's force component (nine of them).
   const PenaltyAtTheSettledPatch settled(patch, probe);
   EXPECT_LT(settled.largestImbalance_N, 1e-5);
+  EXPECT_NEAR(patch.contact.residual_N(), settled.largestImbalance_N, 1e-9) << "what it reports";
   EXPECT_LT((reaction - settled.reaction_N).cwiseAbs().maxCoeff(), 9e-5);
   // The body's side: the forces are C^-1 (x - xFree).
   const Eigen::Matrix3Xd u = patch.contact.positions() - patch.contact.freePositions();

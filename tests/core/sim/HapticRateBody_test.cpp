@@ -212,6 +212,43 @@ TEST(HapticRateBody, ALiverLetGoOfTooFastComesBackToRest) {
   EXPECT_LT((simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff(), 1e-6);
 }
 
+TEST(HapticRateBody, SteeringThePressedProbeSidewaysReportsNothing) {
+  // Pressed 1.2 cm along the tool, steered 1 cm to either side and back, and drawn out, all at
+  // the fastest the window's tool moves: the contact's points slip round the shaft, and its
+  // Newton can stop at its budget with a few micronewtons left (below the springs' rule for an
+  // unconverged step), which is settled, not an event to report.
+  const SceneDescription scene = hapticRateScene();
+  Simulation simulation(scene);
+  const double speed_m_s = hapticRateToolSpeed_m_s(scene, simulation.energy());
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  const Eigen::Vector3d start = scene.instrument->tipStart_m;
+  const Eigen::Vector3d pressed = start + 0.012 * direction;
+  const Eigen::Vector3d side(0.01, 0.0, 0.0);
+  std::vector<InstrumentScript::Keyframe> keyframes{{0.0, {start, direction}}};
+  const auto moveTo = [&](const Eigen::Vector3d& tip_m) {
+    const double distance_m = (tip_m - keyframes.back().pose.tip_m).norm();
+    keyframes.push_back({keyframes.back().time_s + distance_m / speed_m_s, {tip_m, direction}});
+  };
+  moveTo(pressed);
+  moveTo(pressed + side);
+  moveTo(pressed - side);
+  moveTo(pressed);
+  moveTo(start);
+  const InstrumentScript script(keyframes);
+  simulation.setInstrumentSource(&script);
+  const long steps = std::lround((script.duration_s() + 0.5) / simulation.timeStep_s());
+  double largestForce_N = 0.0;
+  for (long n = 0; n < steps; ++n) {
+    const StepOutcome outcome = simulation.step();
+    ASSERT_TRUE(outcome.isGood) << "step " << n;
+    largestForce_N = std::max(largestForce_N, outcome.contact.toolForce_N.norm());
+  }
+  EXPECT_GT(largestForce_N, 0.1) << "it pressed";
+  for (const InstabilityEvent& event : simulation.events())
+    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  EXPECT_LT((simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff(), 1e-6);
+}
+
 TEST(HapticRateBody, AResetWithTheProbeDeepInTheLiverReportsNothingAsItWithdraws) {
   // The window's reset: the liver back at rest while the tool, 5 mm into it, goes back to the
   // scene's start through its proxy at the speed the scheme follows. The probe is then inside a
