@@ -188,28 +188,51 @@ TEST(HapticRateBody, APokeTooFastToFollowIsReportedAndTheLiverComesBack) {
   EXPECT_LT((simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff(), 1e-6);
 }
 
+/// The bundled scene with the fastest its window's tool moves, and a scripted path for that tool
+/// from the scene's start, its axis kept: straight legs, each at a speed of its own.
+struct ToolPathThroughTheScene {
+  SceneDescription scene = hapticRateScene();
+  Simulation simulation{scene};
+  double fastest_m_s = hapticRateToolSpeed_m_s(scene, simulation.energy());
+  Eigen::Vector3d direction = scene.instrument->direction;
+  Eigen::Vector3d start_m = scene.instrument->tipStart_m;
+  std::vector<InstrumentScript::Keyframe> keyframes{{0.0, {start_m, direction}}};
+
+  void moveTo(const Eigen::Vector3d& tip_m, double speed_m_s) {
+    const double distance_m = (tip_m - keyframes.back().pose.tip_m).norm();
+    keyframes.push_back({keyframes.back().time_s + distance_m / speed_m_s, {tip_m, direction}});
+  }
+  /// Steps the scene along the path and `after_s` more: every step good; the largest force.
+  double run(double after_s) {
+    const InstrumentScript script(keyframes);
+    simulation.setInstrumentSource(&script);
+    const long steps = std::lround((script.duration_s() + after_s) / simulation.timeStep_s());
+    double largestForce_N = 0.0;
+    for (long n = 0; n < steps; ++n) {
+      const StepOutcome outcome = simulation.step();
+      EXPECT_TRUE(outcome.isGood) << "step " << n;
+      largestForce_N = std::max(largestForce_N, outcome.contact.toolForce_N.norm());
+    }
+    simulation.setInstrumentSource(nullptr);
+    return largestForce_N;
+  }
+  double largestMoveFromRest_m() const {
+    return (simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff();
+  }
+};
+
 TEST(HapticRateBody, ALiverLetGoOfTooFastComesBackToRest) {
   // Pressed 1.6 cm along the tool at the fastest the scheme follows, then pulled straight out at
   // four times that: the liver springs back faster than an update can follow, so updates are
   // refused as the probe leaves; the next ones go on towards the balance from where those
   // stopped (not from the kept contact again, which repeats a refusal forever and leaves the
   // liver bent), and the liver is back at rest a second after the probe has left.
-  const SceneDescription scene = hapticRateScene();
-  Simulation simulation(scene);
-  const double speed_m_s = hapticRateToolSpeed_m_s(scene, simulation.energy());
-  const Eigen::Vector3d direction = scene.instrument->direction;
-  const Eigen::Vector3d start = scene.instrument->tipStart_m;
-  const double depth_m = 0.016, pressTime_s = depth_m / speed_m_s;
-  const double outTime_s = pressTime_s + depth_m / (4.0 * speed_m_s);
-  const InstrumentScript script({{0.0, {start, direction}},
-                                 {pressTime_s, {start + depth_m * direction, direction}},
-                                 {outTime_s, {start, direction}},
-                                 {outTime_s + 1.0, {start, direction}}});
-  simulation.setInstrumentSource(&script);
-  const long steps = std::lround((outTime_s + 1.0) / simulation.timeStep_s());
-  for (long n = 0; n < steps; ++n) ASSERT_TRUE(simulation.step().isGood) << "step " << n;
-  EXPECT_GT(countEventsByKind(simulation.events()).count("outrun"), 0u) << "refused, reported";
-  EXPECT_LT((simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff(), 1e-6);
+  ToolPathThroughTheScene path;
+  path.moveTo(path.start_m + 0.016 * path.direction, path.fastest_m_s);
+  path.moveTo(path.start_m, 4.0 * path.fastest_m_s);
+  path.run(1.0);
+  EXPECT_GT(countEventsByKind(path.simulation.events()).count("outrun"), 0u) << "reported";
+  EXPECT_LT(path.largestMoveFromRest_m(), 1e-6);
 }
 
 TEST(HapticRateBody, SteeringThePressedProbeSidewaysReportsNothing) {
@@ -217,36 +240,16 @@ TEST(HapticRateBody, SteeringThePressedProbeSidewaysReportsNothing) {
   // the fastest the window's tool moves: the contact's points slip round the shaft, and its
   // Newton can stop at its budget with a few micronewtons left (below the springs' rule for an
   // unconverged step), which is settled, not an event to report.
-  const SceneDescription scene = hapticRateScene();
-  Simulation simulation(scene);
-  const double speed_m_s = hapticRateToolSpeed_m_s(scene, simulation.energy());
-  const Eigen::Vector3d direction = scene.instrument->direction;
-  const Eigen::Vector3d start = scene.instrument->tipStart_m;
-  const Eigen::Vector3d pressed = start + 0.012 * direction;
+  ToolPathThroughTheScene path;
+  const Eigen::Vector3d pressed = path.start_m + 0.012 * path.direction;
   const Eigen::Vector3d side(0.01, 0.0, 0.0);
-  std::vector<InstrumentScript::Keyframe> keyframes{{0.0, {start, direction}}};
-  const auto moveTo = [&](const Eigen::Vector3d& tip_m) {
-    const double distance_m = (tip_m - keyframes.back().pose.tip_m).norm();
-    keyframes.push_back({keyframes.back().time_s + distance_m / speed_m_s, {tip_m, direction}});
-  };
-  moveTo(pressed);
-  moveTo(pressed + side);
-  moveTo(pressed - side);
-  moveTo(pressed);
-  moveTo(start);
-  const InstrumentScript script(keyframes);
-  simulation.setInstrumentSource(&script);
-  const long steps = std::lround((script.duration_s() + 0.5) / simulation.timeStep_s());
-  double largestForce_N = 0.0;
-  for (long n = 0; n < steps; ++n) {
-    const StepOutcome outcome = simulation.step();
-    ASSERT_TRUE(outcome.isGood) << "step " << n;
-    largestForce_N = std::max(largestForce_N, outcome.contact.toolForce_N.norm());
-  }
-  EXPECT_GT(largestForce_N, 0.1) << "it pressed";
-  for (const InstabilityEvent& event : simulation.events())
+  for (const Eigen::Vector3d& tip_m : {pressed, Eigen::Vector3d(pressed + side),
+                                       Eigen::Vector3d(pressed - side), pressed, path.start_m})
+    path.moveTo(tip_m, path.fastest_m_s);
+  EXPECT_GT(path.run(0.5), 0.1) << "it pressed";
+  for (const InstabilityEvent& event : path.simulation.events())
     ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
-  EXPECT_LT((simulation.state().x - simulation.startState().x).colwise().norm().maxCoeff(), 1e-6);
+  EXPECT_LT(path.largestMoveFromRest_m(), 1e-6);
 }
 
 TEST(HapticRateBody, AResetWithTheProbeDeepInTheLiverReportsNothingAsItWithdraws) {
