@@ -4,13 +4,29 @@
 #include "fem/FemModel.h"
 
 namespace tissuesim {
+namespace {
+
+/// The reach measured on the liver poke (docs/performance-details.md, "One Newton iteration an
+/// update on a softer volume term"): 0.6 mm held within 10 % and 0.75 mm did not, with one
+/// iteration at a tenth of the reference's bulk modulus or less, or with two at the
+/// reference's; with one at the reference's, 0.3 mm held and 0.45 mm did not.
+constexpr double kReach_m = 0.0006;
+constexpr double kStiffVolumeOneIterationReach_m = 0.0003;
+constexpr double kSoftVolumeShare = 0.1;
+/// An update's Newton iteration on the bundled body, on one core (s): about 40 ms measured, with
+/// the linearisation's solves.
+constexpr double kIterationGuess_s = 0.05;
+
+}  // namespace
 
 double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, const StrainEnergy& energy) {
-  const bool isSoftVolume = bulkModulus_Pa <= 0.1 * defaultFemBulkModulus(energy);
-  return newtonIterations >= 2 || isSoftVolume ? 0.0006 : 0.0003;
+  const bool isSoftVolume = bulkModulus_Pa <= kSoftVolumeShare * defaultFemBulkModulus(energy);
+  return newtonIterations >= 2 || isSoftVolume ? kReach_m : kStiffVolumeOneIterationReach_m;
 }
 
-double hapticRateUpdateGuess_s(int newtonIterations) { return 0.05 * newtonIterations; }
+double hapticRateUpdateGuess_s(int newtonIterations) {
+  return kIterationGuess_s * newtonIterations;
+}
 
 double hapticRateToolSpeed_m_s(const SceneDescription& scene, const StrainEnergy& energy) {
   const double updateEvery_s = scene.femUpdateLatency_s > 0.0
