@@ -96,6 +96,34 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
     report.hasNext = false;
     return report;
   }
+  linearize(tip_m, top_m, radius_m, next, report);
+  return report;
+}
+
+HapticRateUpdate HapticRateFem::linearizeAt(const Eigen::Matrix3Xd& body_m,
+                                            const Eigen::Vector3d& tip_m,
+                                            const Eigen::Vector3d& top_m, double radius_m,
+                                            CondensedCapsuleContact& next) {
+  if (body_m.cols() != m_x.cols())
+    throw std::invalid_argument("HapticRateFem: the body's positions are not the mesh's");
+  HapticRateUpdate report;
+  m_loads.nodes.clear();
+  m_loads.forces_N.resize(3, 0);
+  FemState state;
+  if (!m_model.evaluate(body_m).isAdmissible ||
+      !m_solver.factorize(m_model, body_m, m_isFixed, state)) {
+    report.isStepped = false;
+    report.hasNext = false;
+    return report;
+  }
+  m_x = body_m;
+  linearize(tip_m, top_m, radius_m, next, report);
+  return report;
+}
+
+void HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                              double radius_m, CondensedCapsuleContact& next,
+                              HapticRateUpdate& report) {
   // The body's own out-of-balance force (the loads taken off), and where the linear body
   // settles with no load: x_rest = x - K^-1 dE/dx.
   Eigen::Matrix3Xd internal = m_solver.gradient();
@@ -125,7 +153,7 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
   next.bodyAtRest() = m_x - Eigen::Map<const Eigen::Matrix3Xd>(correction.data(), 3, m_x.cols());
   for (Eigen::Index j = 0; j < m; ++j)
     next.freePositions().col(j) = next.bodyAtRest().col(nodes[static_cast<std::size_t>(j)]);
-  if (pointCount == 0) return report;
+  if (pointCount == 0) return;
   Eigen::MatrixXd& response = next.bodyResponse();
   response.setZero(m_x.size(), 3 * m);
   for (Eigen::Index j = 0; j < m; ++j) {
@@ -150,7 +178,6 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
     stiffness_N_m[j] = point.stiffness_N_m;
   }
   next.setPoints(localNodes, weights, stiffness_N_m);
-  return report;
 }
 
 }  // namespace tissuesim

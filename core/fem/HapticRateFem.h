@@ -85,6 +85,15 @@ class HapticRateFem {
                           const Eigen::Vector3d& top_m, double radius_m,
                           CondensedCapsuleContact& next);
 
+  /// The body linearised where body_m (3 by #V) has it, with no load and no Newton iteration:
+  /// x_rest = x - K^-1 dE/dx there, whatever dE/dx is (the body kept where another material
+  /// had it, the forces it takes to hold it there found by the contact). `next` filled as by
+  /// update(); left as it was where body_m is not admissible or has no definite Hessian.
+  /// @throws std::invalid_argument on a size that is not the mesh's.
+  HapticRateUpdate linearizeAt(const Eigen::Matrix3Xd& body_m, const Eigen::Vector3d& tip_m,
+                               const Eigen::Vector3d& top_m, double radius_m,
+                               CondensedCapsuleContact& next);
+
   /// The next update starts from the body at rest (after a reset of the scene).
   void restart();
 
@@ -92,6 +101,11 @@ class HapticRateFem {
   const Eigen::Matrix3Xd& positions() const { return m_x; }
 
  private:
+  /// The next contact from the last factorisation at m_x: x_rest, the candidates near the probe
+  /// and their compliance (the points and candidates counted into report).
+  void linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m, double radius_m,
+                 CondensedCapsuleContact& next, HapticRateUpdate& report);
+
   FemModel& m_model;
   NodalLoads m_loads;
   std::vector<char> m_isFixed;

@@ -117,13 +117,7 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
   // take the contact's last settled state; where that contact is the one the worker is about to
   // overwrite, the job's fields keep it for the updates after this one.
   if (m_settledOwner != nullptr) {
-    m_jobHasBody = m_settledOwner->hasBody();
-    if (m_jobHasBody) {
-      m_jobBody.resize(3, m_mesh.nodeCount());
-      m_settledOwner->firstBodyPositions(m_settledForces, m_jobBody);
-    }
-    m_jobCandidates = m_settledOwner->candidates();
-    m_jobForces = m_settledForces;
+    m_jobHasBody = settledState(m_jobBody, m_jobCandidates, m_jobForces);
     if (m_settledOwner == m_next) m_settledOwner = nullptr;
   }
   // After a refused update the next one goes on from where that one's Newton iterations ended
@@ -140,6 +134,55 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
     m_isJobDone = false;
   }
   m_wake.notify_all();
+}
+
+bool HapticRateBody::settledState(Eigen::Matrix3Xd& body_m, std::vector<int>& candidates,
+                                  Eigen::Matrix3Xd& forces_N) const {
+  if (m_settledOwner == nullptr) {  // the job's fields hold it (startUpdate)
+    if (&body_m != &m_jobBody) {
+      body_m = m_jobBody;
+      candidates = m_jobCandidates;
+      forces_N = m_jobForces;
+    }
+    return m_jobHasBody;
+  }
+  const bool hasBody = m_settledOwner->hasBody();
+  if (hasBody) {
+    body_m.resize(3, m_mesh.nodeCount());
+    m_settledOwner->firstBodyPositions(m_settledForces, body_m);
+  }
+  candidates = m_settledOwner->candidates();
+  forces_N = m_settledForces;
+  return hasBody;
+}
+
+void HapticRateBody::continueFrom(HapticRateBody& other, const Eigen::Vector3d& tip_m,
+                                  const Eigen::Vector3d& top_m) {
+  if (other.nodeCount() != nodeCount() || other.m_mesh.cornerCount != m_mesh.cornerCount)
+    throw std::invalid_argument("HapticRateBody: another mesh's body to continue from");
+  if (other.m_isInFlight) other.waitForUpdate();  // its worker writes nothing read here now
+  Eigen::Matrix3Xd body_m, forces_N;
+  std::vector<int> candidates;
+  const bool hasBody = other.settledState(body_m, candidates, forces_N);
+  // This body's worker is idle (no update posted yet): its FEM is the caller's until then. The
+  // new material linearised where the old one had the body, with no load: the contact then finds
+  // the forces that hold it there with this material (twice the old ones for a material twice
+  // as stiff). Under the old forces instead, a stiffer body springs back from under the probe by
+  // more than an update follows.
+  HapticRateUpdate report;
+  report.hasNext = false;
+  if (hasBody)
+    report = m_fem->linearizeAt(body_m, tip_m, top_m, m_settings.probeRadius_m, *m_inUse);
+  if (!report.hasNext) {  // the new material cannot take that state up: from rest, as before
+    m_fem->restart();
+    restartSettled();
+    return;
+  }
+  if (other.m_settledOwner != nullptr) m_inUse->startFrom(*other.m_settledOwner);
+  m_settledOwner = m_inUse;
+  m_settledForces.setZero(3, static_cast<Eigen::Index>(m_inUse->candidates().size()));
+  m_settledCorners = other.m_settledCorners;
+  m_settledProbeForce_N = other.m_settledProbeForce_N;
 }
 
 void HapticRateBody::waitForUpdate() {

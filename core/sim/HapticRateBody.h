@@ -90,6 +90,13 @@ class HapticRateBody {
                       Eigen::Matrix3Xd& corners_m);
   /// Back to the body at rest (an update in flight is waited for and dropped).
   void reset();
+  /// Takes up the body where `other` (on the same mesh, another material: a new tissue) had it
+  /// at its last settled step, linearised there with this body's material (one update, before
+  /// this returns), so that a probe pressing the organ goes on pressing it; where this material
+  /// cannot take that state up, from rest. The probe is where step() last had it in `other`.
+  /// @throws std::invalid_argument where `other` is not on the same mesh.
+  void continueFrom(HapticRateBody& other, const Eigen::Vector3d& tip_m,
+                    const Eigen::Vector3d& top_m);
 
   Eigen::Index nodeCount() const { return m_mesh.nodeCount(); }
   Eigen::Index tetCount() const { return m_mesh.tetCount(); }
@@ -100,6 +107,10 @@ class HapticRateBody {
 
  private:
   void startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
+  /// The last settled step's state: the whole body where its contact has one (@returns whether
+  /// it has: else the body at rest), the contact's candidates and the forces on them.
+  bool settledState(Eigen::Matrix3Xd& body_m, std::vector<int>& candidates,
+                    Eigen::Matrix3Xd& forces_N) const;
   /// The contact in use and the last settled step: the body at rest's.
   void restartSettled();
   void waitForUpdate();

@@ -136,6 +136,12 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
       throw SceneFileError(scene.source.string() +
                            ": effects.model fem-haptic-rate: " + error.what());
     }
+    // A new tissue: the body goes on from where the old material had it, the probe pressing on.
+    if (m_hapticRate) {
+      const Eigen::Vector3d centre = m_pose.tip_m - tool.shaftRadius_m * m_pose.direction;
+      hapticRate->continueFrom(*m_hapticRate, centre,
+                               centre - tool.shaftLength_m * m_pose.direction);
+    }
   }
   const double stiffnessScale = isFem || isHapticRate ? 0.0
                                 : scene.stiffnessScale > 0.0

@@ -252,6 +252,37 @@ TEST(HapticRateBody, SteeringThePressedProbeSidewaysReportsNothing) {
   EXPECT_LT(path.largestMoveFromRest_m(), 1e-6);
 }
 
+TEST(HapticRateBody, ANewTissueWhileTheProbePressesKeepsThePress) {
+  // An instructor loads a tissue file while the probe presses 1.2 cm along the tool: the body
+  // goes on from where the old material had it. The same tissue again: the force within 5 % of
+  // what it was and no event; a stiffer one (mu and the fibre terms doubled): more force. (A
+  // body restarted at rest instead has the probe inside it, with no force, until it is out.)
+  for (const double stiffer : {1.0, 2.0}) {
+    SCOPED_TRACE(stiffer);
+    ToolPathThroughTheScene path;
+    path.moveTo(path.start_m + 0.012 * path.direction, path.fastest_m_s);
+    path.run(0.3);
+    const InstrumentScript held({{0.0, {path.keyframes.back().pose}}});
+    path.simulation.setInstrumentSource(&held);
+    const double before_N = path.simulation.step().contact.toolForce_N.norm();
+    ASSERT_GT(before_N, 0.05) << "it presses";
+    TissueParameters parameters = path.simulation.parameters();
+    parameters.mu_Pa *= stiffer;
+    parameters.A1_Pa *= stiffer;
+    parameters.A2_Pa *= stiffer;
+    path.simulation.replaceTissue(parameters);
+    double after_N = 0.0;
+    for (int n = 0; n < 300; ++n) after_N = path.simulation.step().contact.toolForce_N.norm();
+    if (stiffer == 1.0) {
+      EXPECT_NEAR(after_N, before_N, 0.05 * before_N);
+    } else {
+      EXPECT_GT(after_N, 1.2 * before_N);
+    }
+    for (const InstabilityEvent& event : path.simulation.events())
+      ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  }
+}
+
 TEST(HapticRateBody, AResetWithTheProbeDeepInTheLiverReportsNothingAsItWithdraws) {
   // The window's reset: the liver back at rest while the tool, 5 mm into it, goes back to the
   // scene's start through its proxy at the speed the scheme follows. The probe is then inside a
