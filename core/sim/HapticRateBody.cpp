@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/HapticRateBody.h"
 
-#include <algorithm>
 #include <exception>
 #include <limits>
 #include <stdexcept>
 #include <utility>
 
 #include "fem/SampledSurface.h"
+#include "sim/UnconvergedResidual.h"
 
 namespace tissuesim {
 namespace {
@@ -139,11 +139,9 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
 bool HapticRateBody::settledState(Eigen::Matrix3Xd& body_m, std::vector<int>& candidates,
                                   Eigen::Matrix3Xd& forces_N) const {
   if (m_settledOwner == nullptr) {  // the job's fields hold it (startUpdate)
-    if (&body_m != &m_jobBody) {
-      body_m = m_jobBody;
-      candidates = m_jobCandidates;
-      forces_N = m_jobForces;
-    }
+    body_m = m_jobBody;
+    candidates = m_jobCandidates;
+    forces_N = m_jobForces;
     return m_jobHasBody;
   }
   const bool hasBody = m_settledOwner->hasBody();
@@ -217,9 +215,7 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
   const Eigen::Vector3d reaction = m_inUse->solve(tip_m, top_m, m_settings.probeRadius_m);
   outcome.contactResidual_N = m_inUse->residual_N();
   outcome.isSettled =
-      m_inUse->converged() ||
-      outcome.contactResidual_N <=
-          std::max(kSettledContactResidual_N, kSettledContactResidualShare * reaction.norm());
+      m_inUse->converged() || !isUnconvergedResidual(outcome.contactResidual_N, reaction.norm());
   outcome.contactIterations = m_inUse->iterations();
   outcome.candidates = static_cast<int>(m_inUse->candidates().size());
   outcome.isUpdateRefused = m_isRefusing;

@@ -49,18 +49,13 @@ struct HapticRateBodySettings {
   long latencySteps = 0;                 ///< > 0: fixed (deterministic); 0: when done
 };
 
-/// A contact step whose Newton stops at its iteration budget with no more than this left on a
-/// node (N), or no more than this share of the probe's force, is settled: the springs' rule for
-/// an unconverged step (sim/Simulation.cpp), a thousandth of the newton a trainee feels. Sliding
-/// the pressed probe sideways, the points slipping round it, leaves the contact's Newton creeping
-/// at tens of micronewtons past its budget.
-inline constexpr double kSettledContactResidual_N = 1e-3;
-inline constexpr double kSettledContactResidualShare = 1e-2;
-
 /// One haptic step's outcome.
 struct HapticRateStep {
   Eigen::Vector3d probeForce_N = Eigen::Vector3d::Zero();  ///< on the probe
-  bool isSettled = true;  ///< the contact settled (above; else rolled back)
+  /// The contact settled: its Newton met its tolerance, or stopped at its budget with what
+  /// sim/UnconvergedResidual.h lets pass (points slipping round the pressed probe as it is
+  /// steered sideways leave it creeping at tens of micronewtons); else rolled back.
+  bool isSettled = true;
   int contactIterations = 0;
   double contactResidual_N = 0.0;  ///< the largest force its Newton left on a node
   /// The last update taken in could not linearise the body (no definite Hessian within reach,
@@ -91,7 +86,7 @@ class HapticRateBody {
   /// Back to the body at rest (an update in flight is waited for and dropped).
   void reset();
   /// Takes up the body where `other` (on the same mesh, another material: a new tissue) had it
-  /// at its last settled step, linearised there with this body's material (one update, before
+  /// at its last settled step, linearised there with this body's material and no load (before
   /// this returns), so that a probe pressing the organ goes on pressing it; where this material
   /// cannot take that state up, from rest. The probe is where step() last had it in `other`.
   /// @throws std::invalid_argument where `other` is not on the same mesh.

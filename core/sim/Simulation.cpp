@@ -15,19 +15,12 @@
 #include "integrators/IntegratorChoice.h"
 #include "material/TissueFile.h"
 #include "sim/HapticRateBody.h"
+#include "sim/UnconvergedResidual.h"
 
 namespace tissuesim {
 namespace {
 /// Events kept per run; past this only eventCount() grows.
 constexpr std::size_t kMaxEvents = 100;
-/// Net force left on a node after a step's iterations that counts as an instability: above a
-/// thousandth of the newton a trainee feels (N) and above a hundredth of the force the step
-/// applies (the instrument's, pushing and pulling). A real-time step stops at its iteration
-/// budget, and the linearised step's residual grows with the load; what it leaves is carried
-/// into the next step, not lost. Judged against the absolute threshold alone, a 4 cm poke
-/// reported 18 such steps (residuals of 1-21 mN under a force of 1.9 N), none an instability.
-constexpr double kUnconvergedResidual_N = 1e-3;
-constexpr double kUnconvergedRelativeResidual = 1e-2;
 constexpr int kExtraNewtonIterations = 8;
 // Settling under gravity (settle()): a step ten times the real-time one, damping near critical
 // for an organ's slowest sag mode, still when no node moves faster than 0.1 mm/s, at most 5 s.
@@ -385,9 +378,8 @@ StepOutcome Simulation::step() {
   check(!r.isFinite, "non-finite", [&] { return r.reason; });
   // A real-time step stops at its iteration budget; only a residual that matters is an event.
   const double load_N = outcome.contact.toolForce_N.norm();
-  check(!r.converged && r.isFinite && r.residual_N > kUnconvergedResidual_N &&
-            r.residual_N > kUnconvergedRelativeResidual * load_N,
-        "unconverged", [&] {
+  check(!r.converged && r.isFinite && isUnconvergedResidual(r.residual_N, load_N), "unconverged",
+        [&] {
           return "residual " + std::to_string(r.residual_N) + " N under an instrument force of " +
                  std::to_string(load_N) + " N (start " + std::to_string(r.initialResidual_N) + ")";
         });
