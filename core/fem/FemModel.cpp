@@ -68,32 +68,34 @@ FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradien
                             Eigen::SparseMatrix<double>& hessian, const std::vector<char>& isFixed,
                             FemHessianAssembly* assembly) const {
   gradient.setZero(3, x.cols());
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(900 * static_cast<std::size_t>(m_mesh.tetCount()));
-  std::size_t elementEntries = 0;
-  const FemState state = accumulate(x, &gradient, &triplets, &isFixed, &elementEntries);
   const Eigen::Index dofs = 3 * x.cols();
   const bool isKnown = assembly != nullptr && assembly->isFixed == isFixed &&
-                       assembly->slots.size() == elementEntries && hessian.rows() == dofs &&
+                       !assembly->slots.empty() && hessian.rows() == dofs &&
                        hessian.cols() == dofs && hessian.isCompressed();
   if (isKnown) {
-    // The same elements and fixed DOFs as the pattern's: their entries added in place, the
-    // fixed diagonal's ones, and the extra energy's few entries looked up (inserted where new).
+    // The same elements and fixed DOFs as the pattern's: their entries added straight into its
+    // values, the fixed diagonal's ones, and the extra energy's few entries looked up (inserted
+    // where new).
     Eigen::Map<Eigen::VectorXd> values(hessian.valuePtr(), hessian.nonZeros());
     values.setZero();
-    for (std::size_t e = 0; e < elementEntries; ++e)
-      values[assembly->slots[e]] += triplets[e].value();
+    std::vector<Eigen::Triplet<double>> extra;
+    const FemState state = accumulate(x, &gradient, &extra, &isFixed, nullptr,
+                                      {hessian.valuePtr(), assembly->slots.data()});
     for (Eigen::Index d = 0; d < dofs; ++d) {
       if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0) hessian.coeffRef(d, d) = 1;
     }
-    for (std::size_t e = elementEntries; e < triplets.size(); ++e)
-      hessian.coeffRef(triplets[e].row(), triplets[e].col()) += triplets[e].value();
+    for (const Eigen::Triplet<double>& entry : extra)
+      hessian.coeffRef(entry.row(), entry.col()) += entry.value();
     if (!hessian.isCompressed()) {  // an entry was inserted: the slots are stale
       hessian.makeCompressed();
       assembly->slots.clear();
     }
     return state;
   }
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(900 * static_cast<std::size_t>(m_mesh.tetCount()));
+  std::size_t elementEntries = 0;
+  const FemState state = accumulate(x, &gradient, &triplets, &isFixed, &elementEntries);
   for (Eigen::Index d = 0; d < dofs; ++d) {
     if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0)
       triplets.emplace_back(d, d, 1.0);
@@ -129,19 +131,23 @@ Eigen::Matrix3d deformationGradient(const Eigen::Matrix<double, 3, 10>& xe,
 
 FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                               std::vector<Eigen::Triplet<double>>* triplets,
-                              const std::vector<char>* isFixed, std::size_t* elementEntries) const {
+                              const std::vector<char>* isFixed, std::size_t* elementEntries,
+                              DirectAssembly direct) const {
   FemState state;
+  std::size_t elementEntry =
+      0;  // the element entries added so far (the order the slots were made in)
   state.minVolumeRatio = std::numeric_limits<double>::infinity();
   state.maxVolumeRatio = -std::numeric_limits<double>::infinity();
   const bool withGradient = gradient != nullptr;
   const bool withHessian = triplets != nullptr;
   ElementVector ge;
   ElementMatrix he;
+  ElementMatrix isochoric;  // the isochoric part of he, rows and columns ordered 10 i + a
   for (Eigen::Index t = 0; t < m_mesh.tetCount(); ++t) {
     Eigen::Matrix<double, 3, 10> xe;
     for (int a = 0; a < 10; ++a) xe.col(a) = x.col(m_mesh.tets(a, t));
     ge.setZero();
-    he.setZero();
+    if (withHessian) isochoric.setZero();
     // Isochoric part, four points.
     for (int q = 0; q < 4; ++q) {
       const PointData& point = m_energyPoints[static_cast<std::size_t>(4 * t + q)];
@@ -165,21 +171,28 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
             point.weight_m3 * response.stress_Pa * point.gradients.row(a).transpose();
       }
       if (!withHessian) continue;
-      // H_ab(i, k) = sum_JL dN_a/dX_J T(iJ, kL) dN_b/dX_L.
-      for (int a = 0; a < 10; ++a) {
-        for (int i = 0; i < 3; ++i) {
-          Eigen::Matrix3d row;  // row(k, L) = sum_J dN_a/dX_J T(iJ, kL)
-          for (int k = 0; k < 3; ++k) {
-            for (int l = 0; l < 3; ++l) {
-              double sum = 0.0;
-              for (int j = 0; j < 3; ++j)
-                sum += point.gradients(a, j) * response.tangent_Pa(3 * i + j, 3 * k + l);
-              row(k, l) = sum;
+      // H_ab(i, k) = sum_JL dN_a/dX_J T(iJ, kL) dN_b/dX_L: for each (i, k) the 10 by 10 block
+      // G T_ik G^T of all node pairs (G = dN/dX, T_ik = T's 3 by 3 block), gathered in the
+      // component-major order of isochoric; T's major symmetry makes block (k, i) block (i, k)'s
+      // transpose, filled once the points are summed.
+      for (int i = 0; i < 3; ++i) {
+        for (int k = i; k < 3; ++k) {
+          const Eigen::Matrix<double, 10, 3> left =
+              point.gradients * response.tangent_Pa.block<3, 3>(3 * i, 3 * k);
+          isochoric.block<10, 10>(10 * i, 10 * k).noalias() +=
+              point.weight_m3 * left.lazyProduct(point.gradients.transpose());
+        }
+      }
+    }
+    if (withHessian) {
+      for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+          const bool isMirrored = k < i;
+          for (int a = 0; a < 10; ++a) {
+            for (int b = 0; b < 10; ++b) {
+              he(3 * a + i, 3 * b + k) = isMirrored ? isochoric(10 * k + b, 10 * i + a)
+                                                    : isochoric(10 * i + a, 10 * k + b);
             }
-          }
-          for (int b = 0; b < 10; ++b) {
-            const Eigen::Vector3d column = row * point.gradients.row(b).transpose();
-            for (int k = 0; k < 3; ++k) he(3 * a + i, 3 * b + k) += point.weight_m3 * column[k];
           }
         }
       }
@@ -249,7 +262,10 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
             for (int k = 0; k < 3; ++k) {
               const Eigen::Index column = 3 * m_mesh.tets(b, t) + k;
               if (!isFixed->empty() && (*isFixed)[static_cast<std::size_t>(column)] != 0) continue;
-              triplets->emplace_back(row, column, he(3 * a + i, 3 * b + k));
+              if (direct.values != nullptr)
+                direct.values[direct.slots[elementEntry++]] += he(3 * a + i, 3 * b + k);
+              else
+                triplets->emplace_back(row, column, he(3 * a + i, 3 * b + k));
             }
           }
         }

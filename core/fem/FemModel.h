@@ -95,12 +95,19 @@ class FemModel {
     Eigen::Matrix<double, 10, 3> gradients;
     double weight_m3;
   };
+  /// Where the elements' Hessian entries go when not into triplets: added to values[slots[e]]
+  /// for the e-th entry (FemHessianAssembly's order).
+  struct DirectAssembly {
+    double* values;
+    const Eigen::Index* slots;
+  };
   /// elementEntries (when given): how many of the triplets are the elements' (the rest are the
-  /// extra energy's).
+  /// extra energy's). With direct.values, the elements' entries go there and triplets gets the
+  /// extra energy's alone.
   FemState accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                       std::vector<Eigen::Triplet<double>>* triplets,
-                      const std::vector<char>* isFixed,
-                      std::size_t* elementEntries = nullptr) const;
+                      const std::vector<char>* isFixed, std::size_t* elementEntries = nullptr,
+                      DirectAssembly direct = {nullptr, nullptr}) const;
 
   const QuadraticTetMesh& m_mesh;
   const StrainEnergy& m_energy;

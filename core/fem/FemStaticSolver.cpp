@@ -49,7 +49,8 @@ double largestFree(const Eigen::Matrix3Xd& gradient, const std::vector<char>& is
 
 bool FemStaticSolver::factorizeShifted(const std::vector<char>& isFixed, double& shift) {
   m_isFactorized = false;
-  Eigen::SparseMatrix<double> shifted = m_hessian;
+  // The shifted copy only where a shift is needed: a definite Hessian is factorised as it is.
+  Eigen::SparseMatrix<double> shifted;
   const double scale = m_hessian.diagonal().cwiseAbs().maxCoeff();
   for (;;) {
     if (shift > 0.0) {
@@ -58,7 +59,7 @@ bool FemStaticSolver::factorizeShifted(const std::vector<char>& isFixed, double&
         if (isFixed[static_cast<std::size_t>(d)] == 0) shifted.coeffRef(d, d) += shift;
       }
     }
-    m_factorization->cholesky.factorize(shifted);
+    m_factorization->cholesky.factorize(shift > 0.0 ? shifted : m_hessian);
     if (m_factorization->cholesky.info() == Eigen::Success) break;  // positive definite
     shift = shift > 0.0 ? 10.0 * shift : 1e-8 * scale;
     if (shift > 1e8 * scale) return false;
