@@ -44,7 +44,7 @@ class FemStaticSolver {
                        const std::vector<char>& isFixed);
 
   /// The last solve's dE/dx (3 by #V) at its end: on a fixed DOF, the force the support exerts
-  /// on the body there, negated (the reaction the grip feels).
+  /// on the body there (a grip's pull; QuadraticTetWeight_test checks the sign).
   const Eigen::Matrix3Xd& gradient() const { return m_gradient; }
 
   /// The Hessian at x assembled and factorised (shifted by mu I where it is not positive definite
