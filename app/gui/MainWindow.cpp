@@ -300,10 +300,12 @@ bool MainWindow::loadScene(const QString& path) {
   m_softeningAction->setEnabled(!isFem);
   m_softeningAction->setToolTip(isFem ? "The FEM model has no stress softening" : "");
   m_gravityAction->setChecked(simulation.gravity().squaredNorm() > 0.0);
-  // The FEM at its own rate is weightless, held by its fixed region alone (docs/scene-file.md).
-  const bool isWeightless = simulation.scene().model == "fem-haptic-rate";
-  m_gravityAction->setEnabled(!isWeightless);
-  m_gravityAction->setToolTip(isWeightless ? "The FEM at its own rate models no gravity" : "");
+  // The FEM at its own rate settles under the scene's gravity as it is made (docs/scene-file.md):
+  // the switch shows the scene's, and does not change it.
+  const bool isFixedGravity = simulation.scene().model == "fem-haptic-rate";
+  m_gravityAction->setEnabled(!isFixedGravity);
+  m_gravityAction->setToolTip(
+      isFixedGravity ? "The FEM at its own rate takes its gravity from the scene file" : "");
   m_forcePlot->clear();
   updateMaterialChart();
   m_loop = std::make_unique<RealTimeLoop>(simulation);

@@ -11,13 +11,15 @@ namespace tissuesim {
 
 HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
                              std::vector<CapsulePenalty::Point> surface, double candidateMargin_m,
-                             int newtonIterations)
+                             int newtonIterations, const FemExtraEnergy* support)
     : m_model(model),
       m_isFixed(std::move(isFixed)),
       m_surface(std::move(surface)),
       m_candidateMargin_m(candidateMargin_m),
+      m_newtonIterations(newtonIterations),
       m_solver(1e-6, newtonIterations),
-      m_x(model.mesh().nodes_m) {
+      m_x(model.mesh().nodes_m),
+      m_settled(m_x) {
   if (m_isFixed.size() != static_cast<std::size_t>(m_x.size()))
     throw std::invalid_argument("HapticRateFem: one fixed flag per DOF");
   if (!(candidateMargin_m >= 0.0))
@@ -30,8 +32,44 @@ HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
         throw std::invalid_argument("HapticRateFem: a surface point's node is not the mesh's");
     }
   }
+  m_isInContact.assign(m_surface.size(), 0);
   m_model.setTangent(FemTangent::Definite);
-  m_model.setExtraEnergy(&m_loads);
+  m_extraEnergy.terms = {&m_loads, support};
+  m_model.setExtraEnergy(&m_extraEnergy);
+}
+
+HapticRateUpdate HapticRateFem::settle(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                                       double radius_m, CondensedCapsuleContact& next) {
+  HapticRateUpdate report;
+  m_loads.nodes.clear();
+  m_loads.forces_N.resize(3, 0);
+  m_lastLargestLoad_N = 0.0;
+  m_x = m_model.mesh().nodes_m;
+  m_settled = m_x;
+  FemSolveReport solved;
+  // The solver's own tolerance, over as many iterations as the body takes to come to balance;
+  // then an update's again.
+  m_solver.setMaxIterations(kSettlingIterations);
+  try {
+    solved = m_solver.solve(m_model, m_x, m_isFixed);
+  } catch (...) {
+    m_solver.setMaxIterations(m_newtonIterations);
+    throw;
+  }
+  m_solver.setMaxIterations(m_newtonIterations);
+  report.residual_N = solved.residual_N;
+  FemState state;
+  // Linearised at the balance itself (the solve's last factorisation is an iterate behind).
+  if (!solved.converged || !m_solver.factorize(m_model, m_x, m_isFixed, state)) {
+    m_x = m_settled;
+    report.isStepped = false;
+    report.hasNext = false;
+    return report;
+  }
+  m_settled = m_x;
+  report.isStepped = true;
+  linearize(tip_m, top_m, radius_m, next, report);
+  return report;
 }
 
 HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
@@ -45,7 +83,8 @@ HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
 }
 
 void HapticRateFem::restart() {
-  m_x = m_model.mesh().nodes_m;
+  m_x = m_settled;
+  std::fill(m_isInContact.begin(), m_isInContact.end(), char{0});
   m_lastLargestLoad_N = 0.0;
 }
 
@@ -96,7 +135,8 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
     report.hasNext = false;
     return report;
   }
-  linearize(tip_m, top_m, radius_m, next, report);
+  const int passed = linearize(tip_m, top_m, radius_m, next, report);
+  report.isPassedThrough = passed > 0;
   return report;
 }
 
@@ -121,9 +161,9 @@ HapticRateUpdate HapticRateFem::linearizeAt(const Eigen::Matrix3Xd& body_m,
   return report;
 }
 
-void HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
-                              double radius_m, CondensedCapsuleContact& next,
-                              HapticRateUpdate& report) {
+int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                             double radius_m, CondensedCapsuleContact& next,
+                             HapticRateUpdate& report) {
   // The body's own out-of-balance force (the loads taken off), and where the linear body
   // settles with no load: x_rest = x - K^-1 dE/dx.
   Eigen::Matrix3Xd internal = m_solver.gradient();
@@ -134,12 +174,17 @@ void HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3
 
   // The candidates: the surface points near the probe where the body now is, and their nodes.
   std::vector<int> points, nodes;
+  int passed = 0;
   // A point the probe has passed through (kPassedThrough_m: inside a body reset to rest, or gone
   // past what the updates followed) is no contact: pushing it out would throw the body about.
   for (std::size_t p = 0; p < m_surface.size(); ++p) {
     const CapsulePenalty::Point& point = m_surface[p];
     const double gap_m = capsuleGap(point.position(m_x), tip_m, top_m, radius_m).gap_m;
+    const bool wasInContact = m_isInContact[p] != 0;
+    m_isInContact[p] = 0;
+    if (gap_m < -kPassedThrough_m && wasInContact) ++passed;
     if (gap_m > m_candidateMargin_m || gap_m < -kPassedThrough_m) continue;
+    m_isInContact[p] = 1;
     points.push_back(static_cast<int>(p));
     nodes.insert(nodes.end(), point.nodes.begin(), point.nodes.end());
   }
@@ -153,7 +198,7 @@ void HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3
   next.bodyAtRest() = m_x - Eigen::Map<const Eigen::Matrix3Xd>(correction.data(), 3, m_x.cols());
   for (Eigen::Index j = 0; j < m; ++j)
     next.freePositions().col(j) = next.bodyAtRest().col(nodes[static_cast<std::size_t>(j)]);
-  if (pointCount == 0) return;
+  if (pointCount == 0) return passed;
   Eigen::MatrixXd& response = next.bodyResponse();
   response.setZero(m_x.size(), 3 * m);
   for (Eigen::Index j = 0; j < m; ++j) {
@@ -178,6 +223,7 @@ void HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3
     stiffness_N_m[j] = point.stiffness_N_m;
   }
   next.setPoints(localNodes, weights, stiffness_N_m);
+  return passed;
 }
 
 }  // namespace tissuesim

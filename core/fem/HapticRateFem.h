@@ -32,6 +32,7 @@
 #include "forces/CapsulePenalty.h"
 #include "forces/CondensedCapsuleContact.h"
 #include "forces/NodalLoads.h"
+#include "forces/PlanePenalty.h"
 
 namespace tissuesim {
 
@@ -40,9 +41,13 @@ struct HapticRateUpdate {
   bool hasNext = true;          ///< false: no new contact made (no definite Hessian within reach,
                                 ///< or isOutOfBalance)
   bool isOutOfBalance = false;  ///< Newton left more than the linearisation allows (below)
-  int points = 0;               ///< the new contact's surface points
-  int candidates = 0;           ///< and the nodes that carry them
-  double residual_N = 0.0;      ///< max |dE/dx| on a free DOF after the Newton iterations
+  /// Surface points of the last contact the probe has passed through (kPassedThrough_m): the
+  /// probe went through the surface it was pressing, faster than the updates followed. The new
+  /// contact is made all the same, without them.
+  bool isPassedThrough = false;
+  int points = 0;           ///< the new contact's surface points
+  int candidates = 0;       ///< and the nodes that carry them
+  double residual_N = 0.0;  ///< max |dE/dx| on a free DOF after the Newton iterations
 };
 
 class HapticRateFem {
@@ -63,10 +68,22 @@ class HapticRateFem {
   /// candidateMargin_m of its axis segment at an update is in the next contact, unless it is
   /// more than kPassedThrough_m inside the probe (passed through, not pressed).
   /// newtonIterations: an update's, >= 0 (0: the body linearised where the contact has it).
+  /// support: what holds the body besides its fixed DOFs and loads it besides the probe (its
+  /// weight, a tray: an energy that must outlive this object; null: none), in every update.
   /// @throws std::invalid_argument on a size or setting out of range.
   HapticRateFem(FemModel& model, std::vector<char> isFixed,
                 std::vector<CapsulePenalty::Point> surface, double candidateMargin_m,
-                int newtonIterations);
+                int newtonIterations, const FemExtraEnergy* support = nullptr);
+
+  /// Newton iterations that bring the body from rest to its balance under the support alone.
+  static constexpr int kSettlingIterations = 100;
+
+  /// The body brought to balance under the support with no contact (Newton from rest, to the
+  /// solver's tolerance within kSettlingIterations) and linearised there into `next`; restart()
+  /// returns to it. Without a support the body at rest is its balance. hasNext false where
+  /// Newton does not get there (the body is then left at rest, and restart() returns there).
+  HapticRateUpdate settle(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
+                          double radius_m, CondensedCapsuleContact& next);
 
   /// One update against the probe's pose as given, from the body where inUse (the contact the
   /// haptic loop solves now) has it: fills next (allocates); a copy of inUse where no definite
@@ -94,7 +111,8 @@ class HapticRateFem {
                                const Eigen::Vector3d& top_m, double radius_m,
                                CondensedCapsuleContact& next);
 
-  /// The next update starts from the body at rest (after a reset of the scene).
+  /// The next update starts from the body settled (after a reset of the scene): settle()'s
+  /// balance, or the body at rest before any.
   void restart();
 
   /// The body where the last update linearised it (3 by #V).
@@ -103,17 +121,23 @@ class HapticRateFem {
  private:
   /// The next contact from the last factorisation at m_x: x_rest, the candidates near the probe
   /// and their compliance (the points and candidates counted into report).
-  void linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m, double radius_m,
-                 CondensedCapsuleContact& next, HapticRateUpdate& report);
+  /// @returns how many of the last contact's surface points the probe has passed through (left
+  /// out of this one).
+  int linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m, double radius_m,
+                CondensedCapsuleContact& next, HapticRateUpdate& report);
 
   FemModel& m_model;
-  NodalLoads m_loads;
+  NodalLoads m_loads;            ///< the contact's forces
+  SummedEnergies m_extraEnergy;  ///< m_loads and the support
   std::vector<char> m_isFixed;
   std::vector<CapsulePenalty::Point> m_surface;
   double m_candidateMargin_m;
+  int m_newtonIterations;  ///< an update's
   FemStaticSolver m_solver;
   Eigen::Matrix3Xd m_x, m_body, m_candidate;
+  Eigen::Matrix3Xd m_settled;        ///< where restart() puts the body
   double m_lastLargestLoad_N = 0.0;  ///< the last update's largest load on a node
+  std::vector<char> m_isInContact;   ///< per surface point: in the last contact made
 };
 
 }  // namespace tissuesim

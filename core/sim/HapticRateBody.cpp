@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "fem/QuadraticTetWeight.h"
 #include "fem/SampledSurface.h"
 #include "sim/UnconvergedResidual.h"
 
@@ -61,13 +62,36 @@ HapticRateBody::HapticRateBody(const TetMesh& mesh, const std::vector<int>& fixe
                           std::numeric_limits<double>::infinity());
   m_surfacePoints = points.size();
   m_model = std::make_unique<FemModel>(m_mesh, energy, bulkModulus_Pa);
+  if (settings.gravity_m_s2.squaredNorm() > 0.0) {
+    m_weight = quadraticTetWeight(m_mesh, settings.density_kg_m3, settings.gravity_m_s2);
+    m_support.terms.push_back(&m_weight);
+  }
+  if (settings.tray) {
+    if (!(settings.tray->stiffness_Pa_per_m > 0.0))
+      throw std::invalid_argument("HapticRateBody: the tray's stiffness must be > 0");
+    // The tray's points: the probe's, with the tray's penalty per unit area.
+    std::vector<CapsulePenalty::Point> trayPoints = points;
+    for (CapsulePenalty::Point& point : trayPoints) {
+      point.stiffness_N_m *= settings.tray->stiffness_Pa_per_m / settings.pressureStiffness_Pa_m;
+    }
+    m_tray = std::make_unique<PlanePenalty>(std::move(trayPoints), settings.tray->up,
+                                            settings.tray->height_m);
+    m_support.terms.push_back(m_tray.get());
+  }
   m_fem = std::make_unique<HapticRateFem>(*m_model, fixedDofs(m_mesh, fixedNodes, fixedBox_m),
                                           std::move(points), settings.candidateMargin_m,
-                                          settings.newtonIterations);
-  const HapticRateUpdate atRest = m_fem->update(nullptr, {}, Eigen::Matrix3Xd(3, 0), tip_m, top_m,
-                                                settings.probeRadius_m, m_start);
-  if (!atRest.hasNext)
-    throw std::invalid_argument("HapticRateBody: the body at rest has no definite Hessian");
+                                          settings.newtonIterations, &m_support);
+  const HapticRateUpdate start = m_fem->settle(tip_m, top_m, settings.probeRadius_m, m_start);
+  if (!start.hasNext) {
+    throw std::invalid_argument(
+        m_support.terms.empty()
+            ? "HapticRateBody: the body at rest has no definite Hessian"
+            : "HapticRateBody: the body does not come to balance under its weight (" +
+                  std::to_string(start.residual_N) + " N left on a node after " +
+                  std::to_string(HapticRateFem::kSettlingIterations) + " Newton iterations)");
+  }
+  m_startCorners = m_fem->positions().leftCols(m_mesh.cornerCount);
+  if (m_tray) m_startTraySupport_N = m_tray->support_N(m_fem->positions());
   restartSettled();
   m_worker = std::thread([this] { work(); });
 }
@@ -98,6 +122,10 @@ void HapticRateBody::work() {
                 " N out of balance: the probe moved further than one update can follow";
       } else if (!report.hasNext) {
         error = "no definite Hessian within reach of the body's state";
+      } else if (report.isPassedThrough) {
+        error =
+            "the probe had passed through the surface it pressed: it moved further than "
+            "the updates follow";
       }
     } catch (const std::exception& e) {  // the haptic loop keeps its contact; the reason is kept
       report.hasNext = false;
@@ -202,6 +230,8 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
     }
     if (isTaken) {
       m_isInFlight = false;
+      m_isPassedThrough = m_jobReport.isPassedThrough;
+      if (m_isPassedThrough) m_updateProblem = m_jobError;
       if (m_jobReport.hasNext) {
         m_next->startFrom(*m_inUse);
         std::swap(m_inUse, m_next);
@@ -219,6 +249,8 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
   outcome.contactIterations = m_inUse->iterations();
   outcome.candidates = static_cast<int>(m_inUse->candidates().size());
   outcome.isUpdateRefused = m_isRefusing;
+  outcome.isPassedThrough = m_isPassedThrough;
+  m_isPassedThrough = false;  // reported once, at the step that takes the update in
   // A step that does not settle (the probe gone past what the body linearised at the last update
   // can answer) is rolled back: the body and the probe's force stay at the last settled step's.
   if (outcome.isSettled) {
@@ -240,7 +272,7 @@ void HapticRateBody::restartSettled() {
   *m_inUse = m_start;
   m_settledOwner = m_inUse;
   m_settledForces.setZero(3, static_cast<Eigen::Index>(m_start.candidates().size()));
-  m_settledCorners = m_mesh.nodes_m.leftCols(m_mesh.cornerCount);
+  m_settledCorners = m_startCorners;
   m_settledProbeForce_N.setZero();
 }
 
@@ -250,6 +282,7 @@ void HapticRateBody::reset() {
   m_fem->restart();
   restartSettled();
   m_isRefusing = false;
+  m_isPassedThrough = false;
   m_updateProblem.clear();
 }
 

@@ -17,8 +17,11 @@
 //
 // The next update starts at the step that takes the last one in, from the contact's last settled
 // state: a step whose contact does not settle is rolled back to it (the body drawn and the force
-// reported are the last settled ones). Shapes: positions 3 by #V (m), the first #corners of them
-// the scene's mesh's nodes in its order.
+// reported are the last settled ones). Under gravity (the consistent loads of its weight,
+// fem/QuadraticTetWeight.h) and on a tray (a penalty on the sampled surface, as the probe's,
+// forces/PlanePenalty.h), both in every update's Newton iterations, the body starts where it
+// balances them with no probe (HapticRateFem::settle), and a reset returns it there. Shapes:
+// positions 3 by #V (m), the first #corners of them the scene's mesh's nodes in its order.
 
 #include <condition_variable>
 #include <memory>
@@ -35,10 +38,19 @@
 #include "fem/HapticRateFem.h"
 #include "fem/QuadraticTetMesh.h"
 #include "forces/CondensedCapsuleContact.h"
+#include "forces/NodalLoads.h"
+#include "forces/PlanePenalty.h"
 #include "material/StrainEnergy.h"
 #include "mesh/TetMesh.h"
 
 namespace tissuesim {
+
+/// A tray under the body (forces/PlanePenalty.h): up . y >= height_m, its penalty per unit area.
+struct HapticRateTray {
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  double height_m = 0.0;
+  double stiffness_Pa_per_m = 1e7;
+};
 
 struct HapticRateBodySettings {
   double probeRadius_m = 0.0025;
@@ -47,6 +59,9 @@ struct HapticRateBodySettings {
   double candidateMargin_m = 0.001;      ///< HapticRateFem's
   int newtonIterations = 2;              ///< an update's
   long latencySteps = 0;                 ///< > 0: fixed (deterministic); 0: when done
+  Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();  ///< zero: weightless
+  double density_kg_m3 = 1060.0;                           ///< the body's weight with gravity
+  std::optional<HapticRateTray> tray;                      ///< none: no tray
 };
 
 /// One haptic step's outcome.
@@ -61,6 +76,9 @@ struct HapticRateStep {
   /// The last update taken in could not linearise the body (no definite Hessian within reach,
   /// Newton left out of balance, or an error: `updateProblem`); the contact in use was kept.
   bool isUpdateRefused = false;
+  /// The last update taken in found the probe through the surface it was pressing
+  /// (HapticRateUpdate::isPassedThrough): it outran the updates (`updateProblem` says so).
+  bool isPassedThrough = false;
   int candidates = 0;  ///< the surface nodes the contact in use can move
 };
 
@@ -69,8 +87,10 @@ class HapticRateBody {
   /// fixedNodes: the mesh's held nodes (with the quadratic nodes between two of them); every
   /// quadratic node in fixedBox_m (when given) is held too, as the FEM reference holds it. The
   /// probe (its hemisphere's centre at tip_m, the shaft's end at top_m) starts there; the body at
-  /// rest is linearised before this returns. `energy` must outlive this object.
-  /// @throws std::invalid_argument on a mesh, node or setting out of range.
+  /// rest (settled under its weight on the tray, where settings give them) is linearised before
+  /// this returns. `energy` must outlive this object.
+  /// @throws std::invalid_argument on a mesh, node or setting out of range, or a body that does
+  /// not come to balance under its weight.
   HapticRateBody(const TetMesh& mesh, const std::vector<int>& fixedNodes,
                  const std::optional<Eigen::AlignedBox3d>& fixedBox_m, const StrainEnergy& energy,
                  double bulkModulus_Pa, const HapticRateBodySettings& settings,
@@ -94,6 +114,11 @@ class HapticRateBody {
                     const Eigen::Vector3d& top_m);
 
   Eigen::Index nodeCount() const { return m_mesh.nodeCount(); }
+  /// The body's corners (3 by #corners, m) where it starts and a reset returns it: at rest, or
+  /// settled under its weight on the tray.
+  const Eigen::Matrix3Xd& startCorners() const { return m_startCorners; }
+  /// The force the tray carries with the body where it starts (N; zero without a tray).
+  const Eigen::Vector3d& startTraySupport_N() const { return m_startTraySupport_N; }
   Eigen::Index tetCount() const { return m_mesh.tetCount(); }
   std::size_t surfacePoints() const { return m_surfacePoints; }
   const HapticRateBodySettings& settings() const { return m_settings; }
@@ -114,9 +139,14 @@ class HapticRateBody {
   HapticRateBodySettings m_settings;
   QuadraticTetMesh m_mesh;
   std::unique_ptr<FemModel> m_model;
+  NodalLoads m_weight;                   ///< empty when weightless
+  std::unique_ptr<PlanePenalty> m_tray;  ///< null without a tray
+  SummedEnergies m_support;              ///< the two, HapticRateFem's support
   std::unique_ptr<HapticRateFem> m_fem;
   std::size_t m_surfacePoints = 0;
-  CondensedCapsuleContact m_start;  ///< the body at rest linearised
+  CondensedCapsuleContact m_start;  ///< the body at its start linearised
+  Eigen::Matrix3Xd m_startCorners;
+  Eigen::Vector3d m_startTraySupport_N = Eigen::Vector3d::Zero();
   CondensedCapsuleContact m_contacts[2];
   CondensedCapsuleContact* m_inUse = &m_contacts[0];
   CondensedCapsuleContact* m_next = &m_contacts[1];
@@ -128,7 +158,8 @@ class HapticRateBody {
   Eigen::Vector3d m_settledProbeForce_N = Eigen::Vector3d::Zero();
   long m_stepsSinceUpdate = 0;
   bool m_isInFlight = false;
-  bool m_isRefusing = false;  ///< the last update taken in was refused
+  bool m_isRefusing = false;       ///< the last update taken in was refused
+  bool m_isPassedThrough = false;  ///< the last update taken in: HapticRateUpdate's
   std::string m_updateProblem;
 
   // The job the worker takes (written by the haptic thread while the worker is idle).

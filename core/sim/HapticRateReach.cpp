@@ -9,9 +9,11 @@ namespace {
 /// The reach measured on the liver poke (docs/performance-details.md, "One Newton iteration an
 /// update on a softer volume term"): 0.6 mm held within 10 % and 0.75 mm did not, with one
 /// iteration at a tenth of the reference's bulk modulus or less, or with two at the
-/// reference's; with one at the reference's, 0.3 mm held and 0.45 mm did not.
+/// reference's; with one at the reference's, 0.3 mm held and 0.45 mm did not. Under gravity, on
+/// the default scene's tray, one iteration at a tenth held 0.3 mm and punctured the surface at
+/// 0.6 mm, where two held 0.6 mm (a poke 4 mm deep).
 constexpr double kReach_m = 0.0006;
-constexpr double kStiffVolumeOneIterationReach_m = 0.0003;
+constexpr double kOneIterationShortReach_m = 0.0003;
 constexpr double kSoftVolumeShare = 0.1;
 /// An update's Newton iteration on the bundled body, on one core (s): about 40 ms measured, with
 /// the linearisation's solves.
@@ -19,9 +21,10 @@ constexpr double kIterationGuess_s = 0.05;
 
 }  // namespace
 
-double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, const StrainEnergy& energy) {
+double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, bool isHeavy,
+                         const StrainEnergy& energy) {
   const bool isSoftVolume = bulkModulus_Pa <= kSoftVolumeShare * defaultFemBulkModulus(energy);
-  return newtonIterations >= 2 || isSoftVolume ? kReach_m : kStiffVolumeOneIterationReach_m;
+  return newtonIterations >= 2 || (isSoftVolume && !isHeavy) ? kReach_m : kOneIterationShortReach_m;
 }
 
 double hapticRateUpdateGuess_s(int newtonIterations) {
@@ -32,7 +35,9 @@ double hapticRateToolSpeed_m_s(const SceneDescription& scene, const StrainEnergy
   const double updateEvery_s = scene.femUpdateLatency_s > 0.0
                                    ? scene.femUpdateLatency_s
                                    : hapticRateUpdateGuess_s(scene.newtonIterations);
-  return hapticRateReach_m(scene.newtonIterations, scene.bulkModulus_Pa, energy) / updateEvery_s;
+  const bool isHeavy = scene.gravity_m_s2.squaredNorm() > 0.0;
+  return hapticRateReach_m(scene.newtonIterations, scene.bulkModulus_Pa, isHeavy, energy) /
+         updateEvery_s;
 }
 
 }  // namespace tissuesim

@@ -13,11 +13,13 @@
 namespace tissuesim {
 
 /// The probe's travel between updates that the scheme holds within 10 % of the reference (m),
-/// for an update's Newton iterations and its body's bulk modulus: two iterations, or one on a
-/// body whose bulk modulus is at most a tenth of the reference's (defaultFemBulkModulus), hold
-/// 0.6 mm; one iteration on a stiffer volume term, which that iteration leaves further from its
-/// balance, holds half that.
-double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, const StrainEnergy& energy);
+/// for an update's Newton iterations, its body's bulk modulus and whether it hangs under its
+/// weight: two iterations, or one on a weightless body whose bulk modulus is at most a tenth of
+/// the reference's (defaultFemBulkModulus), hold 0.6 mm; one iteration on a stiffer volume term,
+/// which that iteration leaves further from its balance, or on a body its own weight has
+/// stretched and stiffened (about four times the weightless force at 4 mm), holds half that.
+double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, bool isHeavy,
+                         const StrainEnergy& energy);
 
 /// The time an update takes where the scene uses each one when it is done (latency 0): about
 /// what one takes on one core of a desktop machine for the bundled body (s).

@@ -306,17 +306,15 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     if (assessment.has("damage_stretch"))
       scene.assessment.damageStretch = assessment.number("damage_stretch", 0.0, 1.0, true);
   }
-  // The body at its own rate is weightless and held by its fixed nodes alone
-  // (sim/HapticRateBody.h), and it is there for the probe.
+  // The body at its own rate is held by its fixed nodes (and a frictionless tray where the scene
+  // has one: sim/HapticRateBody.h), and it is there for the probe.
   if (scene.model == "fem-haptic-rate") {
     if (!scene.instrument)
       fields.fail("instrument", "is missing; effects.model fem-haptic-rate is the probe's model");
-    if (scene.tray)
-      fields.fail("tray",
-                  "is not modelled with effects.model fem-haptic-rate; hold the organ by "
-                  "its fixed_region");
-    if (scene.gravity_m_s2.squaredNorm() > 0.0)
-      fields.fail("gravity_m_s2", "must be zero with effects.model fem-haptic-rate (weightless)");
+    if (scene.tray && scene.tray->friction > 0.0)
+      fields.fail("tray.friction",
+                  "is not modelled with effects.model fem-haptic-rate (its tray is frictionless); "
+                  "leave it out");
     if (!scene.fixed.box_m && scene.fixed.nodes.empty())
       fields.fail("fixed_region", "is missing; effects.model fem-haptic-rate holds the body by it");
   }

@@ -120,6 +120,11 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     settings.probeRadius_m = tool.shaftRadius_m;
     settings.latencySteps = std::lround(scene.femUpdateLatency_s / scene.timeStep_s);
     settings.newtonIterations = scene.newtonIterations;
+    settings.gravity_m_s2 = scene.gravity_m_s2;
+    settings.density_kg_m3 = newParameters->density_kg_m3;
+    if (scene.tray)
+      settings.tray =
+          HapticRateTray{scene.tray->up, scene.tray->height_m, scene.tray->stiffness_Pa_per_m};
     const Eigen::Vector3d tip = tool.tipStart_m - tool.shaftRadius_m * tool.direction;
     try {
       hapticRate = std::make_unique<HapticRateBody>(
@@ -265,6 +270,12 @@ void Simulation::settle() {
   if (m_friction) {
     m_friction->releaseAnchors();
     m_startAnchors = m_friction->anchors();
+  }
+  // The quadratic body at its own rate came to balance under its weight on the tray as it was
+  // made: the springs, which carry no force with it, take its corners.
+  if (m_hapticRate) {
+    m_startState.x = m_hapticRate->startCorners();
+    return;
   }
   if (m_scene.gravity_m_s2.squaredNorm() == 0.0) return;
   // Long, heavily damped implicit steps: backward Euler is stable at any step, and the damping
@@ -442,6 +453,8 @@ StepOutcome Simulation::stepHapticRate() {
     return "an FEM update was refused (" + m_hapticRate->updateProblem() +
            "); the contact in use is kept until one is not";
   });
+  check(haptic.isPassedThrough, "outrun",
+        [&] { return "an FEM update found " + m_hapticRate->updateProblem(); });
   const int inverted =
       VolumeForceField::inspect(*m_springMesh, m_state.x, m_pool.get()).invertedTetCount;
   check(inverted > 0, "inverted", [&] { return std::to_string(inverted) + " inverted tets"; });

@@ -78,6 +78,11 @@ TEST(SceneFile, WhatAMinimalSceneLeavesOutIsNotThere) {
   const SceneDescription byDefault = loadSceneFile(scenePath("fem-haptic-rate-defaults.json"));
   EXPECT_DOUBLE_EQ(byDefault.femUpdateLatency_s, 0.1);
   EXPECT_EQ(byDefault.newtonIterations, 2);
+  // Its body under gravity on a (frictionless) tray.
+  const SceneDescription heavyHapticRate = loadSceneFile(scenePath("fem-haptic-rate-gravity.json"));
+  EXPECT_EQ(heavyHapticRate.gravity_m_s2, Eigen::Vector3d(0.0, -9.81, 0.0));
+  ASSERT_TRUE(heavyHapticRate.tray.has_value());
+  EXPECT_EQ(heavyHapticRate.tray->friction, 0.0);
   const SceneDescription generated = loadSceneFile(scenePath("generated.json"));
   EXPECT_EQ(generated.targetSprings, 1000);
   EXPECT_FALSE(generated.tetMesh.has_value());
@@ -124,9 +129,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"unknown-model.json",
                  "field 'effects.model' = \"mpm\"; expected springs, fem or fem-haptic-rate"},
         BadScene{"fem-haptic-rate-tray.json",
-                 "field 'tray' is not modelled with effects.model fem-haptic-rate"},
-        BadScene{"fem-haptic-rate-gravity.json",
-                 "field 'gravity_m_s2' must be zero with effects.model fem-haptic-rate"},
+                 "field 'tray.friction' is not modelled with effects.model fem-haptic-rate"},
         BadScene{"fem-haptic-rate-no-instrument.json",
                  "field 'instrument' is missing; effects.model fem-haptic-rate is the probe's"},
         BadScene{"fem-haptic-rate-softening.json",
