@@ -77,6 +77,15 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
   m_simulation->setContactProvider(m_contact.get());
 }
 
+void SceneSession::replaceTissue(const TissueParameters& parameters) {
+  m_simulation->replaceTissue(parameters);
+  // The reach per update depends on the tissue (its stiffest tangent sets the reference's bulk
+  // modulus, against which the scene's is judged).
+  const SceneDescription& scene = m_simulation->scene();
+  if (m_live && scene.model == "fem-haptic-rate")
+    m_live->setMaxSpeed(hapticRateToolSpeed_m_s(scene, m_simulation->energy()));
+}
+
 void SceneSession::printAssumptions() const {
   for (const std::string& line : assumptions()) std::printf("%s\n", line.c_str());
 }

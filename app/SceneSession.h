@@ -45,6 +45,10 @@ class SceneSession {
   const InstrumentScript* script() const { return m_script.get(); }
   /// The live pose the GUI writes (null: no instrument, or scripted).
   LiveInstrument* liveInstrument() { return m_live.get(); }
+  /// The simulation's tissue replaced (Simulation::replaceTissue), and the live tool's speed
+  /// limit with it where the scene's model sets one from the tissue (fem-haptic-rate:
+  /// sim/HapticRateReach.h). From the stepping thread, or while no step runs.
+  void replaceTissue(const TissueParameters& parameters);
   /// Drives the instrument by `script` from now on (one built from the simulation, as the
   /// soak's random session is). The scene must have an instrument.
   void useScript(InstrumentScript script);

@@ -28,7 +28,7 @@ void applyRecordedChanges(const SessionRecording& recording, std::size_t& next, 
     if (event.isReset) simulation.reset();
     if (event.softening) simulation.setSoftening(*event.softening);
     if (event.gravity_m_s2) simulation.setGravity(*event.gravity_m_s2);
-    if (event.tissue) simulation.replaceTissue(*event.tissue);
+    if (event.tissue) session.replaceTissue(*event.tissue);
     if (event.pose && session.liveInstrument() != nullptr)
       session.liveInstrument()->setPose(*event.pose);
   }

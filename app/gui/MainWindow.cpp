@@ -336,8 +336,7 @@ bool MainWindow::loadTissue(const QString& path) {
   }
   RecordedEvent event;
   event.tissue = parameters;
-  changePhysics("a new tissue", std::move(event),
-                [&] { m_session->simulation().replaceTissue(parameters); });
+  changePhysics("a new tissue", std::move(event), [&] { m_session->replaceTissue(parameters); });
   updateMaterialChart();
   statusBar()->showMessage("tissue: " + QString::fromStdString(parameters.name) + " (" + path + ")",
                            10000);
@@ -712,7 +711,7 @@ bool MainWindow::applyFittedTissue() {
   RecordedEvent event;
   event.tissue = m_fit->parameters;
   changePhysics("a fitted tissue", std::move(event),
-                [&] { m_session->simulation().replaceTissue(m_fit->parameters); });
+                [&] { m_session->replaceTissue(m_fit->parameters); });
   drawFitOnChart();
   statusBar()->showMessage("tissue: " + QString::fromStdString(m_fit->parameters.name), 10000);
   return true;

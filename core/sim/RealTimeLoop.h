@@ -17,6 +17,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <thread>
 #include <vector>
@@ -65,6 +66,15 @@ class LiveInstrument final : public InstrumentSource {
     const double h_s = m_lastTime_s ? time_s - *m_lastTime_s : 0.0;
     m_lastTime_s = time_s;
     return m_proxy->advance(m_poses.front(), h_s);
+  }
+  /// The proxy's speed limit (m/s; none without a proxy: infinity).
+  double maxSpeed_m_s() const {
+    return m_proxy ? m_proxy->limits().maxSpeed_m_s : std::numeric_limits<double>::infinity();
+  }
+  /// A new speed limit for the proxy (ToolProxy::setMaxSpeed; nothing without one). Physics
+  /// side: from the stepping thread, or while no step runs.
+  void setMaxSpeed(double maxSpeed_m_s) {
+    if (m_proxy) m_proxy->setMaxSpeed(maxSpeed_m_s);
   }
   /// Steps that have asked for a pose so far: the session's clock for recordings.
   long steps() const { return m_calls.load(std::memory_order_relaxed); }

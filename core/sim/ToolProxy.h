@@ -35,6 +35,9 @@ class ToolProxy {
   const InstrumentPose& pose() const { return m_pose; }
   const Eigen::Vector3d& velocity_m_s() const { return m_velocity_m_s; }
   const ToolMotionLimits& limits() const { return m_limits; }
+  /// A new speed limit (m/s, > 0) from the next step on: a tool moving faster slows at its
+  /// acceleration limit.
+  void setMaxSpeed(double maxSpeed_m_s) { m_limits.maxSpeed_m_s = maxSpeed_m_s; }
 
  private:
   ToolMotionLimits m_limits;
