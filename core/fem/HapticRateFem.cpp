@@ -182,7 +182,7 @@ int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d
     const double gap_m = capsuleGap(point.position(m_x), tip_m, top_m, radius_m).gap_m;
     const bool wasInContact = m_isInContact[p] != 0;
     m_isInContact[p] = 0;
-    if (gap_m < -kPassedThrough_m && wasInContact) ++passed;
+    if (gap_m < -kGoneThrough_m && wasInContact) ++passed;
     if (gap_m > m_candidateMargin_m || gap_m < -kPassedThrough_m) continue;
     m_isInContact[p] = 1;
     points.push_back(static_cast<int>(p));

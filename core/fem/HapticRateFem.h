@@ -41,9 +41,9 @@ struct HapticRateUpdate {
   bool hasNext = true;          ///< false: no new contact made (no definite Hessian within reach,
                                 ///< or isOutOfBalance)
   bool isOutOfBalance = false;  ///< Newton left more than the linearisation allows (below)
-  /// Surface points of the last contact the probe has passed through (kPassedThrough_m): the
-  /// probe went through the surface it was pressing, faster than the updates followed. The new
-  /// contact is made all the same, without them.
+  /// Surface points of the last contact the probe has gone through (kGoneThrough_m): the probe
+  /// went through the surface it was pressing, faster than the updates followed. The new contact
+  /// is made all the same, without the points passed through.
   bool isPassedThrough = false;
   int points = 0;           ///< the new contact's surface points
   int candidates = 0;       ///< and the nodes that carry them
@@ -61,6 +61,11 @@ class HapticRateFem {
   /// A surface point deeper inside the probe than this at an update (m) is no contact: the
   /// penalty holds a pressed point within micrometres of the probe, so the probe has passed it.
   static constexpr double kPassedThrough_m = 1e-4;
+  /// A point of the last contact deeper inside the probe than this at an update (m): the probe
+  /// has gone through the surface it pressed (HapticRateUpdate::isPassedThrough). Points a
+  /// punctured surface lets slip round the tip end up 1 to 1.5 mm inside it; an update's Newton
+  /// iteration behind a withdrawing probe leaves a pressed point up to about 0.1 mm inside.
+  static constexpr double kGoneThrough_m = 5e-4;
 
   /// `model` (its tangent set definite here, no extra energy: the contact is the haptic
   /// loop's) must outlive this object. isFixed: 3#V flags. surface: the points the probe may
@@ -121,8 +126,7 @@ class HapticRateFem {
  private:
   /// The next contact from the last factorisation at m_x: x_rest, the candidates near the probe
   /// and their compliance (the points and candidates counted into report).
-  /// @returns how many of the last contact's surface points the probe has passed through (left
-  /// out of this one).
+  /// @returns how many of the last contact's surface points the probe has gone through.
   int linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m, double radius_m,
                 CondensedCapsuleContact& next, HapticRateUpdate& report);
 
