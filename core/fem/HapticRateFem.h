@@ -32,7 +32,7 @@
 #include "forces/CapsulePenalty.h"
 #include "forces/CondensedCapsuleContact.h"
 #include "forces/NodalLoads.h"
-#include "forces/PlanePenalty.h"
+#include "forces/SummedEnergies.h"
 
 namespace tissuesim {
 

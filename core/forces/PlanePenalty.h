@@ -41,19 +41,4 @@ class PlanePenalty final : public FemExtraEnergy {
   double m_height_m;
 };
 
-/// Several energies added to the FEM's as one (null entries skipped); they must outlive it.
-class SummedEnergies final : public FemExtraEnergy {
- public:
-  std::vector<const FemExtraEnergy*> terms;
-
-  double add(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
-             std::vector<Eigen::Triplet<double>>* hessian) const override {
-    double energy = 0.0;
-    for (const FemExtraEnergy* term : terms) {
-      if (term != nullptr) energy += term->add(x, gradient, hessian);
-    }
-    return energy;
-  }
-};
-
 }  // namespace tissuesim

@@ -3,7 +3,8 @@
 // A scene's organ as the continuum reference's element at its own rate, the probe's contact at
 // the haptic rate (effects.model "fem-haptic-rate"; fem/HapticRateFem.h has the scheme): the
 // scene's tet mesh made quadratic (one dilatation per tet, FemModel.h), its surface sampled for
-// the probe's penalty (fem/SampledSurface.h), the fixed nodes held, weightless.
+// the probe's penalty (fem/SampledSurface.h), the fixed nodes held, weightless unless the
+// settings give gravity (below).
 //
 // Two clocks on two threads. The haptic step (the caller's, 1 kHz) solves the probe's contact
 // against the body's compliance condensed onto the surface nodes near it, and moves the whole
@@ -40,6 +41,7 @@
 #include "forces/CondensedCapsuleContact.h"
 #include "forces/NodalLoads.h"
 #include "forces/PlanePenalty.h"
+#include "forces/SummedEnergies.h"
 #include "material/StrainEnergy.h"
 #include "mesh/TetMesh.h"
 

@@ -18,6 +18,7 @@
 #include "fem/QuadraticTetWeight.h"
 #include "fem/SampledSurface.h"
 #include "forces/PlanePenalty.h"
+#include "forces/SummedEnergies.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/HapticRateReach.h"
