@@ -113,25 +113,31 @@ double CapsulePenalty::add(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient
   for (const Point& point : m_points) {
     const PenaltyTerms terms = smoothedPenalty(gap(point.position(x), n));
     if (terms.curvature == 0.0) continue;
-    const double k = point.stiffness_N_m;
-    energy += k * terms.energy;
-    for (std::size_t i = 0; i < 3; ++i) {
-      const double wi = point.weights[static_cast<Eigen::Index>(i)];
-      if (wi == 0.0) continue;
-      if (gradient != nullptr) gradient->col(point.nodes[i]) += wi * k * terms.slope * n;
-      if (hessian == nullptr) continue;
-      for (std::size_t j = 0; j < 3; ++j) {
-        const double wj = point.weights[static_cast<Eigen::Index>(j)];
-        if (wj == 0.0) continue;
-        const Eigen::Matrix3d block = wi * wj * k * terms.curvature * n * n.transpose();
-        for (int r = 0; r < 3; ++r) {
-          for (int c = 0; c < 3; ++c)
-            hessian->emplace_back(3 * point.nodes[i] + r, 3 * point.nodes[j] + c, block(r, c));
-        }
+    energy += point.stiffness_N_m * terms.energy;
+    point.addPenalty(terms, n, gradient, hessian);
+  }
+  return energy;
+}
+
+void CapsulePenalty::Point::addPenalty(const PenaltyTerms& terms, const Eigen::Vector3d& n,
+                                       Eigen::Matrix3Xd* gradient,
+                                       std::vector<Eigen::Triplet<double>>* hessian) const {
+  const double k = stiffness_N_m;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double wi = weights[static_cast<Eigen::Index>(i)];
+    if (wi == 0.0) continue;
+    if (gradient != nullptr) gradient->col(nodes[i]) += wi * k * terms.slope * n;
+    if (hessian == nullptr) continue;
+    for (std::size_t j = 0; j < 3; ++j) {
+      const double wj = weights[static_cast<Eigen::Index>(j)];
+      if (wj == 0.0) continue;
+      const Eigen::Matrix3d block = wi * wj * k * terms.curvature * n * n.transpose();
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c)
+          hessian->emplace_back(3 * nodes[i] + r, 3 * nodes[j] + c, block(r, c));
       }
     }
   }
-  return energy;
 }
 
 }  // namespace tissuesim

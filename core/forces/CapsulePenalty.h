@@ -24,6 +24,7 @@
 
 #include "forces/FemExtraEnergy.h"
 #include "forces/ForceField.h"
+#include "forces/SmoothedPenalty.h"
 
 namespace tissuesim {
 
@@ -40,6 +41,10 @@ class CapsulePenalty final : public ForceField, public FemExtraEnergy {
       return weights[0] * x.col(nodes[0]) + weights[1] * x.col(nodes[1]) +
              weights[2] * x.col(nodes[2]);
     }
+    /// The point's penalty k e(g) along the unit normal n added to its nodes' dE/dx (w_k k e'(g)
+    /// n) and Hessian (w_k w_l k e''(g) n n^T) where given (an energy's FemExtraEnergy::add).
+    void addPenalty(const PenaltyTerms& terms, const Eigen::Vector3d& n, Eigen::Matrix3Xd* gradient,
+                    std::vector<Eigen::Triplet<double>>* hessian) const;
   };
 
   explicit CapsulePenalty(std::vector<Point> points);
