@@ -110,9 +110,10 @@ case "${1:-}" in
     # smoothed strains' poke (a short poke per face and the force fields' own tests stay), the
     # Mullins set of a deep fast poke without weight, the cursor jump (the tool proxy's own tests
     # stay). And the FEM at its own rate's liver poke against the reference, its sideways sweep
-    # and `run` on its scene (its shorter pokes through the same scene stay).
-    long='Simulation\.(AProbeHeldSevenToNineCentimetresDeepComesToRest|QuasiNewtonPokesTheLiverAsImplicitEulerDoes|OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode|TheLiverRecoversItsShapeAfterDeepAndFastPokes|OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet|TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecovers|WeightlessTheMullinsPermanentSetOfADeepFastPokeIsUnderHalfAMillimetre|ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous)$|HapticRateBody\.(TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference|SteeringThePressedProbeSidewaysReportsNothing)$|cli\.run_fem_haptic_rate$|DrawnSurfaceContact\.TheTipMeetsTheDrawnLiverAndStaysOutOfItAt2N/liver20000'
-    say "testing build-asan (all but the image, window and lint tests, the long soak${SANITIZE_SKIP_LONG:+ and twelve long tests})"
+    # and `run` on its scene and on that scene under gravity (its shorter pokes through the same
+    # scene stay).
+    long='Simulation\.(AProbeHeldSevenToNineCentimetresDeepComesToRest|QuasiNewtonPokesTheLiverAsImplicitEulerDoes|OnAGmshMeshTheFemLocksUnderAVolumePerTetAndNotUnderOnePerNode|TheLiverRecoversItsShapeAfterDeepAndFastPokes|OnTheTwentyThousandSpringLiverTheBundledPokeInvertsNoTet|TheFemWithSmoothedStrainPokesTheLiverSofterThanPerTetAndRecovers|WeightlessTheMullinsPermanentSetOfADeepFastPokeIsUnderHalfAMillimetre|ACursorJumpMovesTheToolAtBoundedSpeedAndTheForceStaysContinuous)$|HapticRateBody\.(TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference|SteeringThePressedProbeSidewaysReportsNothing)$|cli\.run_fem_haptic_rate(_heavy)?$|DrawnSurfaceContact\.TheTipMeetsTheDrawnLiverAndStaysOutOfItAt2N/liver20000'
+    say "testing build-asan (all but the image, window and lint tests, the long soak${SANITIZE_SKIP_LONG:+ and thirteen long tests})"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 OPENBLAS_NUM_THREADS=$blas_threads \
       ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE "image|gui|soak|lint" \
       ${SANITIZE_SKIP_LONG:+-E "$long"}

@@ -8,6 +8,8 @@
 #include "app/CommandError.h"
 #include "fem/BlasThreads.h"
 #include "material/TissueFile.h"
+#include "mesh/TetMesh.h"
+#include "mesh/TriangleSurface.h"
 #include "sim/HapticRateReach.h"
 #include "sim/SceneFile.h"
 
@@ -45,7 +47,7 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
   const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction,
                              false};
   // The FEM at its own rate follows the probe only so fast (sim/HapticRateReach.h): its tool
-  // moves no faster, and its default poke goes 1.5 cm along the tool at that speed.
+  // moves no faster, and its default poke goes at that speed.
   const bool isHapticRate = description.model == "fem-haptic-rate";
   ToolMotionLimits limits;
   double pokeDepth_m = kDefaultPokeDepth_m, pokeTime_s = kDefaultPokePressTime_s;
@@ -53,7 +55,14 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
     // Its updates share the cores with the step and the drawing (fem/BlasThreads.h).
     keepBlasToOneThread();
     limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(description, m_simulation->energy());
-    pokeDepth_m = kHapticRateDefaultPokeDepth_m;
+    // 7 mm past where the tool's axis meets the organ as it opens: a liver settled under its
+    // weight lies further below the scene's start than the weightless one.
+    Eigen::Vector3d entry;
+    pokeDepth_m =
+        firstCrossing(m_simulation->startState().x, boundaryFaces(m_simulation->geometry().mesh),
+                      start.tip_m, start.direction, entry)
+            ? (entry - start.tip_m).dot(start.direction) + kHapticRateDefaultPokeIntoOrgan_m
+            : kHapticRateDefaultPokeDepth_m;
     pokeTime_s = pokeDepth_m / limits.maxSpeed_m_s;
   }
   if (driver == InstrumentDriver::Live) {

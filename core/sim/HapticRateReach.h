@@ -25,8 +25,12 @@ double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, bool isHea
 /// what one takes on one core of a desktop machine for the bundled body (s).
 double hapticRateUpdateGuess_s(int newtonIterations);
 
-/// The default poke's travel along the tool in such a scene (m): from the bundled scene's start,
-/// about 7 mm into the liver, where the continuum reference still has its equilibrium.
+/// The default poke's travel in such a scene past where the tool's axis meets the organ as it
+/// opens (m): 7 mm into the liver, where the continuum reference still has its equilibrium (and,
+/// under gravity, short of where the hanging liver's own equilibrium jumps).
+inline constexpr double kHapticRateDefaultPokeIntoOrgan_m = 0.007;
+/// The same travel along the tool where its axis misses the organ (m): from the bundled scene's
+/// start, the same 7 mm into the liver.
 inline constexpr double kHapticRateDefaultPokeDepth_m = 0.015;
 
 /// The probe's speed limit for the scene with its tissue (m/s): its reach per update.
