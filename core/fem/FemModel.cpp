@@ -134,8 +134,8 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
                               const std::vector<char>* isFixed, std::size_t* elementEntries,
                               DirectAssembly direct) const {
   FemState state;
-  std::size_t elementEntry =
-      0;  // the element entries added so far (the order the slots were made in)
+  // The element entries added so far (the order the slots were made in).
+  std::size_t elementEntry = 0;
   state.minVolumeRatio = std::numeric_limits<double>::infinity();
   state.maxVolumeRatio = -std::numeric_limits<double>::infinity();
   const bool withGradient = gradient != nullptr;

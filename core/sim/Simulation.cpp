@@ -32,7 +32,9 @@ constexpr int kSettlingMaxSteps = 500;
 
 Simulation::Simulation(const SceneDescription& scene)
     : m_scene(scene), m_geometry(loadSceneGeometry(scene)), m_timeStep_s(scene.timeStep_s) {
-  if (scene.tray) m_tray = std::make_unique<TraySupport>(m_geometry, *scene.tray);
+  // The FEM at its own rate carries its tray in its own updates (sim/HapticRateBody.h).
+  if (scene.tray && scene.model != "fem-haptic-rate")
+    m_tray = std::make_unique<TraySupport>(m_geometry, *scene.tray);
   buildPhysics(loadTissueFile(scene.tissue));
   m_assessment = std::make_unique<SessionAssessment>(
       *m_springMesh,

@@ -121,7 +121,8 @@ class Simulation {
   /// Where the simulation starts and reset() returns: the rest state, settled under the scene's
   /// gravity when it has any (velocities zero).
   const MechanicalState& startState() const { return m_startState; }
-  /// The tray's support (null when the scene has no tray).
+  /// The tray's support (null when the scene has no tray, and for fem-haptic-rate, whose body
+  /// holds its own: HapticRateBody::startTraySupport_N).
   const TraySupport* tray() const { return m_tray.get(); }
   /// The tray's friction (null when the scene has no tray or a frictionless one).
   const PlaneFriction* trayFriction() const { return m_friction.get(); }
@@ -186,7 +187,7 @@ class Simulation {
   std::size_t m_eventCount = 0;
   const char* m_latestEventKind = nullptr;
   std::unique_ptr<Grasp> m_grasp;                     ///< only with an instrument
-  std::unique_ptr<TraySupport> m_tray;                ///< only with a tray
+  std::unique_ptr<TraySupport> m_tray;                ///< only with a tray, not for fem-haptic-rate
   std::unique_ptr<PlaneFriction> m_friction;          ///< only with a tray that has friction
   std::vector<PlaneFriction::Anchor> m_startAnchors;  ///< where settling left the tray's grip
   ContactProvider* m_contact = nullptr;
