@@ -36,6 +36,10 @@ void CondensedCapsuleContact::setCandidates(const std::vector<int>& nodes) {
   m_pointNodes.resize(3, 0);
   m_pointWeights.resize(3, 0);
   m_pointStiffness_N_m.resize(0);
+  m_pointIds.clear();
+  m_heldNodes.resize(3, 0);
+  m_heldWeights.resize(3, 0);
+  m_heldTargets.resize(3, 0);
   m_u.setZero(3 * m);
   m_trialU.setZero(3 * m);
   m_gradient.setZero(3 * m);
@@ -70,12 +74,68 @@ void CondensedCapsuleContact::setPoints(const Eigen::Matrix3Xi& localNodes,
   m_pointStiffness_N_m = stiffness_N_m;
 }
 
+void CondensedCapsuleContact::setHeldPoints(const Eigen::Matrix3Xi& localNodes,
+                                            const Eigen::Matrix3Xd& weights) {
+  const auto m = static_cast<Eigen::Index>(m_nodes.size());
+  if (weights.cols() != localNodes.cols())
+    throw std::invalid_argument("CondensedCapsuleContact: one weight column a held point");
+  if (localNodes.size() > 0 && (localNodes.minCoeff() < 0 || localNodes.maxCoeff() >= m))
+    throw std::invalid_argument("CondensedCapsuleContact: a held point's node is not a candidate");
+  m_heldNodes = localNodes;
+  m_heldWeights = weights;
+  m_heldTargets.resize(3, localNodes.cols());
+  for (Eigen::Index h = 0; h < localNodes.cols(); ++h) m_heldTargets.col(h) = heldPosition(h);
+}
+
+Eigen::Vector3d CondensedCapsuleContact::pointPosition(Eigen::Index p) const {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) {
+    const int j = m_pointNodes(a, p);
+    s += m_pointWeights(a, p) * (m_free.col(j) + m_u.segment<3>(3 * j));
+  }
+  return s;
+}
+
+Eigen::Vector3d CondensedCapsuleContact::heldFreePosition(Eigen::Index h) const {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) s += m_heldWeights(a, h) * m_free.col(m_heldNodes(a, h));
+  return s;
+}
+
+Eigen::Vector3d CondensedCapsuleContact::heldPosition(Eigen::Index h) const {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) {
+    const int j = m_heldNodes(a, h);
+    s += m_heldWeights(a, h) * (m_free.col(j) + m_u.segment<3>(3 * j));
+  }
+  return s;
+}
+
 double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                                              const Eigen::Vector3d& top_m, double radius_m,
                                              Eigen::VectorXd* gradient, Eigen::MatrixXd* hessian,
                                              Eigen::MatrixXd* turning, bool* touching) const {
   double energy = 0.0;
-  if (touching != nullptr) *touching = false;
+  if (touching != nullptr) *touching = m_heldNodes.cols() > 0;
+  for (Eigen::Index h = 0; h < m_heldNodes.cols(); ++h) {
+    Eigen::Vector3d s = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+      const int j = m_heldNodes(a, h);
+      s += m_heldWeights(a, h) * (m_free.col(j) + u.segment<3>(3 * j));
+    }
+    const Eigen::Vector3d stretch_m = s - m_heldTargets.col(h);
+    energy += 0.5 * heldStiffness_N_m * stretch_m.squaredNorm();
+    if (gradient == nullptr) continue;
+    const Eigen::Vector3d slope_N = heldStiffness_N_m * stretch_m;
+    for (int a = 0; a < 3; ++a) {
+      const int j = m_heldNodes(a, h);
+      gradient->segment<3>(3 * j) += m_heldWeights(a, h) * slope_N;
+      for (int b = 0; b < 3; ++b) {
+        hessian->block<3, 3>(3 * j, 3 * m_heldNodes(b, h)).diagonal().array() +=
+            m_heldWeights(a, h) * m_heldWeights(b, h) * heldStiffness_N_m;
+      }
+    }
+  }
   for (Eigen::Index p = 0; p < m_pointNodes.cols(); ++p) {
     Eigen::Vector3d s = Eigen::Vector3d::Zero();
     for (int a = 0; a < 3; ++a) {

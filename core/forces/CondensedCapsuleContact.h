@@ -20,8 +20,14 @@
 // hundredth of a millinewton on a candidate. The force on the capsule is minus the candidates'
 // forces' sum.
 //
-// Optionally the whole body follows the candidates' forces linearly: x = xRest + B f (xRest 3
-// by #V, B 3#V by 3m, the body's compliance on the candidates' columns).
+// Optionally some points are held to targets the caller moves with the probe (the grasp: the
+// surface the closed jaws caught), each by a spring, which pulls as well as pushes:
+//
+//   E_h = 1/2 k_h |s_h - t_h|^2   (k_h N/m, s_h a point between three candidates as above)
+//
+// added to E, its Hessian k_h w w^T I. Optionally the whole body follows the candidates' forces
+// linearly: x = xRest + B f (xRest 3 by #V, B 3#V by 3m, the body's compliance on the
+// candidates' columns).
 
 #include <vector>
 
@@ -47,6 +53,27 @@ class CondensedCapsuleContact {
   /// positive definite.
   void setPoints(const Eigen::Matrix3Xi& localNodes, const Eigen::Matrix3Xd& weights,
                  const Eigen::VectorXd& stiffness_N_m);
+
+  /// The caller's ids of the points (one a point, in setPoints' order; empty: none kept).
+  std::vector<int>& pointIds() { return m_pointIds; }
+  const std::vector<int>& pointIds() const { return m_pointIds; }
+
+  /// Points held to targets (the grasp): each three candidates' local indices and weights, as
+  /// setPoints', held by a spring of heldStiffness_N_m to its column of heldTargets(), which the
+  /// caller sets before each solve (allocates; none: no point held). The targets start where
+  /// the points are. @throws
+  /// std::invalid_argument on a size or index out of range.
+  void setHeldPoints(const Eigen::Matrix3Xi& localNodes, const Eigen::Matrix3Xd& weights);
+  Eigen::Index heldCount() const { return m_heldNodes.cols(); }
+  /// A point's position at the last solve (m).
+  Eigen::Vector3d pointPosition(Eigen::Index p) const;
+  Eigen::Index pointCount() const { return m_pointNodes.cols(); }
+  /// A held point's position at the last solve (m).
+  Eigen::Vector3d heldPosition(Eigen::Index h) const;
+  Eigen::Matrix3Xd& heldTargets() { return m_heldTargets; }
+  /// Where a held point settles with no force on the body (m): at xFree.
+  Eigen::Vector3d heldFreePosition(Eigen::Index h) const;
+  double heldStiffness_N_m = 2000.0;
 
   /// Optionally the whole body: xRest (3 by #V) and B (3#V by 3m), filled after setCandidates;
   /// B left empty, no body.
@@ -78,9 +105,10 @@ class CondensedCapsuleContact {
   double residual_N() const { return m_residual_N; }
 
  private:
-  /// The points' penalty energy at u (J), their gradient and Gauss-Newton Hessian added where
-  /// non-null (both or neither), and the normals' turning, the rest of the exact Hessian, where
-  /// `turning` is (with them); touching: whether any point is within the penalty's reach.
+  /// The points' penalty energy and the held points' springs' at u (J), their gradient and
+  /// Gauss-Newton Hessian added where non-null (both or neither), and the normals' turning, the
+  /// rest of the exact Hessian, where `turning` is (with them); touching: whether any point is
+  /// within the penalty's reach or held.
   double pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                       const Eigen::Vector3d& top_m, double radius_m, Eigen::VectorXd* gradient,
                       Eigen::MatrixXd* hessian, Eigen::MatrixXd* turning,
@@ -92,6 +120,9 @@ class CondensedCapsuleContact {
   Eigen::Matrix3Xi m_pointNodes;
   Eigen::Matrix3Xd m_pointWeights;
   Eigen::VectorXd m_pointStiffness_N_m;
+  std::vector<int> m_pointIds;
+  Eigen::Matrix3Xi m_heldNodes;
+  Eigen::Matrix3Xd m_heldWeights, m_heldTargets;
   Eigen::VectorXd m_u, m_trialU, m_gradient, m_step, m_work;
   Eigen::MatrixXd m_hessian, m_turning, m_exact;  ///< Gauss-Newton's, the rest, their sum
   Eigen::Matrix3Xd m_bodyRest;

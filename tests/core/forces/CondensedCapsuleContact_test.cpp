@@ -3,7 +3,8 @@
 // closed form; on a coupled compliance with points between nodes, the forces it settles to are
 // CapsulePenalty's (an independent evaluation of the same penalty) at the positions it settles
 // to; a warm start settles at once; the normals' turning in the Hessian settles a hard press in
-// fewer iterations than Gauss-Newton's; and bad points are refused.
+// fewer iterations than Gauss-Newton's; held points (the grasp) meet the closed form on a spring
+// and balance the body on the coupled patch; and bad points are refused.
 
 #include "forces/CondensedCapsuleContact.h"
 
@@ -167,6 +168,73 @@ TEST(CondensedCapsuleContact, AWarmStartSettlesAtOnceAndTheBodyFollowsTheForces)
   EXPECT_NEAR(body(0, 0), 0.5 + again.contact.nodeForces()(0, 0), 1e-15);
 }
 
+TEST(CondensedCapsuleContact, AHeldNodeOnASpringMeetsTheClosedForm) {
+  // One node on an isotropic spring k_b held by the grasp's spring k_h to a target d away, the
+  // probe clear: k_b u = k_h (d - u), and the probe feels the node's pull, minus k_b u.
+  constexpr double kBody_N_m = 200.0;
+  CondensedCapsuleContact contact;
+  contact.setCandidates({7});
+  contact.compliance() = Eigen::Matrix3d::Identity() / kBody_N_m;
+  contact.freePositions().setZero();
+  contact.setPoints(Eigen::Matrix3Xi::Zero(3, 1), Eigen::Vector3d(1.0, 0.0, 0.0),
+                    Eigen::VectorXd::Constant(1, 5e4));
+  contact.setHeldPoints(Eigen::Matrix3Xi::Zero(3, 1), Eigen::Vector3d(1.0, 0.0, 0.0));
+  ASSERT_EQ(contact.heldCount(), 1);
+  EXPECT_EQ(contact.heldTargets().col(0), Eigen::Vector3d::Zero()) << "held where it is";
+  const Eigen::Vector3d pull_m(0.001, -0.0005, 0.003);
+  contact.heldTargets().col(0) = pull_m;
+  const Probe clear(-0.01);
+  const Eigen::Vector3d reaction = contact.solve(clear.tip, clear.top, kRadius_m);
+  EXPECT_TRUE(contact.converged());
+  const double k_h = contact.heldStiffness_N_m;
+  const Eigen::Vector3d u = k_h / (kBody_N_m + k_h) * pull_m;
+  EXPECT_LT((contact.positions().col(0) - u).norm(), 1e-9);
+  EXPECT_LT((contact.heldPosition(0) - u).norm(), 1e-9);
+  EXPECT_LT((reaction + kBody_N_m * u).norm(), 1e-6);
+  EXPECT_EQ(contact.heldFreePosition(0), Eigen::Vector3d::Zero());
+  // Released, it settles back where it was free, exactly.
+  contact.setHeldPoints(Eigen::Matrix3Xi(3, 0), Eigen::Matrix3Xd(3, 0));
+  EXPECT_EQ(contact.solve(clear.tip, clear.top, kRadius_m).norm(), 0.0);
+  EXPECT_EQ(contact.positions(), contact.freePositions());
+}
+
+TEST(CondensedCapsuleContact, HeldPointsPressedByTheProbeBalanceTheBody) {
+  // The coupled patch pressed by the probe, two of its points held to targets lifted 1 mm: the
+  // candidates' forces are the penalty's (CapsulePenalty) plus the held springs' k_h (t - s),
+  // spread by the points' weights, to the solve's tolerance.
+  CoupledPatch patch;
+  const Eigen::Matrix3Xi held = patch.localNodes.leftCols(2);
+  const Eigen::Matrix3Xd heldWeights = patch.weights.leftCols(2);
+  patch.contact.setHeldPoints(held, heldWeights);
+  const Eigen::Vector3d lift_m(0.0, 0.0, 0.001);
+  for (Eigen::Index h = 0; h < 2; ++h) patch.contact.heldTargets().col(h) += lift_m;
+  const Probe probe(0.001, 0.0007);
+  const Eigen::Vector3d reaction = patch.contact.solve(probe.tip, probe.top, kRadius_m);
+  ASSERT_TRUE(patch.contact.converged());
+  const PenaltyAtTheSettledPatch penalty(patch, probe);
+  Eigen::Matrix3Xd springs = Eigen::Matrix3Xd::Zero(3, 9);
+  Eigen::Vector3d pull_N = Eigen::Vector3d::Zero();
+  for (Eigen::Index h = 0; h < 2; ++h) {
+    const Eigen::Vector3d f = patch.contact.heldStiffness_N_m *
+                              (patch.contact.heldTargets().col(h) - patch.contact.heldPosition(h));
+    pull_N += f;
+    for (int a = 0; a < 3; ++a) springs.col(held(a, h)) += heldWeights(a, h) * f;
+  }
+  EXPECT_GT(pull_N.z(), 0.1) << "the held points are pulled up";
+  // The candidates' forces from the body (C^-1 u) against the penalty's and the springs'.
+  Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Zero(3, 109);
+  for (int j = 0; j < 9; ++j) x.col(100 + j) = patch.contact.positions().col(j);
+  CapsulePenalty capsule(patch.points);
+  capsule.tip_m = probe.tip;
+  capsule.top_m = probe.top;
+  capsule.radius_m = kRadius_m;
+  Eigen::Matrix3Xd gradient = Eigen::Matrix3Xd::Zero(3, 109);
+  capsule.add(x, &gradient, nullptr);
+  EXPECT_LT((patch.contact.nodeForces() + gradient.rightCols(9) - springs).cwiseAbs().maxCoeff(),
+            1e-5);
+  EXPECT_LT((reaction - (penalty.reaction_N - pull_N)).cwiseAbs().maxCoeff(), 9e-5);
+}
+
 TEST(CondensedCapsuleContact, NoContactNoForce) {
   CoupledPatch patch;
   const Probe above(-0.001);
@@ -208,6 +276,15 @@ TEST(CondensedCapsuleContact, AWarmStartTheProbeHasLeftLetsGoExactly) {
   EXPECT_TRUE(left.contact.converged());
   EXPECT_EQ(left.contact.positions(), left.contact.freePositions());
   EXPECT_EQ(left.contact.nodeForces().cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(CondensedCapsuleContact, BadHeldPointsAreRefused) {
+  CoupledPatch patch;
+  EXPECT_THROW(patch.contact.setHeldPoints(Eigen::Matrix3Xi::Constant(3, 1, 9),
+                                           Eigen::Matrix3Xd::Constant(3, 1, 1.0 / 3)),
+               std::invalid_argument);
+  EXPECT_THROW(patch.contact.setHeldPoints(Eigen::Matrix3Xi::Zero(3, 2), Eigen::Matrix3Xd(3, 1)),
+               std::invalid_argument);
 }
 
 TEST(CondensedCapsuleContact, BadPointsAreRefused) {
