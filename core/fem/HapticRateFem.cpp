@@ -82,6 +82,11 @@ HapticRateUpdate HapticRateFem::update(const CondensedCapsuleContact& inUse,
   return report;
 }
 
+void HapticRateFem::setHeldPoints(std::vector<int> points) {
+  std::sort(points.begin(), points.end());
+  m_heldPoints = std::move(points);
+}
+
 void HapticRateFem::restart() {
   m_x = m_settled;
   std::fill(m_isInContact.begin(), m_isInContact.end(), char{0});
@@ -182,8 +187,11 @@ int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d
     const double gap_m = capsuleGap(point.position(m_x), tip_m, top_m, radius_m).gap_m;
     const bool wasInContact = m_isInContact[p] != 0;
     m_isInContact[p] = 0;
-    if (gap_m < -kGoneThrough_m && wasInContact) ++passed;
-    if (gap_m > m_candidateMargin_m || gap_m < -kPassedThrough_m) continue;
+    const bool isHeld =
+        !m_heldPoints.empty() &&
+        std::binary_search(m_heldPoints.begin(), m_heldPoints.end(), static_cast<int>(p));
+    if (gap_m < -kGoneThrough_m && wasInContact && !isHeld) ++passed;
+    if (!isHeld && (gap_m > m_candidateMargin_m || gap_m < -kPassedThrough_m)) continue;
     m_isInContact[p] = 1;
     points.push_back(static_cast<int>(p));
     nodes.insert(nodes.end(), point.nodes.begin(), point.nodes.end());
@@ -223,6 +231,7 @@ int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d
     stiffness_N_m[j] = point.stiffness_N_m;
   }
   next.setPoints(localNodes, weights, stiffness_N_m);
+  next.pointIds() = points;
   return passed;
 }
 

@@ -10,7 +10,8 @@
 //       x(f) = x_rest + B f,   x_rest = x - K^-1 dE/dx,   B = K^-1 E_c   (3#V by 3m)
 //     for forces f on the m nodes that carry the surface points near the probe (E_c: their unit
 //     loads; 3m + 1 solves): the next CondensedCapsuleContact, C = B's rows of those nodes,
-//     xFree their x_rest, the points' penalty on them.
+//     xFree their x_rest, the points' penalty on them, each point with its index in the surface
+//     (pointIds; the points the grasp holds among them wherever they are).
 //   step (fast, 1 kHz): that contact solved for the probe's pose
 //   (forces/CondensedCapsuleContact.h).
 //
@@ -120,6 +121,11 @@ class HapticRateFem {
   /// balance, or the body at rest before any.
   void restart();
 
+  /// Surface points (indices into the surface given at construction) the next updates keep in
+  /// their contact whatever their distance from the probe: the points the grasp holds.
+  void setHeldPoints(std::vector<int> points);
+  const std::vector<CapsulePenalty::Point>& surface() const { return m_surface; }
+
   /// The body where the last update linearised it (3 by #V).
   const Eigen::Matrix3Xd& positions() const { return m_x; }
 
@@ -142,6 +148,7 @@ class HapticRateFem {
   Eigen::Matrix3Xd m_settled;        ///< where restart() puts the body
   double m_lastLargestLoad_N = 0.0;  ///< the last update's largest load on a node
   std::vector<char> m_isInContact;   ///< per surface point: in the last contact made
+  std::vector<int> m_heldPoints;     ///< setHeldPoints', sorted
 };
 
 }  // namespace tissuesim
