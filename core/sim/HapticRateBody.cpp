@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/HapticRateBody.h"
 
+#include <algorithm>
 #include <exception>
 #include <limits>
 #include <stdexcept>
 #include <utility>
+
+#include <Eigen/Geometry>
 
 #include "fem/QuadraticTetWeight.h"
 #include "fem/SampledSurface.h"
@@ -115,6 +118,7 @@ void HapticRateBody::work() {
     std::string error;
     try {
       const bool isFromContact = m_jobHasBody && !m_jobGoesOn;
+      m_fem->setHeldPoints(m_jobHeld);
       report = m_fem->update(isFromContact ? &m_jobBody : nullptr, m_jobCandidates, m_jobForces,
                              m_jobTip, m_jobTop, m_settings.probeRadius_m, *m_next);
       if (report.isOutOfBalance) {
@@ -152,6 +156,7 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
   // (the FEM's own state), nearer the balance: from the kept contact's body again, under the same
   // forces, it would repeat the refused one exactly.
   m_jobGoesOn = m_isRefusing;
+  m_jobHeld = m_heldPoints;
   m_jobTip = tip_m;
   m_jobTop = top_m;
   m_stepsSinceUpdate = 0;
@@ -217,7 +222,7 @@ void HapticRateBody::waitForUpdate() {
 }
 
 HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
-                                    Eigen::Matrix3Xd& corners_m) {
+                                    Eigen::Matrix3Xd& corners_m, bool isGrasping) {
   HapticRateStep outcome;
   if (m_isInFlight) {
     bool isTaken = false;
@@ -235,11 +240,29 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
       if (m_jobReport.hasNext) {
         m_next->startFrom(*m_inUse);
         std::swap(m_inUse, m_next);
+        attachHeld(*m_inUse);
         m_isRefusing = false;
       } else {
         m_isRefusing = true;
         m_updateProblem = m_jobError;
       }
+    }
+  }
+  if (isGrasping && !m_wasGrasping) {
+    m_letGoSteps = 0;
+    grasp(tip_m, top_m);
+  }
+  if (!isGrasping && m_wasGrasping && !m_heldPoints.empty()) startLettingGo(tip_m, top_m);
+  m_wasGrasping = isGrasping;
+  if (m_letGoSteps > 0) {
+    leadHeldBack();
+  } else if (!m_inUseHeld.empty()) {
+    const Eigen::Matrix3d turn =
+        Eigen::Quaterniond::FromTwoVectors(m_closingDirection, (tip_m - top_m).normalized())
+            .toRotationMatrix();
+    for (std::size_t h = 0; h < m_inUseHeld.size(); ++h) {
+      m_inUse->heldTargets().col(static_cast<Eigen::Index>(h)) =
+          tip_m + turn * m_heldOffsets_m.col(m_inUseHeld[h]);
     }
   }
   const Eigen::Vector3d reaction = m_inUse->solve(tip_m, top_m, m_settings.probeRadius_m);
@@ -268,6 +291,109 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
   return outcome;
 }
 
+void HapticRateBody::grasp(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m) {
+  m_heldPoints.clear();
+  std::vector<Eigen::Vector3d> offsets;
+  const std::vector<int>& ids = m_inUse->pointIds();
+  for (Eigen::Index p = 0; p < m_inUse->pointCount() && p < static_cast<Eigen::Index>(ids.size());
+       ++p) {
+    const Eigen::Vector3d offset_m = m_inUse->pointPosition(p) - tip_m;
+    if (offset_m.norm() > kGraspReachRadii * m_settings.probeRadius_m) continue;
+    m_heldPoints.push_back(ids[static_cast<std::size_t>(p)]);
+    offsets.push_back(offset_m);
+  }
+  m_heldOffsets_m.resize(3, static_cast<Eigen::Index>(offsets.size()));
+  for (std::size_t h = 0; h < offsets.size(); ++h)
+    m_heldOffsets_m.col(static_cast<Eigen::Index>(h)) = offsets[h];
+  m_closingDirection = (tip_m - top_m).normalized();
+  attachHeld(*m_inUse);
+}
+
+void HapticRateBody::startLettingGo(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m) {
+  // From where the held targets are now: the turned offsets from the probe.
+  const Eigen::Matrix3d turn =
+      Eigen::Quaterniond::FromTwoVectors(m_closingDirection, (tip_m - top_m).normalized())
+          .toRotationMatrix();
+  m_letGoTargets_m = (turn * m_heldOffsets_m).colwise() + tip_m;
+  m_letGoSteps = 1;
+  m_backSteps = 0;
+}
+
+void HapticRateBody::leadHeldBack() {
+  bool isBack = true;
+  for (std::size_t h = 0; h < m_inUseHeld.size(); ++h) {
+    const auto at = static_cast<Eigen::Index>(h);
+    auto target = m_letGoTargets_m.col(m_inUseHeld[h]);
+    const Eigen::Vector3d toFree_m = m_inUse->heldFreePosition(at) - target;
+    const double distance_m = toFree_m.norm();
+    const double travel_m =
+        std::min(m_settings.letGoTravel_m, distance_m / static_cast<double>(kLetGoApproachSteps));
+    if (distance_m > kLetGoReached_m) {
+      target += (travel_m / distance_m) * toFree_m;
+      isBack = false;
+    } else {
+      target += toFree_m;
+    }
+    m_inUse->heldTargets().col(at) = target;
+  }
+  // Let go once the targets have stayed where the points settle through two updates' worth of
+  // steps: each update linearises the body nearer its rest, which moves xFree on.
+  m_backSteps = isBack ? m_backSteps + 1 : 0;
+  const long settledSteps = std::max(kLetGoBackSteps, 2 * m_settings.latencySteps + 1);
+  if (m_backSteps > settledSteps || ++m_letGoSteps > kLongestLetGoSteps) {
+    m_letGoSteps = 0;
+    letGo();
+  }
+}
+
+void HapticRateBody::letGo() {
+  m_heldPoints.clear();
+  m_heldOffsets_m.resize(3, 0);
+  attachHeld(*m_inUse);
+}
+
+void HapticRateBody::attachHeld(CondensedCapsuleContact& contact) {
+  m_inUseHeld.clear();
+  const std::vector<int>& ids = contact.pointIds();
+  std::vector<Eigen::Index> local;
+  for (std::size_t h = 0; h < m_heldPoints.size(); ++h) {
+    const auto at = std::find(ids.begin(), ids.end(), m_heldPoints[h]);
+    if (at == ids.end()) continue;  // not in this contact (made before the jaws closed)
+    m_inUseHeld.push_back(static_cast<int>(h));
+    local.push_back(at - ids.begin());
+  }
+  Eigen::Matrix3Xi nodes(3, static_cast<Eigen::Index>(local.size()));
+  Eigen::Matrix3Xd weights(3, static_cast<Eigen::Index>(local.size()));
+  const std::vector<CapsulePenalty::Point>& surface = m_fem->surface();
+  const std::vector<int>& candidates = contact.candidates();
+  for (std::size_t h = 0; h < local.size(); ++h) {
+    const CapsulePenalty::Point& point =
+        surface[static_cast<std::size_t>(m_heldPoints[static_cast<std::size_t>(m_inUseHeld[h])])];
+    for (int a = 0; a < 3; ++a) {
+      nodes(a, static_cast<Eigen::Index>(h)) =
+          static_cast<int>(std::lower_bound(candidates.begin(), candidates.end(),
+                                            point.nodes[static_cast<std::size_t>(a)]) -
+                           candidates.begin());
+    }
+    weights.col(static_cast<Eigen::Index>(h)) = point.weights;
+  }
+  contact.setHeldPoints(nodes, weights);
+  contact.heldStiffness_N_m = kHeldStiffness_N_m;
+}
+
+std::vector<int> HapticRateBody::heldCorners() const {
+  std::vector<int> corners;
+  const std::vector<CapsulePenalty::Point>& surface = m_fem->surface();
+  for (const int p : m_heldPoints) {
+    for (const int node : surface[static_cast<std::size_t>(p)].nodes) {
+      if (node < m_mesh.cornerCount) corners.push_back(node);
+    }
+  }
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  return corners;
+}
+
 void HapticRateBody::restartSettled() {
   *m_inUse = m_start;
   m_settledOwner = m_inUse;
@@ -281,6 +407,9 @@ void HapticRateBody::reset() {
   m_isInFlight = false;
   m_fem->restart();
   restartSettled();
+  letGo();
+  m_wasGrasping = false;  // jaws still closed catch the body at rest at the next step
+  m_letGoSteps = 0;
   m_isRefusing = false;
   m_isPassedThrough = false;
   m_updateProblem.clear();

@@ -64,6 +64,9 @@ struct HapticRateBodySettings {
   Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();  ///< zero: weightless
   double density_kg_m3 = 1060.0;                           ///< the body's weight with gravity
   std::optional<HapticRateTray> tray;                      ///< none: no tray
+  /// The travel a step at which the opening jaws lead the held surface back (m): the tool's
+  /// speed limit a step, which the scheme follows.
+  double letGoTravel_m = 1e-5;
 };
 
 /// One haptic step's outcome.
@@ -102,9 +105,35 @@ class HapticRateBody {
   HapticRateBody& operator=(const HapticRateBody&) = delete;
 
   /// One haptic step with the probe there; corners_m (3 by #corners, sized by the caller) gets
-  /// the mesh's nodes. Allocates only when an update's contact comes in.
+  /// the mesh's nodes. isGrasping: the jaws closed (below). Allocates only when an update's
+  /// contact comes in or the jaws close or open.
   HapticRateStep step(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
-                      Eigen::Matrix3Xd& corners_m);
+                      Eigen::Matrix3Xd& corners_m, bool isGrasping = false);
+  /// The grasp: as the jaws close, the surface points of the contact in use within
+  /// kGraspReachRadii probe radii of the hemisphere's centre are held at their offsets from it,
+  /// each by a spring (CondensedCapsuleContact's held points), the offsets turned as the shaft
+  /// turns (the shortest rotation, as sim/Grasp.h's); the probe feels their pull. Every update
+  /// keeps them in its contact while they are held. Opening the jaws lets go (below).
+  static constexpr double kGraspReachRadii = 2.0;
+  /// Each held point's spring (N/m), as sim/Grasp.h's on a node.
+  static constexpr double kHeldStiffness_N_m = 2000.0;
+  /// As the jaws open, the held points' targets are led back to where the points settle with
+  /// no force on the body (the contact's xFree), each step a kLetGoApproachSteps-th of the way
+  /// left and at most settings' letGoTravel_m, so that the force they carry fades out; the
+  /// points are let go once every target has stayed within kLetGoReached_m of it for
+  /// kLetGoBackSteps (or two latencies, whichever is longer: the updates meanwhile linearise the
+  /// body nearer its rest, and xFree moves on). Let go at once, a lifted liver springs back
+  /// further in one update than the updates follow; led back at a constant speed, the force
+  /// collapses as the targets arrive, and an update meets that drop. At most
+  /// kLongestLetGoSteps, then let go whatever is left.
+  static constexpr long kLetGoApproachSteps = 30;
+  static constexpr double kLetGoReached_m = 1e-6;
+  static constexpr long kLetGoBackSteps = 150;
+  static constexpr long kLongestLetGoSteps = 5000;
+  /// The surface points held now (indices into the sampled surface).
+  const std::vector<int>& heldPoints() const { return m_heldPoints; }
+  /// The mesh's nodes (corners) among the held points' (empty when nothing is held).
+  std::vector<int> heldCorners() const;
   /// Back to the body at rest (an update in flight is waited for and dropped).
   void reset();
   /// Takes up the body where `other` (on the same mesh, another material: a new tissue) had it
@@ -135,6 +164,14 @@ class HapticRateBody {
                     Eigen::Matrix3Xd& forces_N) const;
   /// The contact in use and the last settled step: the body at rest's.
   void restartSettled();
+  /// The held points that are among `contact`'s points held by it (allocates).
+  void attachHeld(CondensedCapsuleContact& contact);
+  void grasp(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
+  void startLettingGo(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
+  /// One step of the opening jaws: the held targets a step nearer xFree, the points let go
+  /// once all are there.
+  void leadHeldBack();
+  void letGo();
   void waitForUpdate();
   void work();
 
@@ -164,11 +201,24 @@ class HapticRateBody {
   bool m_isPassedThrough = false;  ///< the last update taken in: HapticRateUpdate's
   std::string m_updateProblem;
 
+  // The grasp (the haptic thread's): the held surface points, their offsets from the probe's
+  // centre as the jaws closed (3 by #held, m), the shaft's direction then, and for each of the
+  // contact in use's held points its index among them.
+  bool m_wasGrasping = false;
+  long m_letGoSteps = 0;              ///< steps since the jaws began to open (0: not opening)
+  long m_backSteps = 0;               ///< steps the targets have stayed where the points settle
+  Eigen::Matrix3Xd m_letGoTargets_m;  ///< the held points' targets as they are led back
+  std::vector<int> m_heldPoints;
+  Eigen::Matrix3Xd m_heldOffsets_m;
+  Eigen::Vector3d m_closingDirection = Eigen::Vector3d::UnitZ();
+  std::vector<int> m_inUseHeld;
+
   // The job the worker takes (written by the haptic thread while the worker is idle).
   Eigen::Matrix3Xd m_jobBody;
   bool m_jobHasBody = false;
   bool m_jobGoesOn = false;  ///< from the FEM's own state (the last update was refused)
   std::vector<int> m_jobCandidates;
+  std::vector<int> m_jobHeld;
   Eigen::Matrix3Xd m_jobForces;
   Eigen::Vector3d m_jobTip = Eigen::Vector3d::Zero(), m_jobTop = Eigen::Vector3d::Zero();
   HapticRateUpdate m_jobReport;

@@ -15,6 +15,7 @@
 #include "integrators/IntegratorChoice.h"
 #include "material/TissueFile.h"
 #include "sim/HapticRateBody.h"
+#include "sim/HapticRateReach.h"
 #include "sim/UnconvergedResidual.h"
 
 namespace tissuesim {
@@ -124,6 +125,7 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     settings.newtonIterations = scene.newtonIterations;
     settings.gravity_m_s2 = scene.gravity_m_s2;
     settings.density_kg_m3 = newParameters->density_kg_m3;
+    settings.letGoTravel_m = hapticRateToolSpeed_m_s(scene, *energy) * scene.timeStep_s;
     if (scene.tray)
       settings.tray =
           HapticRateTray{scene.tray->up, scene.tray->height_m, scene.tray->stiffness_Pa_per_m};
@@ -231,6 +233,11 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_grasp =
         std::make_unique<Grasp>(std::move(surfaceNodes), 2.0 * scene.instrument->shaftRadius_m);
   }
+}
+
+std::vector<int> Simulation::heldNodes() const {
+  if (m_hapticRate) return m_hapticRate->heldCorners();
+  return m_grasp ? m_grasp->heldNodes() : std::vector<int>{};
 }
 
 const char* eventKindWords(const char* kind) {
@@ -438,8 +445,8 @@ StepOutcome Simulation::stepHapticRate() {
   if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
   const SceneInstrument& tool = *m_scene.instrument;
   const Eigen::Vector3d centre = m_pose.tip_m - tool.shaftRadius_m * m_pose.direction;
-  const HapticRateStep haptic =
-      m_hapticRate->step(centre, centre - tool.shaftLength_m * m_pose.direction, m_state.x);
+  const HapticRateStep haptic = m_hapticRate->step(
+      centre, centre - tool.shaftLength_m * m_pose.direction, m_state.x, m_pose.isGrasping);
   outcome.contact.toolForce_N = haptic.probeForce_N;
   outcome.integrator.converged = haptic.isSettled;
   outcome.integrator.iterations = haptic.contactIterations;

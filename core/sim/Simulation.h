@@ -143,8 +143,9 @@ class Simulation {
   InstrumentPose instrumentPose() const { return m_pose; }
   /// The session so far (since the start or the last reset).
   const SessionAssessment& assessment() const { return *m_assessment; }
-  /// Nodes the grasper holds now (empty without an instrument or with open jaws).
-  std::vector<int> heldNodes() const { return m_grasp ? m_grasp->heldNodes() : std::vector<int>{}; }
+  /// Nodes the grasper holds now (empty without an instrument or with open jaws; for
+  /// fem-haptic-rate, the mesh's nodes among the held surface points').
+  std::vector<int> heldNodes() const;
 
  private:
   void record(const char* kind, const std::string& detail);

@@ -371,6 +371,152 @@ TEST(HapticRateBody, UnderGravityAPokeAtTheToolsLimitIsTheStaticFemsAndComesBack
   EXPECT_LT((tooFast.finalPositions_m - tooFast.restPositions_m).colwise().norm().maxCoeff(), 1e-5);
 }
 
+/// Surface points held by springs to targets (the grasp's, in the static FEM's energies).
+class HeldPointSprings final : public FemExtraEnergy {
+ public:
+  std::vector<CapsulePenalty::Point> points;
+  Eigen::Matrix3Xd targets_m;
+  double stiffness_N_m = 0.0;
+
+  double add(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
+             std::vector<Eigen::Triplet<double>>* hessian) const override {
+    double energy = 0.0;
+    for (std::size_t h = 0; h < points.size(); ++h) {
+      const CapsulePenalty::Point& point = points[h];
+      const Eigen::Vector3d stretch_m =
+          point.position(x) - targets_m.col(static_cast<Eigen::Index>(h));
+      energy += 0.5 * stiffness_N_m * stretch_m.squaredNorm();
+      for (int a = 0; a < 3; ++a) {
+        const int i = point.nodes[static_cast<std::size_t>(a)];
+        if (gradient != nullptr) gradient->col(i) += point.weights[a] * stiffness_N_m * stretch_m;
+        if (hessian == nullptr) continue;
+        for (int b = 0; b < 3; ++b) {
+          const int j = point.nodes[static_cast<std::size_t>(b)];
+          for (int c = 0; c < 3; ++c)
+            hessian->emplace_back(3 * i + c, 3 * j + c,
+                                  point.weights[a] * point.weights[b] * stiffness_N_m);
+        }
+      }
+    }
+    return energy;
+  }
+  /// The force the held points pull the probe with (N).
+  Eigen::Vector3d pull_N(const Eigen::Matrix3Xd& x) const {
+    Eigen::Vector3d pull = Eigen::Vector3d::Zero();
+    for (std::size_t h = 0; h < points.size(); ++h)
+      pull += stiffness_N_m * (points[h].position(x) - targets_m.col(static_cast<Eigen::Index>(h)));
+    return pull;
+  }
+};
+
+/// The probe's force along its axis in static equilibrium on the weightless scene's body (as
+/// staticForceOnTheScenesBody's, with no weight or tray): pressed pressDepth_m below the entry
+/// point, the surface points `held` (the sampled surface's indices) caught there at their
+/// offsets from the probe's centre, and the probe lifted by lift_m, each half millimetre solved.
+double staticGraspPull(const Simulation& simulation, const std::vector<int>& held,
+                       double pressDepth_m, double lift_m, double heldStiffness_N_m) {
+  const SceneDescription& scene = simulation.scene();
+  const TetMesh& linear = simulation.geometry().mesh;
+  const QuadraticTetMesh mesh = makeQuadraticTetMesh(linear);
+  const HapticRateBodySettings settings;
+  std::vector<CapsulePenalty::Point> points =
+      sampleSurfacePoints(mesh, quadraticSurfacePieces(linear, mesh), settings.contactSpacing_m,
+                          settings.pressureStiffness_Pa_m, Eigen::Vector3d::Zero(),
+                          std::numeric_limits<double>::infinity());
+  std::vector<char> isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0);
+  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
+    if (scene.fixed.box_m->contains(mesh.nodes_m.col(i)))
+      std::fill_n(isFixed.begin() + 3 * i, 3, char{1});
+  }
+  FemModel model(mesh, simulation.energy(), scene.bulkModulus_Pa);
+  HeldPointSprings springs;
+  springs.stiffness_N_m = heldStiffness_N_m;
+  for (const int p : held) springs.points.push_back(points[static_cast<std::size_t>(p)]);
+  CapsulePenalty probe(std::move(points));
+  probe.radius_m = scene.instrument->shaftRadius_m;
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  SummedEnergies energies;
+  energies.terms = {&probe};
+  model.setExtraEnergy(&energies);
+  FemStaticSolver solver(1e-7, 200);
+  Eigen::Matrix3Xd x = mesh.nodes_m;
+  const Eigen::Vector3d entry = entryPoint(simulation);
+  const auto moveTo = [&](double depth_m) {
+    probe.tip_m = entry + (depth_m - probe.radius_m) * direction;
+    probe.top_m = probe.tip_m - 0.3 * direction;
+  };
+  const int pressSteps = static_cast<int>(std::ceil(pressDepth_m / 0.0005 - 1e-9));
+  for (int s = 1; s <= pressSteps; ++s) {
+    moveTo(pressDepth_m * s / pressSteps);
+    EXPECT_TRUE(solver.solve(model, x, isFixed).converged) << "press " << s;
+  }
+  springs.targets_m.resize(3, static_cast<Eigen::Index>(springs.points.size()));
+  for (std::size_t h = 0; h < springs.points.size(); ++h)
+    springs.targets_m.col(static_cast<Eigen::Index>(h)) = springs.points[h].position(x);
+  const Eigen::Matrix3Xd offsets_m = springs.targets_m.colwise() - probe.tip_m;
+  energies.terms = {&probe, &springs};
+  const int liftSteps = static_cast<int>(std::ceil(lift_m / 0.0005 - 1e-9));
+  for (int s = 1; s <= liftSteps; ++s) {
+    moveTo(pressDepth_m - lift_m * s / liftSteps);
+    springs.targets_m = offsets_m.colwise() + probe.tip_m;
+    EXPECT_TRUE(solver.solve(model, x, isFixed).converged) << "lift " << s;
+  }
+  return (probe.reaction(x) + springs.pull_N(x)).dot(-direction);
+}
+
+TEST(HapticRateBody, AGraspLiftsTheLiverAsTheStaticFemsAndLetsGo) {
+  // The probe pressed 2 mm into the liver at the tool's limit, the jaws closed, the probe lifted
+  // 6 mm (4 mm above where the organ was) and held: the liver follows it, pulling the probe
+  // back along its axis with the force of the same body in static equilibrium with the same
+  // points held (within 10 %). The jaws opened and the probe gone, the liver is back at rest,
+  // and nothing was reported.
+  ToolPathThroughTheScene path;
+  const Eigen::Vector3d entry = entryPoint(path.simulation);
+  constexpr double kPressed_m = 0.002, kAbove_m = 0.004;
+  const Eigen::Vector3d pressed = entry + kPressed_m * path.direction;
+  const Eigen::Vector3d lifted = entry - kAbove_m * path.direction;
+  const auto holdFor = [&](double time_s, bool isGrasping) {
+    path.keyframes.push_back({path.keyframes.back().time_s + time_s,
+                              {path.keyframes.back().pose.tip_m, path.direction, isGrasping}});
+  };
+  path.moveTo(pressed, path.fastest_m_s);
+  holdFor(0.2, false);
+  holdFor(0.001, true);
+  path.moveTo(lifted, path.fastest_m_s);
+  path.keyframes.back().pose.isGrasping = true;
+  holdFor(0.3, true);
+  const double liftedAt_s = path.keyframes.back().time_s;
+  holdFor(0.001, false);
+  holdFor(0.3, false);
+  path.moveTo(path.start_m, path.fastest_m_s);
+  const InstrumentScript script(path.keyframes);
+  path.simulation.setInstrumentSource(&script);
+  std::vector<int> held;
+  double pull_N = 0.0, liftedBy_m = 0.0;
+  const long steps = std::lround((script.duration_s() + 1.0) / path.simulation.timeStep_s());
+  for (long n = 0; n < steps; ++n) {
+    const StepOutcome outcome = path.simulation.step();
+    EXPECT_TRUE(outcome.isGood) << "step " << n;
+    if (held.empty() && path.simulation.time_s() >= liftedAt_s) {
+      held = path.simulation.hapticRateBody()->heldPoints();
+      EXPECT_FALSE(path.simulation.heldNodes().empty());
+      pull_N = outcome.contact.toolForce_N.dot(-path.direction);
+      liftedBy_m =
+          (path.simulation.state().x - path.simulation.startState().x).colwise().norm().maxCoeff();
+    }
+  }
+  ASSERT_GT(held.size(), 2u) << "the jaws caught the surface";
+  EXPECT_GT(liftedBy_m, 0.003);
+  EXPECT_LT(pull_N, -0.05) << "the liver pulls the probe back";
+  const double static_N = staticGraspPull(path.simulation, held, kPressed_m, kPressed_m + kAbove_m,
+                                          HapticRateBody::kHeldStiffness_N_m);
+  EXPECT_NEAR(pull_N, static_N, 0.1 * std::abs(static_N));
+  EXPECT_TRUE(path.simulation.heldNodes().empty());
+  EXPECT_LT(path.largestMoveFromRest_m(), 1e-5);
+  for (const InstabilityEvent& event : path.simulation.events())
+    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+}
+
 TEST(HapticRateBody, ANewTissueWhileTheProbePressesKeepsThePress) {
   // An instructor loads a tissue file while the probe presses 1.2 cm along the tool: the body
   // goes on from where the old material had it. The same tissue again: the force within 5 % of
