@@ -783,7 +783,7 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
                                          .arg(isPaused() ? " (paused)" : "")
                         : isPaused() ? QString("paused")
                                      : QString("running");
-  m_statusLabel->setText(QString("%1   physics %2 Hz%9   %3 fps   %4   tool force %5 N   max "
+  m_statusLabel->setText(QString("%1   physics %2 Hz%9   %3 fps   %4   tool force %5 N%10   max "
                                  "stretch %6   t = %7 s   %8")
                              .arg(state)
                              .arg(m_physicsHz, 0, 'f', 0)
@@ -793,7 +793,8 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
                              .arg(snapshot.maxStretch, 0, 'f', 3)
                              .arg(snapshot.time_s, 0, 'f', 2)
                              .arg(events)
-                             .arg(isBehind ? " (slower than real time)" : ""));
+                             .arg(isBehind ? " (slower than real time)" : "")
+                             .arg(snapshot.instrument.isGrasping ? "   jaws closed" : ""));
 }
 
 void MainWindow::renderFrame() {
