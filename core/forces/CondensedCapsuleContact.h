@@ -61,8 +61,7 @@ class CondensedCapsuleContact {
   /// Points held to targets (the grasp): each three candidates' local indices and weights, as
   /// setPoints', held by a spring of heldStiffness_N_m to its column of heldTargets(), which the
   /// caller sets before each solve (allocates; none: no point held). The targets start where
-  /// the points are. @throws
-  /// std::invalid_argument on a size or index out of range.
+  /// the points are. @throws std::invalid_argument on a size or index out of range.
   void setHeldPoints(const Eigen::Matrix3Xi& localNodes, const Eigen::Matrix3Xd& weights);
   Eigen::Index heldCount() const { return m_heldNodes.cols(); }
   /// A point's position at the last solve (m).
@@ -109,6 +108,9 @@ class CondensedCapsuleContact {
   /// Gauss-Newton Hessian added where non-null (both or neither), and the normals' turning, the
   /// rest of the exact Hessian, where `turning` is (with them); touching: whether any point is
   /// within the penalty's reach or held.
+  /// The point between three candidates (nodes, weights: column p) at displacement u.
+  Eigen::Vector3d between(const Eigen::Matrix3Xi& nodes, const Eigen::Matrix3Xd& weights,
+                          Eigen::Index p, const Eigen::VectorXd& u) const;
   double pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                       const Eigen::Vector3d& top_m, double radius_m, Eigen::VectorXd* gradient,
                       Eigen::MatrixXd* hessian, Eigen::MatrixXd* turning,

@@ -269,26 +269,49 @@ SceneDescription heavyHapticRateScene() {
   return scene;
 }
 
+/// The quadratic body of `simulation`'s scene (a fem-haptic-rate one) for a static solve: its
+/// surface sampled as the scene's body samples it (the same points in the same order), its
+/// held DOFs (every node in the fixed box) and the FEM on it.
+struct StaticScenesBody {
+  const SceneDescription& scene;
+  const TetMesh& linear;
+  QuadraticTetMesh mesh;
+  HapticRateBodySettings settings;
+  std::vector<CapsulePenalty::Point> points;
+  std::vector<char> isFixed;
+  FemModel model;
+
+  explicit StaticScenesBody(const Simulation& simulation)
+      : scene(simulation.scene()),
+        linear(simulation.geometry().mesh),
+        mesh(makeQuadraticTetMesh(linear)),
+        points(sampleSurfacePoints(mesh, quadraticSurfacePieces(linear, mesh),
+                                   settings.contactSpacing_m, settings.pressureStiffness_Pa_m,
+                                   Eigen::Vector3d::Zero(),
+                                   std::numeric_limits<double>::infinity())),
+        isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0),
+        model(mesh, simulation.energy(), scene.bulkModulus_Pa) {
+    for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
+      if (scene.fixed.box_m->contains(mesh.nodes_m.col(i)))
+        std::fill_n(isFixed.begin() + 3 * i, 3, char{1});
+    }
+  }
+};
+
 /// The probe's force along its axis depth_m below where the axis meets the body of `simulation`'s
 /// scene (a fem-haptic-rate one) at its start, in static equilibrium: the same quadratic body,
 /// surface points, weight and tray as the scene's, the probe's penalty among its energies,
 /// Newton (the exact Hessian) to a converged balance at each half millimetre from the body
 /// settled under its weight with the probe clear.
 double staticForceOnTheScenesBody(const Simulation& simulation, double depth_m) {
-  const SceneDescription& scene = simulation.scene();
-  const TetMesh& linear = simulation.geometry().mesh;
-  const QuadraticTetMesh mesh = makeQuadraticTetMesh(linear);
-  const HapticRateBodySettings settings;
-  std::vector<CapsulePenalty::Point> points =
-      sampleSurfacePoints(mesh, quadraticSurfacePieces(linear, mesh), settings.contactSpacing_m,
-                          settings.pressureStiffness_Pa_m, Eigen::Vector3d::Zero(),
-                          std::numeric_limits<double>::infinity());
-  std::vector<char> isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0);
-  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
-    if (scene.fixed.box_m->contains(mesh.nodes_m.col(i)))
-      std::fill_n(isFixed.begin() + 3 * i, 3, char{1});
-  }
-  FemModel model(mesh, simulation.energy(), scene.bulkModulus_Pa);
+  StaticScenesBody body(simulation);
+  const SceneDescription& scene = body.scene;
+  const TetMesh& linear = body.linear;
+  const QuadraticTetMesh& mesh = body.mesh;
+  const HapticRateBodySettings& settings = body.settings;
+  std::vector<CapsulePenalty::Point> points = body.points;
+  const std::vector<char>& isFixed = body.isFixed;
+  FemModel& model = body.model;
   const NodalLoads weight =
       quadraticTetWeight(mesh, simulation.parameters().density_kg_m3, scene.gravity_m_s2);
   std::vector<CapsulePenalty::Point> trayPoints = points;
@@ -415,20 +438,12 @@ class HeldPointSprings final : public FemExtraEnergy {
 /// offsets from the probe's centre, and the probe lifted by lift_m, each half millimetre solved.
 double staticGraspPull(const Simulation& simulation, const std::vector<int>& held,
                        double pressDepth_m, double lift_m, double heldStiffness_N_m) {
-  const SceneDescription& scene = simulation.scene();
-  const TetMesh& linear = simulation.geometry().mesh;
-  const QuadraticTetMesh mesh = makeQuadraticTetMesh(linear);
-  const HapticRateBodySettings settings;
-  std::vector<CapsulePenalty::Point> points =
-      sampleSurfacePoints(mesh, quadraticSurfacePieces(linear, mesh), settings.contactSpacing_m,
-                          settings.pressureStiffness_Pa_m, Eigen::Vector3d::Zero(),
-                          std::numeric_limits<double>::infinity());
-  std::vector<char> isFixed(static_cast<std::size_t>(3 * mesh.nodeCount()), 0);
-  for (Eigen::Index i = 0; i < mesh.nodeCount(); ++i) {
-    if (scene.fixed.box_m->contains(mesh.nodes_m.col(i)))
-      std::fill_n(isFixed.begin() + 3 * i, 3, char{1});
-  }
-  FemModel model(mesh, simulation.energy(), scene.bulkModulus_Pa);
+  StaticScenesBody body(simulation);
+  const SceneDescription& scene = body.scene;
+  const QuadraticTetMesh& mesh = body.mesh;
+  std::vector<CapsulePenalty::Point> points = body.points;
+  const std::vector<char>& isFixed = body.isFixed;
+  FemModel& model = body.model;
   HeldPointSprings springs;
   springs.stiffness_N_m = heldStiffness_N_m;
   for (const int p : held) springs.points.push_back(points[static_cast<std::size_t>(p)]);
