@@ -66,13 +66,12 @@ class CondensedCapsuleContact {
   Eigen::Index heldCount() const { return m_heldNodes.cols(); }
   /// A point's position at the last solve (m).
   Eigen::Vector3d pointPosition(Eigen::Index p) const;
-  Eigen::Index pointCount() const { return m_pointNodes.cols(); }
   /// A held point's position at the last solve (m).
   Eigen::Vector3d heldPosition(Eigen::Index h) const;
   Eigen::Matrix3Xd& heldTargets() { return m_heldTargets; }
   /// Where a held point settles with no force on the body (m): at xFree.
   Eigen::Vector3d heldFreePosition(Eigen::Index h) const;
-  double heldStiffness_N_m = 2000.0;
+  double heldStiffness_N_m = 0.0;
 
   /// Optionally the whole body: xRest (3 by #V) and B (3#V by 3m), filled after setCandidates;
   /// B left empty, no body.

@@ -28,8 +28,11 @@ class Grasp {
  public:
   /// @param reach_m nodes within this distance of the tip are caught when the jaws close.
   /// @param stiffness_N_m k, per node; damping_N_s_m the explicit integrator's contact damping.
-  Grasp(std::vector<int> candidateNodes, double reach_m, double stiffness_N_m = 2000.0,
-        double damping_N_s_m = 0.5)
+  /// k's default (N/m), stiff against an organ's surface node.
+  static constexpr double kDefaultStiffness_N_m = 2000.0;
+
+  Grasp(std::vector<int> candidateNodes, double reach_m,
+        double stiffness_N_m = kDefaultStiffness_N_m, double damping_N_s_m = 0.5)
       : m_candidates(std::move(candidateNodes)),
         m_reach_m(reach_m),
         m_stiffness(stiffness_N_m),

@@ -257,9 +257,7 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
   if (m_letGoSteps > 0) {
     leadHeldBack();
   } else if (!m_inUseHeld.empty()) {
-    const Eigen::Matrix3d turn =
-        Eigen::Quaterniond::FromTwoVectors(m_closingDirection, (tip_m - top_m).normalized())
-            .toRotationMatrix();
+    const Eigen::Matrix3d turn = shaftTurn(tip_m, top_m);
     for (std::size_t h = 0; h < m_inUseHeld.size(); ++h) {
       m_inUse->heldTargets().col(static_cast<Eigen::Index>(h)) =
           tip_m + turn * m_heldOffsets_m.col(m_inUseHeld[h]);
@@ -295,11 +293,10 @@ void HapticRateBody::grasp(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& 
   m_heldPoints.clear();
   std::vector<Eigen::Vector3d> offsets;
   const std::vector<int>& ids = m_inUse->pointIds();
-  for (Eigen::Index p = 0; p < m_inUse->pointCount() && p < static_cast<Eigen::Index>(ids.size());
-       ++p) {
-    const Eigen::Vector3d offset_m = m_inUse->pointPosition(p) - tip_m;
+  for (std::size_t p = 0; p < ids.size(); ++p) {
+    const Eigen::Vector3d offset_m = m_inUse->pointPosition(static_cast<Eigen::Index>(p)) - tip_m;
     if (offset_m.norm() > kGraspReachRadii * m_settings.probeRadius_m) continue;
-    m_heldPoints.push_back(ids[static_cast<std::size_t>(p)]);
+    m_heldPoints.push_back(ids[p]);
     offsets.push_back(offset_m);
   }
   m_heldOffsets_m.resize(3, static_cast<Eigen::Index>(offsets.size()));
@@ -309,12 +306,15 @@ void HapticRateBody::grasp(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& 
   attachHeld(*m_inUse);
 }
 
+Eigen::Matrix3d HapticRateBody::shaftTurn(const Eigen::Vector3d& tip_m,
+                                          const Eigen::Vector3d& top_m) const {
+  return Eigen::Quaterniond::FromTwoVectors(m_closingDirection, (tip_m - top_m).normalized())
+      .toRotationMatrix();
+}
+
 void HapticRateBody::startLettingGo(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m) {
   // From where the held targets are now: the turned offsets from the probe.
-  const Eigen::Matrix3d turn =
-      Eigen::Quaterniond::FromTwoVectors(m_closingDirection, (tip_m - top_m).normalized())
-          .toRotationMatrix();
-  m_letGoTargets_m = (turn * m_heldOffsets_m).colwise() + tip_m;
+  m_letGoTargets_m = (shaftTurn(tip_m, top_m) * m_heldOffsets_m).colwise() + tip_m;
   m_letGoSteps = 1;
   m_backSteps = 0;
 }

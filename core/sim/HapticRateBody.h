@@ -44,6 +44,7 @@
 #include "forces/SummedEnergies.h"
 #include "material/StrainEnergy.h"
 #include "mesh/TetMesh.h"
+#include "sim/Grasp.h"
 
 namespace tissuesim {
 
@@ -116,7 +117,7 @@ class HapticRateBody {
   /// keeps them in its contact while they are held. Opening the jaws lets go (below).
   static constexpr double kGraspReachRadii = 2.0;
   /// Each held point's spring (N/m), as sim/Grasp.h's on a node.
-  static constexpr double kHeldStiffness_N_m = 2000.0;
+  static constexpr double kHeldStiffness_N_m = Grasp::kDefaultStiffness_N_m;
   /// As the jaws open, the held points' targets are led back to where the points settle with
   /// no force on the body (the contact's xFree), each step a kLetGoApproachSteps-th of the way
   /// left and at most settings' letGoTravel_m, so that the force they carry fades out; the
@@ -167,6 +168,8 @@ class HapticRateBody {
   /// The held points that are among `contact`'s points held by it (allocates).
   void attachHeld(CondensedCapsuleContact& contact);
   void grasp(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
+  /// The shortest rotation from the shaft's direction as the jaws closed to its direction now.
+  Eigen::Matrix3d shaftTurn(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m) const;
   void startLettingGo(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
   /// One step of the opening jaws: the held targets a step nearer xFree, the points let go
   /// once all are there.

@@ -181,6 +181,7 @@ TEST(CondensedCapsuleContact, AHeldNodeOnASpringMeetsTheClosedForm) {
   contact.setPoints(Eigen::Matrix3Xi::Zero(3, 1), Eigen::Vector3d(1.0, 0.0, 0.0),
                     Eigen::VectorXd::Constant(1, 5e4));
   contact.setHeldPoints(Eigen::Matrix3Xi::Zero(3, 1), Eigen::Vector3d(1.0, 0.0, 0.0));
+  contact.heldStiffness_N_m = 2000.0;
   ASSERT_EQ(contact.heldCount(), 1);
   EXPECT_EQ(contact.heldTargets().col(0), Eigen::Vector3d::Zero()) << "held where it is";
   const Eigen::Vector3d pull_m(0.001, -0.0005, 0.003);
@@ -208,6 +209,7 @@ TEST(CondensedCapsuleContact, HeldPointsPressedByTheProbeBalanceTheBody) {
   const Eigen::Matrix3Xi held = patch.localNodes.leftCols(2);
   const Eigen::Matrix3Xd heldWeights = patch.weights.leftCols(2);
   patch.contact.setHeldPoints(held, heldWeights);
+  patch.contact.heldStiffness_N_m = 2000.0;
   const Eigen::Vector3d lift_m(0.0, 0.0, 0.001);
   for (Eigen::Index h = 0; h < 2; ++h) patch.contact.heldTargets().col(h) += lift_m;
   const Probe probe(0.001, 0.0007);
