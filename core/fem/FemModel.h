@@ -14,6 +14,11 @@
 // The isochoric energy is integrated by the degree-2 rule (four points), v_e exactly by the
 // degree-3 rule (J is cubic on a straight-edged quadratic tet): QuadraticTetShape.h.
 //
+// With stress softening (setSoftening; fem/SoftenedIsochoricEnergy.h) each isochoric point's
+// W_T is scaled by its factor F_q in (0, 1], frozen by softenAt() where the caller takes the
+// history: between two calls E is still a plain energy of x, its gradient and Hessian scaled
+// alike.
+//
 // U is the spring model's volume-term form (VolumeForceField.h), here on the element's mean J.
 // kappa (Pa) must hold the volume over the stretches used: the tissue stiffens about twenty-fold
 // between lambda 1.1 and 1.3, so kappa is set against the stiffened modulus, not mu0
@@ -35,6 +40,7 @@
 #include <Eigen/SparseCore>
 
 #include "fem/QuadraticTetMesh.h"
+#include "fem/SoftenedIsochoricEnergy.h"
 #include "forces/FemExtraEnergy.h"
 #include "material/StrainEnergy.h"
 
@@ -75,6 +81,22 @@ class FemModel {
   double bulkModulus() const { return m_bulkModulus_Pa; }
   /// Which Hessian evaluate() assembles (FemTangent::Exact unless set).
   void setTangent(FemTangent tangent) { m_tangent = tangent; }
+
+  /// Stress softening per isochoric quadrature point (fem/SoftenedIsochoricEnergy.h), which must
+  /// outlive its use here; null (the default): none, the virgin curve. softenAt(x) raises each
+  /// point's peak to its I1bar at x and freezes its factor F there; evaluate() scales each
+  /// point's isochoric energy, stress and tangent by its frozen F, so that E stays a plain,
+  /// smooth energy of x between two calls: the history is taken at the caller's pace (the FEM at
+  /// its own rate takes it where each update starts), not within a solve, where the softened
+  /// curve's kink at the peak would cost Newton its reach.
+  void setSoftening(const StressSoftening* softening) { m_softening = softening; }
+  void softenAt(const Eigen::Matrix3Xd& x);
+  /// Every point back to the virgin curve (F = 1, no peak).
+  void clearSoftening();
+  /// Each point's peak I1bar - 3 (4 per element, in element order), and the same set again with
+  /// F = 1 until the next softenAt (a body taken up by another material: the peaks are strains).
+  std::vector<double> peakShifts() const;
+  void setPeakShifts(const std::vector<double>& shifts);
 
   /// E at x, and the element volume ratios.
   FemState evaluate(const Eigen::Matrix3Xd& x) const;
@@ -117,6 +139,9 @@ class FemModel {
   Eigen::VectorXd m_restVolume_m3;        ///< V_e
   const FemExtraEnergy* m_extra = nullptr;
   FemTangent m_tangent = FemTangent::Exact;
+  const StressSoftening* m_softening = nullptr;
+  std::vector<IsochoricPeak> m_peaks;      ///< one an isochoric point (empty: none)
+  std::vector<double> m_softeningFactors;  ///< F frozen by softenAt (empty: 1 everywhere)
 };
 
 }  // namespace tissuesim

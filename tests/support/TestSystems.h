@@ -31,6 +31,13 @@ struct LiverMaterial {
 /// The porcine liver's strain energy.
 inline const StrainEnergy& liverEnergy() { return LiverMaterial::instance().energy; }
 
+/// The porcine liver's softening with the spring law's rounded onset, as a scene takes it.
+inline const StressSoftening& liverSoftening() {
+  static const StressSoftening softening(LiverMaterial::instance().parameters,
+                                         SpringForceLaw::kSofteningOnsetMeasure);
+  return softening;
+}
+
 /// Positions `rest` (3 by #V) stretched 15 % along x, squeezed 6 % across and jiggled by up
 /// to `jiggle_m`, and a random direction of the same shape: a deformed state for finite
 /// differences.
