@@ -120,16 +120,19 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
   // step, the Hessian factorised there.
   m_loads.nodes = candidates;
   m_loads.forces_N = candidateForces_N;
-  const FemSolveReport solved = m_solver.solve(m_model, m_x, m_isFixed);
-  report.residual_N = solved.residual_N;
+  FemSolveReport solved = m_solver.solve(m_model, m_x, m_isFixed);
   // Linearised far from its balance, the body's x_rest (below) is a long linear extrapolation of
-  // a nonlinear body, and can fold it inside out: the contact in use is kept instead.
+  // a nonlinear body, and can fold it inside out: where the iterations leave it out of balance,
+  // as many again once, and the contact in use kept where that too falls short.
   const double largestLoad_N =
       candidateForces_N.size() > 0 ? candidateForces_N.colwise().norm().maxCoeff() : 0.0;
   // A body the probe has just let go of still springs back from the last update's load.
   const double loadBorne_N = std::max(largestLoad_N, m_lastLargestLoad_N);
   m_lastLargestLoad_N = largestLoad_N;
-  if (solved.residual_N > kLinearisableResidual_N + kLinearisableLoadShare * loadBorne_N) {
+  const double linearisable_N = kLinearisableResidual_N + kLinearisableLoadShare * loadBorne_N;
+  if (solved.residual_N > linearisable_N) solved = m_solver.solve(m_model, m_x, m_isFixed);
+  report.residual_N = solved.residual_N;
+  if (solved.residual_N > linearisable_N) {
     report.hasNext = false;
     report.isOutOfBalance = true;
     return report;

@@ -54,9 +54,10 @@ struct HapticRateUpdate {
 class HapticRateFem {
  public:
   /// An update whose Newton iterations leave more than this on a free DOF (N), plus this share of
-  /// the largest load on a node (in this update or the one before), makes no new contact: the probe
-  /// has moved further than one update can follow (the updates of a poke the scheme follows leave
-  /// far less: docs/performance-details.md, "The FEM at its own rate in a scene").
+  /// the largest load on a node (in this update or the one before), takes as many iterations
+  /// again, once; still out of balance, it makes no new contact: the probe has moved further
+  /// than one update can follow (the updates of a poke the scheme follows leave far less:
+  /// docs/performance-details.md, "The FEM at its own rate in a scene").
   static constexpr double kLinearisableResidual_N = 0.05;
   static constexpr double kLinearisableLoadShare = 0.05;
   /// A surface point deeper inside the probe than this at an update (m) is no contact: the

@@ -372,7 +372,8 @@ TEST(HapticRateBody, UnderGravityAPokeAtTheToolsLimitIsTheStaticFemsAndComesBack
   // held to (half the weightless scene's) reads the force of the same body in static
   // equilibrium within 5 % (the scheme against its converged FEM; no continuum reference hangs
   // the liver), reports nothing, and the liver is back where it opened once the probe has left.
-  // At twice that speed the probe goes through the surface, and that is reported, not silent.
+  // At four times that speed the probe goes through the surface, and that is reported, not
+  // silent.
   const SceneDescription scene = heavyHapticRateScene();
   const SceneDescription weightless = hapticRateScene();
   const Simulation heavy(scene);
@@ -386,7 +387,14 @@ TEST(HapticRateBody, UnderGravityAPokeAtTheToolsLimitIsTheStaticFemsAndComesBack
   EXPECT_LT((atLimit.finalPositions_m - atLimit.restPositions_m).colwise().norm().maxCoeff(), 1e-5);
   for (const InstabilityEvent& event : atLimit.events)
     ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
-  const AxisPoke tooFast = pokeAlongTheAxis(scene, 0.0015, 0.0042, 2.0 * fastest_m_s, false);
+  // At twice that speed an update's one Newton iteration can leave the body out of balance, and
+  // the update then takes another: still the static FEM's force, nothing to report.
+  const AxisPoke twice = pokeAlongTheAxis(scene, 0.0015, 0.0042, 2.0 * fastest_m_s);
+  const double twice_N = forceAtDepth(twice, 0.004);
+  EXPECT_NEAR(twice_N, static_N, 0.05 * static_N);
+  for (const InstabilityEvent& event : twice.events)
+    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  const AxisPoke tooFast = pokeAlongTheAxis(scene, 0.0015, 0.0042, 4.0 * fastest_m_s, false);
   const bool isReported =
       std::any_of(tooFast.events.begin(), tooFast.events.end(),
                   [](const InstabilityEvent& event) { return event.kind == "outrun"; });
