@@ -67,6 +67,7 @@ HapticRateUpdate HapticRateFem::settle(const Eigen::Vector3d& tip_m, const Eigen
     return report;
   }
   m_settled = m_x;
+  m_model.softenAt(m_x);  // the weight's own strain is the body's history from the start
   report.isStepped = true;
   linearize(tip_m, top_m, radius_m, next, report);
   return report;
@@ -89,6 +90,8 @@ void HapticRateFem::setHeldPoints(std::vector<int> points) {
 
 void HapticRateFem::restart() {
   m_x = m_settled;
+  m_model.clearSoftening();
+  m_model.softenAt(m_settled);
   std::fill(m_isInContact.begin(), m_isInContact.end(), char{0});
   m_lastLargestLoad_N = 0.0;
 }
@@ -115,6 +118,9 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
     }
     if (report.isStepped) m_x = m_candidate;
   }
+  // The softening's history where the update starts: its peaks raised and each point's factor
+  // frozen there for this update's Newton iterations and linearisation.
+  m_model.softenAt(m_x);
   // Newton under the contact's forces now (as loads), from there; the solve's last
   // factorisation (one iterate behind where it ends) is the linearisation, or, where it took no
   // step, the Hessian factorised there.
@@ -123,7 +129,9 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
   FemSolveReport solved = m_solver.solve(m_model, m_x, m_isFixed);
   // Linearised far from its balance, the body's x_rest (below) is a long linear extrapolation of
   // a nonlinear body, and can fold it inside out: where the iterations leave it out of balance,
-  // as many again once, and the contact in use kept where that too falls short.
+  // as many again once (the probe further than one round follows, or the softening moved on
+  // since the last update: the paper's F falls steeply below a peak), and the contact in use
+  // kept where that too falls short.
   const double largestLoad_N =
       candidateForces_N.size() > 0 ? candidateForces_N.colwise().norm().maxCoeff() : 0.0;
   // A body the probe has just let go of still springs back from the last update's load.
@@ -158,6 +166,7 @@ HapticRateUpdate HapticRateFem::linearizeAt(const Eigen::Matrix3Xd& body_m,
   m_loads.nodes.clear();
   m_loads.forces_N.resize(3, 0);
   FemState state;
+  m_model.softenAt(body_m);
   if (!m_model.evaluate(body_m).isAdmissible ||
       !m_solver.factorize(m_model, body_m, m_isFixed, state)) {
     report.isStepped = false;

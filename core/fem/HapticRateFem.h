@@ -119,7 +119,9 @@ class HapticRateFem {
                                CondensedCapsuleContact& next);
 
   /// The next update starts from the body settled (after a reset of the scene): settle()'s
-  /// balance, or the body at rest before any.
+  /// balance, or the body at rest before any, with the model's softening history (where it has
+  /// softening) back to that balance's strains. settle() takes that history where it leaves the
+  /// body, each update and linearizeAt() where they start (FemModel::softenAt).
   void restart();
 
   /// Surface points (indices into the surface given at construction) the next updates keep in

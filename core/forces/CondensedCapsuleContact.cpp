@@ -13,10 +13,11 @@
 namespace tissuesim {
 namespace {
 
-/// Newton's iterations a solve may take, the force left on a candidate it settles to (N: a
-/// hundredth of what a haptic device renders), and the step below which it stops (m: under
-/// round-off for a body of millimetres).
-constexpr int kMaxIterations = 30;
+/// Newton's iterations a solve may take (points slipping round a probe steered sideways creep:
+/// through a softened body they still moved after 30), the force left on a candidate it settles
+/// to (N: a hundredth of what a haptic device renders), and the step below which it stops (m:
+/// under round-off for a body of millimetres).
+constexpr int kMaxIterations = 60;
 constexpr double kForceTolerance_N = 1e-5;
 constexpr double kStepTolerance_m = 1e-12;
 /// Gauss-Newton's iterations before the exact Hessian is tried: most solves, warm-started from

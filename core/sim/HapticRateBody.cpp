@@ -65,6 +65,7 @@ HapticRateBody::HapticRateBody(const TetMesh& mesh, const std::vector<int>& fixe
                           std::numeric_limits<double>::infinity());
   m_surfacePoints = points.size();
   m_model = std::make_unique<FemModel>(m_mesh, energy, bulkModulus_Pa);
+  if (m_settings.softening) m_model->setSoftening(&*m_settings.softening);
   if (settings.gravity_m_s2.squaredNorm() > 0.0) {
     m_weight = quadraticTetWeight(m_mesh, settings.density_kg_m3, settings.gravity_m_s2);
     m_support.terms.push_back(&m_weight);
@@ -202,6 +203,8 @@ void HapticRateBody::continueFrom(HapticRateBody& other, const Eigen::Vector3d& 
   // more than an update follows.
   HapticRateUpdate report;
   report.hasNext = false;
+  // The strains the old material reached are this one's history too.
+  m_model->setPeakShifts(other.m_model->peakShifts());
   if (hasBody)
     report = m_fem->linearizeAt(body_m, tip_m, top_m, m_settings.probeRadius_m, *m_inUse);
   if (!report.hasNext) {  // the new material cannot take that state up: from rest, as before

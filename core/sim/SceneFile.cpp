@@ -233,9 +233,11 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
                    "= \"" + scene.model + "\"; expected springs, fem or fem-haptic-rate");
     }
     const bool isFem = scene.model != "springs";
-    // The FEM's tets carry no stress softening (the Mullins effect lives in the springs).
-    scene.isSoftening = effects.boolean("softening", !isFem);
-    if (isFem && scene.isSoftening) {
+    // The FEM on the lattice's tets carries no stress softening; the springs and the FEM at its
+    // own rate (per material point) do.
+    const bool canSoften = scene.model != "fem";
+    scene.isSoftening = effects.boolean("softening", canSoften);
+    if (!canSoften && scene.isSoftening) {
       effects.fail("effects.softening",
                    "must be false with model " + scene.model + ", which has no softening");
     }

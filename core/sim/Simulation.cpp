@@ -126,6 +126,9 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     settings.gravity_m_s2 = scene.gravity_m_s2;
     settings.density_kg_m3 = newParameters->density_kg_m3;
     settings.letGoTravel_m = hapticRateToolSpeed_m_s(scene, *energy) * scene.timeStep_s;
+    // The spring law's rounded onset (SpringForceLaw.h): the same softening, per material point.
+    if (scene.isSoftening && StressSoftening(*newParameters).isEnabled())
+      settings.softening.emplace(*newParameters, SpringForceLaw::kSofteningOnsetMeasure);
     if (scene.tray)
       settings.tray =
           HapticRateTray{scene.tray->up, scene.tray->height_m, scene.tray->stiffness_Pa_per_m};

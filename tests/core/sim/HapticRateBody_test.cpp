@@ -54,14 +54,16 @@ struct AxisPoke {
   Eigen::Matrix3Xd restPositions_m, finalPositions_m;
   std::vector<InstabilityEvent> events;
 };
-AxisPoke pokeAlongTheAxis(SceneDescription scene, double startAbove_m, double depth_m,
+AxisPoke pokeAlongTheAxis(Simulation& simulation, double startAbove_m, double depth_m,
                           double speed_m_s, bool isEveryStepGood = true) {
-  Simulation simulation(scene);
-  const Eigen::Vector3d direction = scene.instrument->direction;
+  const Eigen::Vector3d direction = simulation.scene().instrument->direction;
   const Eigen::Vector3d start = entryPoint(simulation) - startAbove_m * direction;
   const double pressTime_s = (startAbove_m + depth_m) / speed_m_s;
-  const InstrumentScript script =
-      InstrumentScript::poke({start, direction}, startAbove_m + depth_m, pressTime_s);
+  // From the simulation's time on (a poke after others).
+  std::vector<InstrumentScript::Keyframe> keyframes =
+      InstrumentScript::poke({start, direction}, startAbove_m + depth_m, pressTime_s).keyframes();
+  for (InstrumentScript::Keyframe& keyframe : keyframes) keyframe.time_s += simulation.time_s();
+  const InstrumentScript script(keyframes);
   simulation.setInstrumentSource(&script);
   AxisPoke poke;
   poke.restPositions_m = simulation.state().x;
@@ -78,7 +80,13 @@ AxisPoke pokeAlongTheAxis(SceneDescription scene, double startAbove_m, double de
   }
   poke.finalPositions_m = simulation.state().x;
   poke.events = simulation.events();
+  simulation.setInstrumentSource(nullptr);
   return poke;
+}
+AxisPoke pokeAlongTheAxis(const SceneDescription& scene, double startAbove_m, double depth_m,
+                          double speed_m_s, bool isEveryStepGood = true) {
+  Simulation simulation(scene);
+  return pokeAlongTheAxis(simulation, startAbove_m, depth_m, speed_m_s, isEveryStepGood);
 }
 
 /// The force at `depth_m` on the way in, between the steps either side.
@@ -173,6 +181,39 @@ TEST(HapticRateBody, TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference)
   }
 }
 
+TEST(HapticRateBody, ASecondPokeOfTheSoftenedLiverIsSofterAndAResetForgetsIt) {
+  // The bundled scene softens (the Mullins effect per material point): poked 5 mm deep and
+  // withdrawn, the liver is back at rest but reads less force 3 mm into it the second time, where
+  // its material unloads and reloads on the softened curve; the first poke, all loading, reads
+  // the virgin body's force. A new tissue between the two (the same file again) keeps the
+  // history; a reset forgets it: the third poke is the first again.
+  const SceneDescription scene = hapticRateScene();
+  ASSERT_TRUE(scene.isSoftening);
+  SceneDescription virginScene = scene;
+  virginScene.isSoftening = false;
+  Simulation simulation(scene);
+  ASSERT_TRUE(simulation.hapticRateBody()->settings().softening.has_value());
+  const double speed_m_s = 0.005;
+  const AxisPoke first = pokeAlongTheAxis(simulation, 0.0015, 0.005, speed_m_s);
+  EXPECT_LT((first.finalPositions_m - first.restPositions_m).colwise().norm().maxCoeff(), 1e-6)
+      << "softening holds no permanent set here";
+  simulation.replaceTissue(TissueParameters(simulation.parameters()));
+  const AxisPoke second = pokeAlongTheAxis(simulation, 0.0015, 0.0032, speed_m_s);
+  simulation.reset();
+  const AxisPoke third = pokeAlongTheAxis(simulation, 0.0015, 0.0032, speed_m_s);
+  const AxisPoke virgin = pokeAlongTheAxis(virginScene, 0.0015, 0.0032, speed_m_s);
+  const double first_N = forceAtDepth(first, 0.003);
+  EXPECT_NEAR(first_N, forceAtDepth(virgin, 0.003), 0.01 * first_N);
+  // The organ bends under the probe, so most of it strains little and softens little: about
+  // 13 % less force the second time.
+  EXPECT_LT(forceAtDepth(second, 0.003), 0.95 * first_N);
+  EXPECT_NEAR(forceAtDepth(third, 0.003), first_N, 1e-9 * first_N);
+  for (const AxisPoke* poke : {&first, &second, &third}) {
+    for (const InstabilityEvent& event : poke->events)
+      ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  }
+}
+
 TEST(HapticRateBody, APokeTooFastToFollowIsReportedAndTheLiverComesBack) {
   // The springs' default poke, 4 cm along the tool at 4 cm/s, seven times the speed the scheme
   // follows: the steps whose contact does not settle and the updates left out of balance are
@@ -261,9 +302,12 @@ TEST(HapticRateBody, SteeringThePressedProbeSidewaysReportsNothing) {
   EXPECT_LT(path.largestMoveFromRest_m(), 1e-6);
 }
 
-/// The bundled scene under gravity, on the default scene's tray.
+/// The bundled scene under gravity, on the default scene's tray, without softening: the static
+/// FEM it is set against stands for the virgin curve, and a softened liver sags further than
+/// where it opened once poked.
 SceneDescription heavyHapticRateScene() {
   SceneDescription scene = hapticRateScene();
+  scene.isSoftening = false;
   scene.gravity_m_s2 = Eigen::Vector3d(0.0, -9.81, 0.0);
   scene.tray = SceneTray{Eigen::Vector3d::UnitY(), 0.0075, 3e7, 0.0};
   return scene;
