@@ -293,7 +293,7 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
   return state;
 }
 
-void FemModel::softenAt(const Eigen::Matrix3Xd& x) {
+void FemModel::softenAt(const Eigen::Matrix3Xd& x, double largestFall) {
   if (m_softening == nullptr) return;
   const std::size_t points = m_energyPoints.size();
   if (m_peaks.size() != points) m_peaks.assign(points, IsochoricPeak{});
@@ -308,7 +308,8 @@ void FemModel::softenAt(const Eigen::Matrix3Xd& x) {
       if (!(j > 0.0)) continue;
       const double shift = std::pow(j, -2.0 / 3.0) * f.squaredNorm() - 3.0;
       if (shift > m_peaks[at].shift) m_peaks[at] = isochoricPeak(shift);
-      m_softeningFactors[at] = isochoricSofteningFactor(*m_softening, shift, m_peaks[at]);
+      m_softeningFactors[at] = std::max(isochoricSofteningFactor(*m_softening, shift, m_peaks[at]),
+                                        m_softeningFactors[at] - largestFall);
     }
   }
 }

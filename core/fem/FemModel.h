@@ -90,7 +90,9 @@ class FemModel {
   /// its own rate takes it where each update starts), not within a solve, where the softened
   /// curve's kink at the peak would cost Newton its reach.
   void setSoftening(const StressSoftening* softening) { m_softening = softening; }
-  void softenAt(const Eigen::Matrix3Xd& x);
+  /// largestFall: the most a point's factor may fall in one call (it rises at once), for a
+  /// caller whose solves follow the softening only so fast; 1: no limit.
+  void softenAt(const Eigen::Matrix3Xd& x, double largestFall = 1.0);
   /// Every point back to the virgin curve (F = 1, no peak).
   void clearSoftening();
   /// Each point's peak I1bar - 3 (4 per element, in element order), and the same set again with

@@ -119,8 +119,9 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
     if (report.isStepped) m_x = m_candidate;
   }
   // The softening's history where the update starts: its peaks raised and each point's factor
-  // frozen there for this update's Newton iterations and linearisation.
-  m_model.softenAt(m_x);
+  // frozen there for this update's Newton iterations and linearisation, falling no faster than
+  // the updates re-balance the body.
+  m_model.softenAt(m_x, kSofteningFallPerUpdate);
   // Newton under the contact's forces now (as loads), from there; the solve's last
   // factorisation (one iterate behind where it ends) is the linearisation, or, where it took no
   // step, the Hessian factorised there.

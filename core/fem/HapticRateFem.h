@@ -60,6 +60,11 @@ class HapticRateFem {
   /// docs/performance-details.md, "The FEM at its own rate in a scene").
   static constexpr double kLinearisableResidual_N = 0.05;
   static constexpr double kLinearisableLoadShare = 0.05;
+  /// The most a material point's softening factor falls in one update (FemModel::softenAt): the
+  /// paper's F falls steeply below a peak, and a body held deep in the liver redistributes its
+  /// stress as it softens faster than an update re-balances it (docs/performance-details.md,
+  /// "Softening, and a second round of iterations for an update left out of balance").
+  static constexpr double kSofteningFallPerUpdate = 0.1;
   /// A surface point deeper inside the probe than this at an update (m) is no contact: the
   /// penalty holds a pressed point within micrometres of the probe, so the probe has passed it.
   static constexpr double kPassedThrough_m = 1e-4;

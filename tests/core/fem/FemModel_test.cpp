@@ -110,8 +110,7 @@ TEST(FemModel, AStretchedBlockUnloadsOnThePapersSoftenedCurve) {
     const Eigen::Vector3d scale(lambda, 1.0 / std::sqrt(lambda), 1.0 / std::sqrt(lambda));
     return Eigen::Matrix3Xd(scale.asDiagonal() * mesh.nodes_m);
   };
-  const auto farFaceStress = [&](double lambda) {
-    model.softenAt(stretched(lambda));
+  const auto stressAt = [&](double lambda) {
     Eigen::Matrix3Xd gradient;
     EXPECT_TRUE(model.evaluate(stretched(lambda), gradient).isAdmissible);
     double force_N = 0.0;
@@ -119,6 +118,10 @@ TEST(FemModel, AStretchedBlockUnloadsOnThePapersSoftenedCurve) {
       if (mesh.nodes_m(0, i) > side_m - 1e-9) force_N += gradient(0, i);
     }
     return force_N / (side_m * side_m);
+  };
+  const auto farFaceStress = [&](double lambda) {
+    model.softenAt(stretched(lambda));
+    return stressAt(lambda);
   };
   const auto virginStress = [&](double lambda) {
     const Eigen::Matrix3d f =
@@ -136,6 +139,17 @@ TEST(FemModel, AStretchedBlockUnloadsOnThePapersSoftenedCurve) {
               1e-6 * virginStress(1.3));
   model.clearSoftening();
   EXPECT_NEAR(farFaceStress(1.2), virginStress(1.2), 1e-9 * virginStress(1.2));
+  // A fall held to a tenth a call takes the factor down in steps; a rise is at once.
+  const double factor = test::liverSoftening().factor(1.1, 1.2);
+  ASSERT_LT(factor, 0.7);
+  model.softenAt(stretched(1.1), 0.1);
+  EXPECT_NEAR(stressAt(1.1), 0.9 * virginStress(1.1), 1e-6 * virginStress(1.1));
+  model.softenAt(stretched(1.1), 0.1);
+  EXPECT_NEAR(stressAt(1.1), 0.8 * virginStress(1.1), 1e-6 * virginStress(1.1));
+  for (int call = 0; call < 10; ++call) model.softenAt(stretched(1.1), 0.1);
+  EXPECT_NEAR(stressAt(1.1), factor * virginStress(1.1), 1e-6 * virginStress(1.1));
+  model.softenAt(stretched(1.2), 0.1);
+  EXPECT_NEAR(stressAt(1.2), virginStress(1.2), 1e-9 * virginStress(1.2));
 }
 
 /// The block squeezed 25 % along x and jiggled: compressed elements, where the exact Hessian's
