@@ -14,7 +14,7 @@
 // The isochoric energy is integrated by the degree-2 rule (four points), v_e exactly by the
 // degree-3 rule (J is cubic on a straight-edged quadratic tet): QuadraticTetShape.h.
 //
-// With stress softening (setSoftening; fem/SoftenedIsochoricEnergy.h) each isochoric point's
+// With stress softening (setSoftening; fem/IsochoricSoftening.h) each isochoric point's
 // W_T is scaled by its factor F_q in (0, 1], frozen by softenAt() where the caller takes the
 // history: between two calls E is still a plain energy of x, its gradient and Hessian scaled
 // alike.
@@ -39,8 +39,8 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "fem/IsochoricSoftening.h"
 #include "fem/QuadraticTetMesh.h"
-#include "fem/SoftenedIsochoricEnergy.h"
 #include "forces/FemExtraEnergy.h"
 #include "material/StrainEnergy.h"
 
@@ -82,13 +82,13 @@ class FemModel {
   /// Which Hessian evaluate() assembles (FemTangent::Exact unless set).
   void setTangent(FemTangent tangent) { m_tangent = tangent; }
 
-  /// Stress softening per isochoric quadrature point (fem/SoftenedIsochoricEnergy.h), which must
+  /// Stress softening per isochoric quadrature point (fem/IsochoricSoftening.h), which must
   /// outlive its use here; null (the default): none, the virgin curve. softenAt(x) raises each
   /// point's peak to its I1bar at x and freezes its factor F there; evaluate() scales each
   /// point's isochoric energy, stress and tangent by its frozen F, so that E stays a plain,
   /// smooth energy of x between two calls: the history is taken at the caller's pace (the FEM at
-  /// its own rate takes it where each update starts), not within a solve, where the softened
-  /// curve's kink at the peak would cost Newton its reach.
+  /// its own rate takes it where each update starts), not within a solve, so Newton meets no
+  /// kink at a peak.
   void setSoftening(const StressSoftening* softening) { m_softening = softening; }
   /// largestFall: the most a point's factor may fall in one call (it rises at once), for a
   /// caller whose solves follow the softening only so fast; 1: no limit.

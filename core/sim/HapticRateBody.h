@@ -19,11 +19,11 @@
 // The next update starts at the step that takes the last one in, from the contact's last settled
 // state: a step whose contact does not settle is rolled back to it (the body drawn and the force
 // reported are the last settled ones). With softening (the settings'), each update takes the
-// material points' history (fem/SoftenedIsochoricEnergy.h) where it starts, and a reset clears
-// it. Under gravity (the consistent loads of its weight,
-// fem/QuadraticTetWeight.h) and on a tray (a penalty on the sampled surface, as the probe's,
-// forces/PlanePenalty.h), both in every update's Newton iterations, the body starts where it
-// balances them with no probe (HapticRateFem::settle), and a reset returns it there. Shapes:
+// material points' history (fem/IsochoricSoftening.h) where it starts, and a reset clears it.
+// Under gravity (the consistent loads of its weight, fem/QuadraticTetWeight.h) and on a tray (a
+// penalty on the sampled surface, as the probe's, forces/PlanePenalty.h), both in every update's
+// Newton iterations, the body starts where it balances them with no probe
+// (HapticRateFem::settle), and a reset returns it there. Shapes:
 // positions 3 by #V (m), the first #corners of them the scene's mesh's nodes in its order.
 
 #include <condition_variable>
@@ -71,7 +71,7 @@ struct HapticRateBodySettings {
   /// The travel a step at which the opening jaws lead the held surface back (m): the tool's
   /// speed limit a step, which the scheme follows.
   double letGoTravel_m = 1e-5;
-  /// Stress softening at the body's material points (fem/SoftenedIsochoricEnergy.h), its
+  /// Stress softening at the body's material points (fem/IsochoricSoftening.h), its
   /// history taken where each update starts; none: the virgin curve.
   std::optional<StressSoftening> softening;
 };

@@ -208,6 +208,8 @@ TEST(HapticRateBody, ASecondPokeOfTheSoftenedLiverIsSofterAndAResetForgetsIt) {
   // 14 % less force the second time.
   EXPECT_LT(forceAtDepth(second, 0.003), 0.95 * first_N);
   EXPECT_NEAR(forceAtDepth(third, 0.003), first_N, 1e-9 * first_N);
+  simulation.setSoftening(false);
+  EXPECT_FALSE(simulation.hapticRateBody()->settings().softening.has_value()) << "switched off";
   for (const AxisPoke* poke : {&first, &second, &third}) {
     for (const InstabilityEvent& event : poke->events)
       ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;

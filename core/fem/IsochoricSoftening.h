@@ -22,7 +22,7 @@ namespace tissuesim {
 /// A material point's peak: I_p - 3 and what softening needs of it, made once when it rises.
 struct IsochoricPeak {
   double shift = 0.0;           ///< I_p - 3 (0: never strained, the virgin curve everywhere)
-  double inverseMeasure = 0.0;  ///< 1 / M
+  double inverseMeasure = 0.0;  ///< 1 / M (unused while shift is 0)
 };
 
 /// The uniaxial stretch lambda >= 1 with lambda^2 + 2 / lambda = 3 + shift (shift >= 0).

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "fem/SoftenedIsochoricEnergy.h"
+#include "fem/IsochoricSoftening.h"
 
 #include <algorithm>
 #include <cmath>

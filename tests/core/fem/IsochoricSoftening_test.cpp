@@ -2,7 +2,7 @@
 // Softening at the FEM's material points: the equivalent uniaxial stretch inverts I1bar, and the
 // factor is the spring law's for that stretch below the peak and 1 at or past it.
 
-#include "fem/SoftenedIsochoricEnergy.h"
+#include "fem/IsochoricSoftening.h"
 
 #include <gtest/gtest.h>
 
@@ -13,13 +13,13 @@ namespace {
 
 double shiftOfStretch(double lambda) { return lambda * lambda + 2.0 / lambda - 3.0; }
 
-TEST(SoftenedIsochoricEnergy, TheEquivalentStretchInvertsTheInvariant) {
+TEST(IsochoricSoftening, TheEquivalentStretchInvertsTheInvariant) {
   EXPECT_DOUBLE_EQ(uniaxialStretchOfShift(0.0), 1.0);
   for (const double lambda : {1.0001, 1.01, 1.1, 1.3, 1.6})
     EXPECT_NEAR(uniaxialStretchOfShift(shiftOfStretch(lambda)), lambda, 1e-9 * lambda) << lambda;
 }
 
-TEST(SoftenedIsochoricEnergy, TheFactorIsTheSpringLawsAtTheSameStretch) {
+TEST(IsochoricSoftening, TheFactorIsTheSpringLawsAtTheSameStretch) {
   const StressSoftening& softening = test::liverSoftening();
   ASSERT_GT(softening.b(), 0.0);
   const IsochoricPeak peak = isochoricPeak(shiftOfStretch(1.3));
