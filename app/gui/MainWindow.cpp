@@ -297,9 +297,10 @@ bool MainWindow::loadScene(const QString& path) {
   m_softeningAction->setChecked(simulation.isSoftening());
   // The FEM on the lattice's tets has no stress softening to turn on (the FEM at its own rate
   // softens per material point).
-  const bool isFem = simulation.scene().model == "fem";
-  m_softeningAction->setEnabled(!isFem);
-  m_softeningAction->setToolTip(isFem ? "The FEM on the lattice has no stress softening" : "");
+  const bool isLatticeFem = simulation.scene().model == "fem";
+  m_softeningAction->setEnabled(!isLatticeFem);
+  m_softeningAction->setToolTip(isLatticeFem ? "The FEM on the lattice has no stress softening"
+                                             : "");
   m_gravityAction->setChecked(simulation.gravity().squaredNorm() > 0.0);
   // The FEM at its own rate settles under the scene's gravity as it is made (docs/scene-file.md):
   // the switch shows the scene's, and does not change it.

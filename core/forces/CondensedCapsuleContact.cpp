@@ -90,27 +90,27 @@ void CondensedCapsuleContact::setHeldPoints(const Eigen::Matrix3Xi& localNodes,
 
 Eigen::Vector3d CondensedCapsuleContact::between(const Eigen::Matrix3Xi& nodes,
                                                  const Eigen::Matrix3Xd& weights, Eigen::Index p,
-                                                 const Eigen::VectorXd& u) const {
+                                                 const Eigen::VectorXd* u) const {
   Eigen::Vector3d s = Eigen::Vector3d::Zero();
   for (int a = 0; a < 3; ++a) {
     const int j = nodes(a, p);
-    s += weights(a, p) * (m_free.col(j) + u.segment<3>(3 * j));
+    const Eigen::Vector3d at_m =
+        u != nullptr ? Eigen::Vector3d(m_free.col(j) + u->segment<3>(3 * j)) : m_free.col(j);
+    s += weights(a, p) * at_m;
   }
   return s;
 }
 
 Eigen::Vector3d CondensedCapsuleContact::pointPosition(Eigen::Index p) const {
-  return between(m_pointNodes, m_pointWeights, p, m_u);
+  return between(m_pointNodes, m_pointWeights, p, &m_u);
 }
 
 Eigen::Vector3d CondensedCapsuleContact::heldFreePosition(Eigen::Index h) const {
-  Eigen::Vector3d s = Eigen::Vector3d::Zero();
-  for (int a = 0; a < 3; ++a) s += m_heldWeights(a, h) * m_free.col(m_heldNodes(a, h));
-  return s;
+  return between(m_heldNodes, m_heldWeights, h, nullptr);
 }
 
 Eigen::Vector3d CondensedCapsuleContact::heldPosition(Eigen::Index h) const {
-  return between(m_heldNodes, m_heldWeights, h, m_u);
+  return between(m_heldNodes, m_heldWeights, h, &m_u);
 }
 
 double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
@@ -121,7 +121,7 @@ double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eig
   if (touching != nullptr) *touching = m_heldNodes.cols() > 0;
   for (Eigen::Index h = 0; h < m_heldNodes.cols(); ++h) {
     const Eigen::Vector3d stretch_m =
-        between(m_heldNodes, m_heldWeights, h, u) - m_heldTargets.col(h);
+        between(m_heldNodes, m_heldWeights, h, &u) - m_heldTargets.col(h);
     energy += 0.5 * heldStiffness_N_m * stretch_m.squaredNorm();
     if (gradient == nullptr) continue;
     const Eigen::Vector3d slope_N = heldStiffness_N_m * stretch_m;
@@ -136,7 +136,7 @@ double CondensedCapsuleContact::pointsEnergy(const Eigen::VectorXd& u, const Eig
   }
   for (Eigen::Index p = 0; p < m_pointNodes.cols(); ++p) {
     const CapsuleGap at =
-        capsuleGap(between(m_pointNodes, m_pointWeights, p, u), tip_m, top_m, radius_m);
+        capsuleGap(between(m_pointNodes, m_pointWeights, p, &u), tip_m, top_m, radius_m);
     const PenaltyTerms terms = smoothedPenalty(at.gap_m);
     if (terms.curvature == 0.0) continue;
     if (touching != nullptr) *touching = true;

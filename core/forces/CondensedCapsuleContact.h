@@ -103,13 +103,14 @@ class CondensedCapsuleContact {
   double residual_N() const { return m_residual_N; }
 
  private:
+  /// The point between three candidates (nodes, weights: column p) at displacement u (null: at
+  /// xFree).
+  Eigen::Vector3d between(const Eigen::Matrix3Xi& nodes, const Eigen::Matrix3Xd& weights,
+                          Eigen::Index p, const Eigen::VectorXd* u) const;
   /// The points' penalty energy and the held points' springs' at u (J), their gradient and
   /// Gauss-Newton Hessian added where non-null (both or neither), and the normals' turning, the
   /// rest of the exact Hessian, where `turning` is (with them); touching: whether any point is
   /// within the penalty's reach or held.
-  /// The point between three candidates (nodes, weights: column p) at displacement u.
-  Eigen::Vector3d between(const Eigen::Matrix3Xi& nodes, const Eigen::Matrix3Xd& weights,
-                          Eigen::Index p, const Eigen::VectorXd& u) const;
   double pointsEnergy(const Eigen::VectorXd& u, const Eigen::Vector3d& tip_m,
                       const Eigen::Vector3d& top_m, double radius_m, Eigen::VectorXd* gradient,
                       Eigen::MatrixXd* hessian, Eigen::MatrixXd* turning,
