@@ -260,8 +260,9 @@ int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d
 }
 
 double HapticRateFem::stiffening(double load_N, Eigen::Matrix3Xd& loadResponse) {
-  if (load_N < kStiffeningLoad_N) {
-    m_lastLoadPattern.resize(0);  // beta is kept for the next press
+  if (load_N < kStiffeningLoad_N) {  // no press, or its end: the next one finds its own beta
+    m_lastLoadPattern.resize(0);
+    m_stiffeningRate_per_m = 0.0;
     return 0.0;
   }
   const bool isComparable = m_lastLoadPattern.size() == m_x.size() &&

@@ -23,6 +23,11 @@ constexpr double kStepTolerance_m = 1e-12;
 /// Gauss-Newton's iterations before the exact Hessian is tried: most solves, warm-started from
 /// the last step's, settle within them.
 constexpr int kGaussNewtonIterations = 3;
+/// The stiffening's z = b (F - F_lin) is held to this range: S from 2.56 (unloaded from a
+/// stiffened state) to 0.5 (twice the tangent's stiffness), past which a rate found over one
+/// interval is not extrapolated.
+constexpr double kSmallestStiffening = -0.9;
+constexpr double kLargestStiffening = 2.51;
 
 }  // namespace
 
@@ -90,7 +95,8 @@ double CondensedCapsuleContact::secantScale(double load_N, double linearisedLoad
   // k(F) = k_lin (1 + z): the displacement from F_lin is ln(1 + z) / (b k_lin), the tangent's
   // (F - F_lin) / k_lin.
   if (rate_per_N <= 0.0) return 1.0;
-  const double z = std::max(rate_per_N * (std::max(load_N, 0.0) - linearisedLoad_N), -0.9);
+  const double z = std::clamp(rate_per_N * (std::max(load_N, 0.0) - linearisedLoad_N),
+                              kSmallestStiffening, kLargestStiffening);
   if (std::abs(z) < 1e-6) return 1.0 - 0.5 * z;
   return std::log1p(z) / z;
 }

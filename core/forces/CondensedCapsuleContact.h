@@ -35,7 +35,7 @@
 // increment from the linearised state with that law's secant,
 //
 //   x = x_lin + S B (f - f_lin),   x_lin = xRest + B f_lin,   S = ln(1 + z) / z,
-//   z = b (F - F_lin)   (held to z >= -0.9: S <= 2.56),
+//   z = b (F - F_lin)   (held to [-0.9, 2.51]: 0.5 <= S <= 2.56),
 //
 // i.e. C -> S C, xFree -> xFree + (1 - S) C f_lin (the candidates' rows), xRest -> xRest +
 // (1 - S) B f_lin; S is taken from the last solve's total force F = |sum f| (a step behind, so
@@ -100,7 +100,7 @@ class CondensedCapsuleContact {
                      double rate_per_N);
   /// The compliance's scale S at the last solve: 1 without stiffening.
   double complianceScale() const { return m_scale; }
-  /// S = ln(1 + z) / z, z = rate (F - F_lin) held to >= -0.9 (1 at z = 0).
+  /// S = ln(1 + z) / z, z = rate (F - F_lin) held to [-0.9, 2.51] (1 at z = 0).
   static double secantScale(double load_N, double linearisedLoad_N, double rate_per_N);
 
   /// The whole body at the last solve's forces (3 by #V; allocates when x is not that size).
