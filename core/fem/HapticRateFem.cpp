@@ -288,9 +288,13 @@ double HapticRateFem::stiffening(double load_N, Eigen::Matrix3Xd& loadResponse) 
     const double now_m_N =
         patterns.col(1).dot(m_loadResponses.col(1)) / (m_lastLoad_N * m_lastLoad_N);
     if (now_m_N > 0.0 && m_lastLoadCompliance_m_N > 0.0) {
-      m_stiffeningRate_per_m =
-          std::clamp((1.0 / now_m_N - 1.0 / m_lastLoadCompliance_m_N) / (load_N - m_lastLoad_N),
-                     0.0, kMaxStiffeningRate_per_m);
+      // The chord's slope is the slope between the two loads; carried to this one as falling
+      // with the load (k ~ ln F, the hanging liver's concave k(F); on the weightless liver,
+      // whose k(F) is nearer straight, it errs towards the linear body).
+      const double toHere = 0.5 * (load_N + m_lastLoad_N) / load_N;
+      m_stiffeningRate_per_m = std::clamp(
+          toHere * (1.0 / now_m_N - 1.0 / m_lastLoadCompliance_m_N) / (load_N - m_lastLoad_N), 0.0,
+          kMaxStiffeningRate_per_m);
     }
   }
   if (isComparable || m_lastLoadPattern.size() != m_x.size()) {

@@ -80,11 +80,12 @@ class HapticRateFem {
   /// The body's stiffening between updates (CondensedCapsuleContact::setStiffening): each update
   /// under a load of at least kStiffeningLoad_N (N, the size of the contact's forces' sum) hands
   /// its contact k(F) = k_lin + beta (F - F_lin), beta found from two such updates whose loads
-  /// differ by a factor of at least exp(kStiffeningLoadChange), as the change of the stiffness
-  /// k = F^2 / (f . K^-1 f) of the first one's load pattern f over the change of the load, held
-  /// to [0, kMaxStiffeningRate_per_m]. A press finds its own: an update under less load (the
-  /// probe clear, or a press's first touch) hands none, and forgets beta
-  /// (docs/performance-details.md, "The body's stiffening between updates").
+  /// differ by a factor of at least exp(kStiffeningLoadChange): the change of the stiffness
+  /// k = F^2 / (f . K^-1 f) of the first one's load pattern f over the change of the load (the
+  /// slope between the two loads), carried to the later load as a slope that falls as 1 / F
+  /// (k ~ ln F over the interval), held to [0, kMaxStiffeningRate_per_m]. A press finds its own: an
+  /// update under less load (the probe clear, or a press's first touch) hands none, and forgets
+  /// beta (docs/performance-details.md, "The body's stiffening between updates").
   static constexpr double kStiffeningLoad_N = 0.01;
   static constexpr double kStiffeningLoadChange = 0.05;
   static constexpr double kMaxStiffeningRate_per_m = 1e4;

@@ -201,16 +201,21 @@ TEST(HapticRateBody, PressedAtATraineesSpeedTheBodysStiffeningKeepsItWithinTenPe
   const SceneDescription scene = hapticRateScene();
   const double speed_m_s = 2.0 * hapticRateToolSpeed_m_s(scene, Simulation(scene).energy());
   ASSERT_NEAR(speed_m_s, 0.02, 1e-3);
-  const AxisPoke poke = pokeAlongTheAxis(scene, 0.0015, 0.0102, speed_m_s, false);
+  Simulation simulation(scene);
+  const AxisPoke poke = pokeAlongTheAxis(simulation, 0.0015, 0.0102, speed_m_s, false);
   for (const auto& [depth_mm, expected_N] : reference) {
     const double force_N = forceAtDepth(poke, 1e-3 * depth_mm);
     if (depth_mm < 4.0) continue;
     EXPECT_NEAR(force_N, expected_N, 0.1 * expected_N)
         << depth_mm << " mm: " << 100.0 * (force_N / expected_N - 1.0) << " %";
   }
-  EXPECT_LT((poke.finalPositions_m - poke.restPositions_m).colwise().norm().maxCoeff(), 1e-6);
   for (const InstabilityEvent& event : poke.events)
     ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  // Let go, the body sits where the stiffening's law puts it unloaded (a few micrometres off
+  // rest, the law's estimate of where the tissue springs back to), until an update under no load
+  // brings it to rest; some updates on, it is there.
+  for (int n = 0; n < 200; ++n) EXPECT_TRUE(simulation.step().isGood) << n;
+  EXPECT_LT((simulation.state().x - poke.restPositions_m).colwise().norm().maxCoeff(), 1e-9);
 }
 
 TEST(HapticRateBody, ASecondPokeOfTheSoftenedLiverIsSofterAndAResetForgetsIt) {
