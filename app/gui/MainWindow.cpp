@@ -652,13 +652,16 @@ void MainWindow::updateMaterialChart() {
   for (const double peak : {1.15, 1.23, 1.30}) {
     if (peak < table.range().upper) peaks.push_back(peak);
   }
-  // Without softening (switched off, or the FEM, which has none) the tissue unloads down its
-  // virgin loading curve: that curve alone, to the largest peak.
+  // Without softening (switched off, or the lattice FEM, which has none) the tissue unloads down
+  // its virgin loading curve: that curve alone, to the largest peak. The FEM at its own rate
+  // softens per material point without the residual strain: its own curves.
   const bool isSoftening = simulation.isSoftening();
+  const UniaxialModel model =
+      simulation.hapticRateBody() != nullptr ? UniaxialModel::Fem : UniaxialModel::Sedf;
   if (!isSoftening && !peaks.empty()) peaks.erase(peaks.begin(), peaks.end() - 1);
   std::vector<ChartSeries> series;
   if (!peaks.empty()) {
-    const std::vector<CurveBranch> curve = test.run(UniaxialModel::Sedf, {peaks, 60});
+    const std::vector<CurveBranch> curve = test.run(model, {peaks, 60});
     for (const CurveBranch& branch : curve) {
       if (!isSoftening && branch.phase != LoadPhase::Loading) continue;
       // One line per branch (a joined line would draw chords between cycles).

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "analysis/UniaxialExperiment.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "analysis/GoodnessOfFit.h"
+#include "fem/IsochoricSoftening.h"
 
 namespace tissuesim {
 
@@ -32,7 +34,10 @@ std::vector<CurveBranch> protocolStretches(const UniaxialProtocol& protocol) {
 }
 
 UniaxialExperiment::UniaxialExperiment(const StrainEnergy& energy, const StiffnessTable& table)
-    : m_energy(energy), m_table(table), m_softening(energy.parameters()) {}
+    : m_energy(energy),
+      m_table(table),
+      m_softening(energy.parameters()),
+      m_roundedSoftening(energy.parameters(), SpringForceLaw::kSofteningOnsetMeasure) {}
 
 void UniaxialExperiment::validate(const UniaxialProtocol& protocol) const {
   if (protocol.lambdaMax.empty()) throw std::invalid_argument("no lambda_max given");
@@ -61,6 +66,7 @@ double UniaxialExperiment::virginStress(UniaxialModel model, double lambda,
                                         double linearModulus_Pa) const {
   switch (model) {
     case UniaxialModel::Sedf:
+    case UniaxialModel::Fem:
       return m_energy.stress(lambda);
     case UniaxialModel::Eesm:
       // One spring of volume V = A L0: |F| = V P / L0, so stress |F| / A = P.
@@ -89,8 +95,17 @@ std::vector<CurveBranch> UniaxialExperiment::run(UniaxialModel model,
     branch.stress_Pa.reserve(branch.stretch.size());
     for (const double lambda : branch.stretch) {
       const double virgin = virginStress(model, lambda, linearModulus);
-      branch.stress_Pa.push_back(softens ? m_softening.soften(virgin, lambda, state.lambdaMax())
-                                         : virgin);
+      if (model == UniaxialModel::Fem) {
+        // Through I1bar, as the FEM's quadrature points soften: no residual strain.
+        const auto shift = [](double stretch) { return stretch * stretch + 2.0 / stretch - 3.0; };
+        const double peak = std::max(state.lambdaMax(), 1.0);
+        branch.stress_Pa.push_back(virgin * isochoricSofteningFactor(m_roundedSoftening,
+                                                                     shift(lambda),
+                                                                     isochoricPeak(shift(peak))));
+      } else {
+        branch.stress_Pa.push_back(softens ? m_softening.soften(virgin, lambda, state.lambdaMax())
+                                           : virgin);
+      }
       state.observe(lambda);
     }
   }

@@ -6,11 +6,12 @@
 
 namespace tissuesim {
 namespace {
-constexpr std::array<std::pair<UniaxialModel, std::string_view>, 4> kNames = {{
+constexpr std::array<std::pair<UniaxialModel, std::string_view>, 5> kNames = {{
     {UniaxialModel::Sedf, "sedf"},
     {UniaxialModel::Eesm, "eesm"},
     {UniaxialModel::EesmPaper, "eesm-paper"},
     {UniaxialModel::Smm, "smm"},
+    {UniaxialModel::Fem, "fem"},
 }};
 }  // namespace
 

@@ -13,6 +13,9 @@ enum class UniaxialModel {
   Eesm,       ///< one energy-consistent EESM spring through the precomputed tables
   EesmPaper,  ///< the published secant force F = k_s(lambda) lambda, over v_ij
   Smm,        ///< a linear spring, one constant stiffness fitted to the sedf curve (Eq. 1)
+  /// the FEM's material point (fem/IsochoricSoftening.h): the continuum's virgin stress times
+  /// F at the point's peak I1bar, with the spring law's rounded onset and no residual strain
+  Fem,
 };
 
 /// "sedf", "eesm", "eesm-paper" or "smm"; nullopt for anything else.

@@ -87,6 +87,39 @@ TEST_F(UniaxialCycles, LinearSpringIsTheLeastSquaresFit) {
   EXPECT_LT(std::abs(orthogonality), 1e-12 * scale);
 }
 
+TEST_F(UniaxialCycles, TheFemsMaterialPointSoftensWithoutAPermanentSet) {
+  // The FEM's points soften through I1bar, the residual strain left out: the first loading is
+  // the continuum's virgin curve, each unloading is virgin times the spring law's F (its rounded
+  // onset) at the same stretch, and the tissue unloads to no stress at rest, where the paper's
+  // sedf curve keeps the residual stress of its permanent set.
+  const auto fem = m_test.run(UniaxialModel::Fem, m_paperProtocol);
+  const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
+  ASSERT_EQ(fem.size(), sedf.size());
+  const StressSoftening softening(m_energy.parameters(), SpringForceLaw::kSofteningOnsetMeasure);
+  for (std::size_t i = 0; i < fem[0].stretch.size(); ++i)
+    EXPECT_DOUBLE_EQ(fem[0].stress_Pa[i], m_energy.stress(fem[0].stretch[i])) << i;
+  for (std::size_t b = 1; b < fem.size(); b += 2) {
+    const double peak = m_paperProtocol.lambdaMax[b / 2];
+    const CurveBranch& unloading = fem[b];
+    for (std::size_t i = 0; i < unloading.stretch.size(); ++i) {
+      const double lambda = unloading.stretch[i];
+      EXPECT_NEAR(unloading.stress_Pa[i], m_energy.stress(lambda) * softening.factor(lambda, peak),
+                  1e-9 * m_energy.stress(peak))
+          << "cycle " << b / 2 + 1 << " at " << lambda;
+    }
+    EXPECT_EQ(unloading.stress_Pa.back(), 0.0) << "no stress at rest";
+    EXPECT_LT(sedf[b].stress_Pa.back(), 0.0) << "the paper's permanent set";
+  }
+  // Reloaded below the last peak it follows its unloading, and the virgin curve past it.
+  const CurveBranch& reloading = fem[2];
+  for (std::size_t i = 0; i < reloading.stretch.size(); ++i) {
+    const double lambda = reloading.stretch[i];
+    const double expected = lambda < 1.15 ? m_energy.stress(lambda) * softening.factor(lambda, 1.15)
+                                          : m_energy.stress(lambda);
+    EXPECT_NEAR(reloading.stress_Pa[i], expected, 1e-9 * m_energy.stress(1.23)) << lambda;
+  }
+}
+
 TEST_F(UniaxialCycles, RejectsBadProtocols) {
   EXPECT_THROW(m_test.validate({{1.0}, 100}), std::invalid_argument);
   EXPECT_THROW(m_test.validate({{0.8}, 100}), std::invalid_argument);
