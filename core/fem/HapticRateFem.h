@@ -21,10 +21,10 @@
 // load, and the tangent taken where an update started ages while the probe presses on, so each
 // update hands its contact the stiffening it has measured, k(F) = k_lin + beta (F - F_lin) along
 // the load (below, kStiffeningLoad_N; CondensedCapsuleContact::setStiffening). It holds while
-// the probe travels about a millimetre between updates (docs/performance-details.md has the reach
-// measured). K is the
-// definite tangent (FemTangent::Definite), since the update factorises it with no line search
-// to catch an indefinite one; the equilibrium it iterates to is the exact energy's.
+// the probe travels a fraction of a millimetre between updates from rest, about a millimetre once
+// pressed in (docs/performance-details.md has the reach measured). K is the definite tangent
+// (FemTangent::Definite), since the update factorises it with no line search to catch an indefinite
+// one; the equilibrium it iterates to is the exact energy's.
 //
 // Shapes: x 3 by #V (m); the surface points' nodes are the model's mesh's.
 
