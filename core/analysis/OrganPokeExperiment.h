@@ -61,9 +61,8 @@ struct HapticRateSettings {
   double hapticStep_s = 0.001;
   double startAbove_m = 0.001;
   double updateLatency_s = 0.0;
-  double candidateMargin_m = 0.001;        ///< HapticRateFem's
-  int newtonIterations = 2;                ///< an update's
-  bool isStiffeningBetweenUpdates = true;  ///< HapticRateFem::setStiffeningBetweenUpdates
+  double candidateMargin_m = 0.001;  ///< HapticRateFem's
+  int newtonIterations = 2;          ///< an update's
 };
 
 struct HapticRatePoke {
