@@ -18,7 +18,7 @@ enum class UniaxialModel {
   Fem,
 };
 
-/// "sedf", "eesm", "eesm-paper" or "smm"; nullopt for anything else.
+/// "sedf", "eesm", "eesm-paper", "smm" or "fem"; nullopt for anything else.
 std::optional<UniaxialModel> parseUniaxialModel(std::string_view name);
 std::string_view modelName(UniaxialModel model);
 /// The accepted names, comma-separated, for messages.
