@@ -97,7 +97,9 @@ std::vector<CurveBranch> UniaxialExperiment::run(UniaxialModel model,
       const double virgin = virginStress(model, lambda, linearModulus);
       if (model == UniaxialModel::Fem) {
         // Through I1bar, as the FEM's quadrature points soften: no residual strain.
-        const auto shift = [](double stretch) { return stretch * stretch + 2.0 / stretch - 3.0; };
+        const auto shift = [](double stretch) {
+          return StrainEnergy::firstInvariant(stretch) - 3.0;
+        };
         const double peak = std::max(state.lambdaMax(), 1.0);
         branch.stress_Pa.push_back(virgin * isochoricSofteningFactor(m_roundedSoftening,
                                                                      shift(lambda),
