@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "app/CommandError.h"
-#include "fem/BlasThreads.h"
 #include "material/TissueFile.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
@@ -52,8 +51,6 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
   ToolMotionLimits limits;
   double pokeDepth_m = kDefaultPokeDepth_m, pokeTime_s = kDefaultPokePressTime_s;
   if (isHapticRate) {
-    // Its updates share the cores with the step and the drawing (fem/BlasThreads.h).
-    keepBlasToOneThread();
     limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(description, m_simulation->energy());
     // 7 mm past where the tool's axis meets the organ as it opens: a liver settled under its
     // weight lies further below the scene's start than the weightless one.

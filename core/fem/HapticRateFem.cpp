@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "fem/BlasThreads.h"
 #include "forces/CapsuleGap.h"
 
 namespace tissuesim {
@@ -33,6 +34,10 @@ HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
     }
   }
   m_isInContact.assign(m_surface.size(), 0);
+  // OpenBLAS's threaded dense kernels (CHOLMOD's supernodes) round differently on one thread
+  // and on several, and an update near the refusal threshold flips with them: one thread keeps
+  // the scheme's results the same whatever the environment sets (fem/BlasThreads.h).
+  keepBlasToOneThread();
   m_model.setTangent(FemTangent::Definite);
   m_extraEnergy.terms = {&m_loads, support};
   m_model.setExtraEnergy(&m_extraEnergy);
@@ -132,14 +137,18 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
   // a nonlinear body, and can fold it inside out: where the iterations leave it out of balance,
   // as many again once (the probe further than one round follows, or the softening moved on
   // since the last update: the paper's F falls steeply below a peak), and the contact in use
-  // kept where that too falls short.
+  // kept where that too falls short. A body with no load now or at the last update is not
+  // behind the probe (it springs back, its softening redistributing the stress as it unloads):
+  // it takes up to kRoundsWithNoLoad rounds, and no outrun is reported for it.
   const double largestLoad_N =
       candidateForces_N.size() > 0 ? candidateForces_N.colwise().norm().maxCoeff() : 0.0;
   // A body the probe has just let go of still springs back from the last update's load.
   const double loadBorne_N = std::max(largestLoad_N, m_lastLargestLoad_N);
   m_lastLargestLoad_N = largestLoad_N;
   const double linearisable_N = kLinearisableResidual_N + kLinearisableLoadShare * loadBorne_N;
-  if (solved.residual_N > linearisable_N) solved = m_solver.solve(m_model, m_x, m_isFixed);
+  const int rounds = loadBorne_N > 0.0 ? 2 : kRoundsWithNoLoad;
+  for (int round = 1; round < rounds && solved.residual_N > linearisable_N; ++round)
+    solved = m_solver.solve(m_model, m_x, m_isFixed);
   report.residual_N = solved.residual_N;
   if (solved.residual_N > linearisable_N) {
     report.hasNext = false;

@@ -60,6 +60,9 @@ class HapticRateFem {
   /// docs/performance-details.md, "The FEM at its own rate in a scene").
   static constexpr double kLinearisableResidual_N = 0.05;
   static constexpr double kLinearisableLoadShare = 0.05;
+  /// The rounds of iterations an update takes, where out of balance, on a body with no load
+  /// from the probe now or at the last update (it springs back behind no probe).
+  static constexpr int kRoundsWithNoLoad = 4;
   /// The most a material point's softening factor falls in one update (FemModel::softenAt): the
   /// paper's F falls steeply below a peak, and a body held deep in the liver redistributes its
   /// stress as it softens faster than an update re-balances it (docs/performance-details.md,
