@@ -43,6 +43,8 @@ struct OrganPokeOptions {
   int hapticRateIterations = HapticRateSettings{}.newtonIterations;
   /// Its body's bulk modulus (kPa; 0: the reference's).
   double hapticRateVolumeTerm_kPa = 0.0;
+  /// Its body linear between updates (no stiffening handed to the contact).
+  bool isHapticRateLinear = false;
 };
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
@@ -174,6 +176,7 @@ void runOrganPoke(const OrganPokeOptions& options) {
     settings.speed_m_s = options.speed_mm_s / 1000.0;
     settings.updateLatency_s = options.updateLatency_ms / 1000.0;
     settings.newtonIterations = options.hapticRateIterations;
+    settings.isStiffeningBetweenUpdates = !options.isHapticRateLinear;
     OrganPokeSetup setup = organPokeSetup(scene, depths_m);
     setup.contactSpacing_m = options.hapticRateSpacing_mm / 1000.0;
     HapticRatePoke poke;
@@ -276,6 +279,9 @@ void registerOrganPokeCommand(CLI::App& app) {
   command->add_option("--haptic-rate-volume-term-kpa", options->hapticRateVolumeTerm_kPa,
                       "With --haptic-rate-mesh: its body's bulk modulus (default: the "
                       "reference's)");
+  command->add_flag("--haptic-rate-linear", options->isHapticRateLinear,
+                    "With --haptic-rate-mesh: its body linear between updates (without the "
+                    "stiffening each update measures)");
   command->callback([options] { runOrganPoke(*options); });
 }
 

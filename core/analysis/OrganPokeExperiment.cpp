@@ -140,6 +140,7 @@ HapticRatePoke pokeOrganHapticRate(const StrainEnergy& energy, const TetMesh& or
   FemModel model(body.mesh, energy, bulkModulus_Pa);
   HapticRateFem fem(model, body.isFixed, body.points, settings.candidateMargin_m,
                     settings.newtonIterations);
+  fem.setStiffeningBetweenUpdates(settings.isStiffeningBetweenUpdates);
 
   HapticRatePoke poke;
   poke.nodes = static_cast<int>(body.mesh.nodeCount());

@@ -61,8 +61,9 @@ struct HapticRateSettings {
   double hapticStep_s = 0.001;
   double startAbove_m = 0.001;
   double updateLatency_s = 0.0;
-  double candidateMargin_m = 0.001;  ///< HapticRateFem's
-  int newtonIterations = 2;          ///< an update's
+  double candidateMargin_m = 0.001;        ///< HapticRateFem's
+  int newtonIterations = 2;                ///< an update's
+  bool isStiffeningBetweenUpdates = true;  ///< HapticRateFem::setStiffeningBetweenUpdates
 };
 
 struct HapticRatePoke {

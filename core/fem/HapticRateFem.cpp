@@ -2,6 +2,7 @@
 #include "fem/HapticRateFem.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -49,6 +50,7 @@ HapticRateUpdate HapticRateFem::settle(const Eigen::Vector3d& tip_m, const Eigen
   m_loads.nodes.clear();
   m_loads.forces_N.resize(3, 0);
   m_lastLargestLoad_N = 0.0;
+  m_stiffeningRate_per_m = 0.0;
   m_x = m_model.mesh().nodes_m;
   m_settled = m_x;
   FemSolveReport solved;
@@ -99,6 +101,8 @@ void HapticRateFem::restart() {
   m_model.softenAt(m_settled);
   std::fill(m_isInContact.begin(), m_isInContact.end(), char{0});
   m_lastLargestLoad_N = 0.0;
+  m_lastLoadPattern.resize(0);
+  m_stiffeningRate_per_m = 0.0;
 }
 
 HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
@@ -175,6 +179,7 @@ HapticRateUpdate HapticRateFem::linearizeAt(const Eigen::Matrix3Xd& body_m,
   HapticRateUpdate report;
   m_loads.nodes.clear();
   m_loads.forces_N.resize(3, 0);
+  m_stiffeningRate_per_m = 0.0;  // the new material's own, found afresh
   FemState state;
   m_model.softenAt(body_m);
   if (!m_model.evaluate(body_m).isAdmissible ||
@@ -254,7 +259,59 @@ int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d
   }
   next.setPoints(localNodes, weights, stiffness_N_m);
   next.pointIds() = points;
+  if (m_isStiffening) {
+    Eigen::Vector3d load_N = Eigen::Vector3d::Zero();
+    for (Eigen::Index l = 0; l < m_loads.forces_N.cols(); ++l) load_N += m_loads.forces_N.col(l);
+    const double rate_per_N = stiffening(load_N.norm(), m_loadResponse);
+    if (rate_per_N > 0.0) next.setStiffening(m_loadResponse, load_N.norm(), rate_per_N);
+  }
   return passed;
+}
+
+double HapticRateFem::stiffening(double load_N, Eigen::Matrix3Xd& loadResponse) {
+  if (load_N < kStiffeningLoad_N) {  // no press, or its end: the next one finds its own beta
+    m_lastLoadPattern.resize(0);
+    m_stiffeningRate_per_m = 0.0;
+    return 0.0;
+  }
+  const bool isComparable = m_lastLoadPattern.size() == m_x.size() &&
+                            std::abs(std::log(load_N / m_lastLoad_N)) >= kStiffeningLoadChange;
+  // The loads' pattern now, and the last one's, each solved against K here.
+  Eigen::MatrixXd& patterns = m_loadPatterns;
+  patterns.setZero(m_x.size(), isComparable ? 2 : 1);
+  for (std::size_t l = 0; l < m_loads.nodes.size(); ++l) {
+    patterns.col(0).segment<3>(3 * m_loads.nodes[l]) =
+        m_loads.forces_N.col(static_cast<Eigen::Index>(l));
+  }
+  for (Eigen::Index i = 0; i < patterns.rows(); ++i) {
+    if (m_isFixed[static_cast<std::size_t>(i)] != 0) patterns(i, 0) = 0.0;
+  }
+  if (isComparable) patterns.col(1) = m_lastLoadPattern;
+  m_loadResponses = patterns;
+  m_solver.solveFactorized(m_loadResponses);
+  loadResponse = Eigen::Map<const Eigen::Matrix3Xd>(m_loadResponses.col(0).data(), 3, m_x.cols());
+  const double compliance_m_N = patterns.col(0).dot(m_loadResponses.col(0)) / (load_N * load_N);
+  if (isComparable) {
+    // The last pattern's stiffness when it was the load and now, against the load's change: the
+    // body's own stiffening, the pattern's spreading left to the contact.
+    const double now_m_N =
+        patterns.col(1).dot(m_loadResponses.col(1)) / (m_lastLoad_N * m_lastLoad_N);
+    if (now_m_N > 0.0 && m_lastLoadCompliance_m_N > 0.0) {
+      // The chord's slope is the slope between the two loads; carried to this one as falling
+      // with the load (k ~ ln F, the hanging liver's concave k(F); on the weightless liver,
+      // whose k(F) is nearer straight, it errs towards the linear body).
+      const double toHere = 0.5 * (load_N + m_lastLoad_N) / load_N;
+      m_stiffeningRate_per_m = std::clamp(
+          toHere * (1.0 / now_m_N - 1.0 / m_lastLoadCompliance_m_N) / (load_N - m_lastLoad_N), 0.0,
+          kMaxStiffeningRate_per_m);
+    }
+  }
+  if (isComparable || m_lastLoadPattern.size() != m_x.size()) {
+    m_lastLoadPattern = patterns.col(0);
+    m_lastLoad_N = load_N;
+    m_lastLoadCompliance_m_N = compliance_m_N;
+  }
+  return m_stiffeningRate_per_m * compliance_m_N;
 }
 
 }  // namespace tissuesim

@@ -17,10 +17,14 @@
 //
 // The iteration between the two is staggered: the body's nonlinearity (the tissue's stiffening,
 // large rotations, the contact's geometry over the body) enters at the update's rate, and between
-// updates the body answers the probe linearly. It holds while the probe travels a fraction of a
-// millimetre between updates (docs/performance-details.md has the reach measured). K is the
-// definite tangent (FemTangent::Definite), since the update factorises it with no line search
-// to catch an indefinite one; the equilibrium it iterates to is the exact energy's.
+// updates the body answers the probe linearly, but for one scalar: the tissue stiffens with the
+// load, and the tangent taken where an update started ages while the probe presses on, so each
+// update hands its contact the stiffening it has measured, k(F) = k_lin + beta (F - F_lin) along
+// the load (below, kStiffeningLoad_N; CondensedCapsuleContact::setStiffening). It holds while
+// the probe travels a fraction of a millimetre between updates from rest, about a millimetre once
+// pressed in (docs/performance-details.md has the reach measured). K is the definite tangent
+// (FemTangent::Definite), since the update factorises it with no line search to catch an indefinite
+// one; the equilibrium it iterates to is the exact energy's.
 //
 // Shapes: x 3 by #V (m); the surface points' nodes are the model's mesh's.
 
@@ -76,6 +80,18 @@ class HapticRateFem {
   /// punctured surface lets slip round the tip end up 1 to 1.5 mm inside it; an update's Newton
   /// iteration behind a withdrawing probe leaves a pressed point up to about 0.1 mm inside.
   static constexpr double kGoneThrough_m = 5e-4;
+  /// The body's stiffening between updates (CondensedCapsuleContact::setStiffening): each update
+  /// under a load of at least kStiffeningLoad_N (N, the size of the contact's forces' sum) hands
+  /// its contact k(F) = k_lin + beta (F - F_lin), beta found from two such updates whose loads
+  /// differ by a factor of at least exp(kStiffeningLoadChange): the change of the stiffness
+  /// k = F^2 / (f . K^-1 f) of the first one's load pattern f over the change of the load (the
+  /// slope between the two loads), carried to the later load as a slope that falls as 1 / F
+  /// (k ~ ln F over the interval), held to [0, kMaxStiffeningRate_per_m]. A press finds its own: an
+  /// update under less load (the probe clear, or a press's first touch) hands none, and forgets
+  /// beta (docs/performance-details.md, "The body's stiffening between updates").
+  static constexpr double kStiffeningLoad_N = 0.01;
+  static constexpr double kStiffeningLoadChange = 0.05;
+  static constexpr double kMaxStiffeningRate_per_m = 1e4;
 
   /// `model` (its tangent set definite here, no extra energy: the contact is the haptic
   /// loop's) must outlive this object. isFixed: 3#V flags. surface: the points the probe may
@@ -132,6 +148,10 @@ class HapticRateFem {
   /// body, each update and linearizeAt() where they start (FemModel::softenAt).
   void restart();
 
+  /// Whether each update hands its contact the body's stiffening (kStiffeningLoad_N; on by
+  /// default): off, the body answers linearly between updates, as measured against.
+  void setStiffeningBetweenUpdates(bool isOn) { m_isStiffening = isOn; }
+
   /// Surface points (indices into the surface given at construction) the next updates keep in
   /// their contact whatever their distance from the probe: the points the grasp holds.
   void setHeldPoints(std::vector<int> points);
@@ -147,6 +167,12 @@ class HapticRateFem {
   int linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m, double radius_m,
                 CondensedCapsuleContact& next, HapticRateUpdate& report);
 
+  /// The stiffening between updates where the next contact's loads sum to `load_N` (N): the
+  /// body's response to them, K^-1 f, into loadResponse (3 by #V), beta found afresh where the
+  /// last pattern allows; returns the next contact's rate b = beta f.K^-1 f / F^2 (1/N; 0: the
+  /// next contact is linear).
+  double stiffening(double load_N, Eigen::Matrix3Xd& loadResponse);
+
   FemModel& m_model;
   NodalLoads m_loads;            ///< the contact's forces
   SummedEnergies m_extraEnergy;  ///< m_loads and the support
@@ -160,6 +186,16 @@ class HapticRateFem {
   double m_lastLargestLoad_N = 0.0;  ///< the last update's largest load on a node
   std::vector<char> m_isInContact;   ///< per surface point: in the last contact made
   std::vector<int> m_heldPoints;     ///< setHeldPoints', sorted
+  /// The stiffening: on (setStiffeningBetweenUpdates), the last load pattern beta was or will be
+  /// found from (3#V; empty: none), its sum's size (N), the body's compliance to it there
+  /// (m/N), beta so far (1/m), and the solves' workspace.
+  bool m_isStiffening = true;
+  Eigen::VectorXd m_lastLoadPattern;
+  double m_lastLoad_N = 0.0;
+  double m_lastLoadCompliance_m_N = 0.0;
+  double m_stiffeningRate_per_m = 0.0;
+  Eigen::MatrixXd m_loadPatterns, m_loadResponses;
+  Eigen::Matrix3Xd m_loadResponse;
 };
 
 }  // namespace tissuesim

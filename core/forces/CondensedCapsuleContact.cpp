@@ -23,6 +23,11 @@ constexpr double kStepTolerance_m = 1e-12;
 /// Gauss-Newton's iterations before the exact Hessian is tried: most solves, warm-started from
 /// the last step's, settle within them.
 constexpr int kGaussNewtonIterations = 3;
+/// The stiffening's z = b (F - F_lin) is held to this range: S from 2.56 (unloaded from a
+/// stiffened state) to 0.5 (twice the tangent's stiffness), past which a rate found over one
+/// interval is not extrapolated.
+constexpr double kSmallestStiffening = -0.9;
+constexpr double kLargestStiffening = 2.51;
 
 }  // namespace
 
@@ -51,6 +56,62 @@ void CondensedCapsuleContact::setCandidates(const std::vector<int>& nodes) {
   m_exact.setZero(3 * m, 3 * m);
   m_bodyRest.resize(3, 0);
   m_bodyResponse.resize(0, 0);
+  m_complianceLinear.resize(0, 0);
+  m_inverseLinear.resize(0, 0);
+  m_freeLinear.resize(3, 0);
+  m_loadResponse.resize(3, 0);
+  m_candidatesLoadResponse.resize(3, 0);
+  m_linearisedLoad_N = 0.0;
+  m_rate_per_N = 0.0;
+  m_scale = 1.0;
+}
+
+void CondensedCapsuleContact::setStiffening(const Eigen::Matrix3Xd& loadResponse_m,
+                                            double linearisedLoad_N, double rate_per_N) {
+  if (!(rate_per_N >= 0.0) || !std::isfinite(rate_per_N))
+    throw std::invalid_argument("CondensedCapsuleContact: the stiffening's rate must be >= 0");
+  if (!(linearisedLoad_N >= 0.0) || !std::isfinite(linearisedLoad_N))
+    throw std::invalid_argument("CondensedCapsuleContact: the linearised load must be >= 0");
+  if (loadResponse_m.cols() != m_bodyRest.cols() || !loadResponse_m.allFinite())
+    throw std::invalid_argument("CondensedCapsuleContact: one load response a body node");
+  for (const int node : m_nodes) {
+    if (node < 0 || node >= loadResponse_m.cols())
+      throw std::invalid_argument("CondensedCapsuleContact: a candidate is not the body's node");
+  }
+  applyScale(1.0);
+  m_complianceLinear = m_compliance;
+  m_inverseLinear = m_inverse;
+  m_freeLinear = m_free;
+  m_loadResponse = loadResponse_m;
+  m_candidatesLoadResponse.resize(3, static_cast<Eigen::Index>(m_nodes.size()));
+  for (std::size_t j = 0; j < m_nodes.size(); ++j)
+    m_candidatesLoadResponse.col(static_cast<Eigen::Index>(j)) = m_loadResponse.col(m_nodes[j]);
+  m_linearisedLoad_N = linearisedLoad_N;
+  m_rate_per_N = rate_per_N;
+}
+
+double CondensedCapsuleContact::secantScale(double load_N, double linearisedLoad_N,
+                                            double rate_per_N) {
+  // k(F) = k_lin (1 + z): the displacement from F_lin is ln(1 + z) / (b k_lin), the tangent's
+  // (F - F_lin) / k_lin.
+  if (rate_per_N <= 0.0) return 1.0;
+  const double z = std::clamp(rate_per_N * (std::max(load_N, 0.0) - linearisedLoad_N),
+                              kSmallestStiffening, kLargestStiffening);
+  if (std::abs(z) < 1e-6) return 1.0 - 0.5 * z;
+  return std::log1p(z) / z;
+}
+
+void CondensedCapsuleContact::applyScale(double scale) {
+  if (scale == m_scale || m_inverseLinear.size() == 0) return;
+  m_inverse = m_inverseLinear / scale;
+  m_compliance = scale * m_complianceLinear;
+  for (Eigen::Index j = 0; j < m_free.cols(); ++j) {
+    const Eigen::Vector3d moved_m =
+        m_freeLinear.col(j) + (1.0 - scale) * m_candidatesLoadResponse.col(j) - m_free.col(j);
+    m_free.col(j) += moved_m;
+    m_u.segment<3>(3 * j) -= moved_m;
+  }
+  m_scale = scale;
 }
 
 void CondensedCapsuleContact::setPoints(const Eigen::Matrix3Xi& localNodes,
@@ -173,6 +234,8 @@ Eigen::Vector3d CondensedCapsuleContact::solve(const Eigen::Vector3d& tip_m,
   m_iterations = 0;
   m_residual_N = 0.0;
   bool isResidualKnown = false;
+  if (m_rate_per_N > 0.0)
+    applyScale(secantScale(m_forces.rowwise().sum().norm(), m_linearisedLoad_N, m_rate_per_N));
   for (; m_iterations < kMaxIterations; ++m_iterations) {
     m_gradient.noalias() = m_inverse * m_u;
     m_hessian = m_inverse;
@@ -252,6 +315,9 @@ void CondensedCapsuleContact::startFrom(const CondensedCapsuleContact& other) {
     m_work.segment<3>(3 * static_cast<Eigen::Index>(j)) =
         other.m_forces.col(static_cast<Eigen::Index>(kept - other.m_nodes.begin()));
   }
+  m_forces = Eigen::Map<const Eigen::Matrix3Xd>(m_work.data(), 3, m_forces.cols());
+  if (m_rate_per_N > 0.0)
+    applyScale(secantScale(m_forces.rowwise().sum().norm(), m_linearisedLoad_N, m_rate_per_N));
   m_u.noalias() = m_compliance * m_work;
 }
 
@@ -265,8 +331,9 @@ void CondensedCapsuleContact::firstBodyPositions(const Eigen::Matrix3Xd& forces_
   const Eigen::Index n = x.cols();
   x = m_bodyRest.leftCols(n);
   if (!hasBody()) return;
+  if (m_scale != 1.0) x += (1.0 - m_scale) * m_loadResponse.leftCols(n);
   Eigen::Map<Eigen::VectorXd>(x.data(), x.size()).noalias() +=
-      m_bodyResponse.topRows(3 * n) *
+      m_scale * m_bodyResponse.topRows(3 * n) *
       Eigen::Map<const Eigen::VectorXd>(forces_N.data(), forces_N.size());
 }
 

@@ -28,6 +28,19 @@
 // added to E, its Hessian k_h w w^T I. Optionally the whole body follows the candidates' forces
 // linearly: x = xRest + B f (xRest 3 by #V, B 3#V by 3m, the body's compliance on the
 // candidates' columns).
+//
+// Optionally the body stiffens with the load between updates (its tangent, taken where it was
+// linearised under loads f_lin of total F_lin, ages while the probe presses on): with the
+// stiffness along the load growing as k(F) = k_lin (1 + b (F - F_lin)), the body answers the
+// increment from the linearised state with that law's secant,
+//
+//   x = x_lin + S B (f - f_lin),   x_lin = xRest + B f_lin,   S = ln(1 + z) / z,
+//   z = b (F - F_lin)   (held to [-0.9, 2.51]: 0.5 <= S <= 2.56),
+//
+// i.e. C -> S C, xFree -> xFree + (1 - S) C f_lin (the candidates' rows), xRest -> xRest +
+// (1 - S) B f_lin; S is taken from the last solve's total force F = |sum f| (a step behind, so
+// that E stays quadratic in u within a solve). Unloaded, the law's secant takes the body back past
+// xRest, as a stiffening body's is from a tangent taken under load.
 
 #include <vector>
 
@@ -78,6 +91,18 @@ class CondensedCapsuleContact {
   Eigen::Matrix3Xd& bodyAtRest() { return m_bodyRest; }
   Eigen::MatrixXd& bodyResponse() { return m_bodyResponse; }
   bool hasBody() const { return m_bodyResponse.size() > 0; }
+  /// Optionally the body's stiffening between updates (above): the whole body's displacement
+  /// under the loads it was linearised at (3 by #V, B_full f_lin; the candidates' columns are
+  /// taken from it), the size of their sum F_lin (N) and the rate b (1/N). Called after
+  /// setPoints and bodyAtRest (allocates); setCandidates drops it. @throws std::invalid_argument
+  /// on a size, load or rate out of range.
+  void setStiffening(const Eigen::Matrix3Xd& loadResponse_m, double linearisedLoad_N,
+                     double rate_per_N);
+  /// The compliance's scale S at the last solve: 1 without stiffening.
+  double complianceScale() const { return m_scale; }
+  /// S = ln(1 + z) / z, z = rate (F - F_lin) held to [-0.9, 2.51] (1 at z = 0).
+  static double secantScale(double load_N, double linearisedLoad_N, double rate_per_N);
+
   /// The whole body at the last solve's forces (3 by #V; allocates when x is not that size).
   void bodyPositions(Eigen::Matrix3Xd& x) const;
   /// Its first x.cols() nodes alone (x sized by the caller, at most #V columns; no allocation),
@@ -129,6 +154,15 @@ class CondensedCapsuleContact {
   Eigen::MatrixXd m_hessian, m_turning, m_exact;  ///< Gauss-Newton's, the rest, their sum
   Eigen::Matrix3Xd m_bodyRest;
   Eigen::MatrixXd m_bodyResponse;
+  /// Applies the scale S to C, C^-1, xFree and u (the candidates' positions kept).
+  void applyScale(double scale);
+  /// The stiffening (setStiffening): C, C^-1 and xFree at S = 1, B_full f_lin and its
+  /// candidates' columns, F_lin, b, and the scale in use.
+  Eigen::MatrixXd m_complianceLinear, m_inverseLinear;
+  Eigen::Matrix3Xd m_freeLinear, m_loadResponse, m_candidatesLoadResponse;
+  double m_linearisedLoad_N = 0.0;
+  double m_rate_per_N = 0.0;
+  double m_scale = 1.0;
   bool m_converged = true;
   int m_iterations = 0;
   double m_residual_N = 0.0;

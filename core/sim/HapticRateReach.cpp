@@ -11,8 +11,11 @@ namespace {
 /// iteration at a tenth of the reference's bulk modulus or less, or with two at the
 /// reference's; with one at the reference's, 0.3 mm held and 0.45 mm did not. Under gravity, on
 /// the default scene's tray, one iteration at a tenth held 0.3 mm and punctured the surface at
-/// 0.6 mm, where two held 0.6 mm (a poke 4 mm deep).
+/// 0.6 mm, where two held 0.6 mm (a poke 4 mm deep); since each update hands its contact the
+/// body's stiffening, one holds 0.525 mm within 6 % at 1 to 7 mm (docs/performance-details.md,
+/// "The body's stiffening between updates"), and 0.6 mm reads 11 % soft at 2 mm.
 constexpr double kReach_m = 0.0006;
+constexpr double kOneIterationHeavyReach_m = 0.0005;
 constexpr double kOneIterationShortReach_m = 0.0003;
 constexpr double kSoftVolumeShare = 0.1;
 /// An update's Newton iteration on the bundled body, on one core (s): about 40 ms measured, with
@@ -24,7 +27,9 @@ constexpr double kIterationGuess_s = 0.05;
 double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, bool isHeavy,
                          const StrainEnergy& energy) {
   const bool isSoftVolume = bulkModulus_Pa <= kSoftVolumeShare * defaultFemBulkModulus(energy);
-  return newtonIterations >= 2 || (isSoftVolume && !isHeavy) ? kReach_m : kOneIterationShortReach_m;
+  if (newtonIterations >= 2) return kReach_m;
+  if (!isSoftVolume) return kOneIterationShortReach_m;
+  return isHeavy ? kOneIterationHeavyReach_m : kReach_m;
 }
 
 double hapticRateUpdateGuess_s(int newtonIterations) {

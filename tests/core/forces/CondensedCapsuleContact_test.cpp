@@ -9,6 +9,7 @@
 #include "forces/CondensedCapsuleContact.h"
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <stdexcept>
 
@@ -49,6 +50,90 @@ TEST(CondensedCapsuleContact, ANodeOnASpringMeetsTheClosedForm) {
   EXPECT_NEAR(reaction.head<2>().norm(), 0.0, 1e-9);
   EXPECT_NEAR(contact.positions()(2, 0), -u, 1e-9);
   EXPECT_NEAR(contact.nodeForces()(2, 0), -kBody_N_m * u, 1e-6);
+}
+
+TEST(CondensedCapsuleContact, TheSecantScaleIsTheStiffeningLawsOwn) {
+  // S(F) = (displacement from F_lin to F under k = k_lin (1 + b (F - F_lin))) / ((F - F_lin) /
+  // k_lin), the displacement by the trapezoidal rule here; past the range z = b (F - F_lin) is
+  // held to, the law is not extrapolated.
+  constexpr double kRate_per_N = 4.0, kLinearised_N = 0.2;
+  for (const double load_N : {0.0, 0.05, 0.19, 0.2, 0.21, 0.5, 0.8}) {
+    double compliance_integral = 0.0;  // integral of k_lin / k(F) dF from F_lin to F
+    constexpr int kPieces = 20000;
+    for (int i = 0; i < kPieces; ++i) {
+      const double a = kLinearised_N + (load_N - kLinearised_N) * i / kPieces;
+      const double b = kLinearised_N + (load_N - kLinearised_N) * (i + 1) / kPieces;
+      compliance_integral += 0.5 * (b - a) *
+                             (1.0 / (1.0 + kRate_per_N * (a - kLinearised_N)) +
+                              1.0 / (1.0 + kRate_per_N * (b - kLinearised_N)));
+    }
+    const double expected =
+        load_N == kLinearised_N ? 1.0 : compliance_integral / (load_N - kLinearised_N);
+    EXPECT_NEAR(CondensedCapsuleContact::secantScale(load_N, kLinearised_N, kRate_per_N), expected,
+                1e-8)
+        << load_N;
+  }
+  EXPECT_EQ(CondensedCapsuleContact::secantScale(0.7, kLinearised_N, 0.0), 1.0) << "no rate";
+  EXPECT_DOUBLE_EQ(CondensedCapsuleContact::secantScale(5.0, kLinearised_N, kRate_per_N),
+                   std::log1p(2.51) / 2.51)
+      << "at most twice the tangent's stiffness";
+  EXPECT_DOUBLE_EQ(CondensedCapsuleContact::secantScale(0.0, kLinearised_N, 10.0),
+                   std::log1p(-0.9) / -0.9);
+  EXPECT_GT(CondensedCapsuleContact::secantScale(0.0, kLinearised_N, kRate_per_N), 1.0)
+      << "unloaded, softer than the tangent";
+  EXPECT_LT(CondensedCapsuleContact::secantScale(0.5, kLinearised_N, kRate_per_N), 1.0)
+      << "loaded further, stiffer";
+}
+
+TEST(CondensedCapsuleContact, AStiffeningNodePressedFurtherMeetsItsLaw) {
+  // One node, linearised pressed down by F_lin (tangent k_lin there, B = C = 1 / k_lin), whose
+  // stiffness grows as k_lin (1 + b (F - F_lin)): held at a fixed pose, repeated solves (each
+  // taking the scale from the last one's force) settle where the node's displacement from its
+  // linearised place is the law's integral of dF / k(F), the probe's penalty balancing F. Drawn
+  // back, the node comes to the law's unloaded place, above where the tangent alone would have
+  // put it.
+  constexpr double kTangent_N_m = 200.0, kPenalty_N_m = 5e4, kLinearised_N = 0.1;
+  constexpr double kRate_per_N = 3.0;
+  const double linearised_m = -kLinearised_N / kTangent_N_m;  // the node pressed down there
+  CondensedCapsuleContact contact;
+  contact.setCandidates({0});
+  contact.compliance() = Eigen::Matrix3d::Identity() / kTangent_N_m;
+  contact.freePositions().setZero();  // where the tangent puts it with no load
+  contact.setPoints(Eigen::Matrix3Xi::Zero(3, 1), Eigen::Vector3d(1.0, 0.0, 0.0),
+                    Eigen::VectorXd::Constant(1, kPenalty_N_m));
+  contact.bodyAtRest() = Eigen::Matrix3Xd::Zero(3, 1);
+  contact.bodyResponse() = Eigen::MatrixXd::Identity(3, 3) / kTangent_N_m;
+  const Eigen::Matrix3Xd loadResponse = Eigen::Vector3d(0.0, 0.0, linearised_m);
+  contact.setStiffening(loadResponse, kLinearised_N, kRate_per_N);
+  // The law: the node at z(F) = linearised - ln(1 + b (F - F_lin)) / (b k_lin).
+  const auto nodeAt = [&](double load_N) {
+    return linearised_m -
+           std::log1p(kRate_per_N * (load_N - kLinearised_N)) / (kRate_per_N * kTangent_N_m);
+  };
+  const double depth_m = 0.002;  // the node below the hemisphere's centre
+  const Probe probe(depth_m);
+  for (int solve = 0; solve < 40; ++solve) contact.solve(probe.tip, probe.top, kRadius_m);
+  EXPECT_TRUE(contact.converged());
+  const double force_N = -contact.nodeForces()(2, 0);
+  const double node_m = contact.positions()(2, 0);
+  // The penalty balances F at the node's depth inside the probe (its slope past the smoothing
+  // is g + d_s / 2), to the solve's tolerance (1e-5 N a node), and the node is where the law
+  // puts it under F.
+  EXPECT_NEAR(force_N, kPenalty_N_m * (depth_m + node_m - 0.5 * kPenaltySmoothing_m), 1e-5);
+  EXPECT_NEAR(node_m, nodeAt(force_N), 1e-9);
+  EXPECT_GT(force_N, 1.4 * (kLinearised_N + kTangent_N_m * (depth_m + linearised_m)))
+      << "stiffer than the tangent";
+  Eigen::Matrix3Xd body(3, 1);
+  contact.bodyPositions(body);
+  EXPECT_NEAR(body(2, 0), node_m, 1e-12) << "the body follows the scaled response";
+  // Drawn back clear: the scale of no load, the node at the law's unloaded place.
+  const Probe clear(-0.01);
+  for (int solve = 0; solve < 3; ++solve) contact.solve(clear.tip, clear.top, kRadius_m);
+  EXPECT_NEAR(contact.positions()(2, 0), nodeAt(0.0), 1e-12);
+  EXPECT_GT(contact.positions()(2, 0), 0.0) << "past where the tangent alone settles";
+  EXPECT_THROW(contact.setStiffening(loadResponse, kLinearised_N, -1.0), std::invalid_argument);
+  EXPECT_THROW(contact.setStiffening(Eigen::Matrix3Xd::Zero(3, 2), kLinearised_N, kRate_per_N),
+               std::invalid_argument);
 }
 
 /// Nine nodes of a 3 x 3 grid 2 mm apart at z = 0, a random symmetric positive definite

@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -105,17 +106,24 @@ double forceAtDepth(const AxisPoke& poke, double depth_m) {
 }
 
 /// The kept FEM reference of the liver poke (assets/meshes/liver-fem-poke.csv): force (N) at
-/// each whole millimetre it lists.
-std::vector<double> keptReference() {
+/// each depth it lists (mm).
+std::map<double, double> keptReferenceByDepth() {
   std::ifstream file(std::string(TISSUESIM_ASSET_DIR) + "/meshes/liver-fem-poke.csv");
-  std::vector<double> force_N;
+  std::map<double, double> force_N;
   std::string line;
   while (std::getline(file, line)) {
     if (line.empty() || line[0] == '#' || line.rfind("depth", 0) == 0) continue;
     const std::size_t comma = line.find(',');
-    const double depth_mm = std::stod(line.substr(0, comma));
-    if (depth_mm == static_cast<double>(force_N.size() + 1))
-      force_N.push_back(std::stod(line.substr(comma + 1)));
+    force_N[std::stod(line.substr(0, comma))] = std::stod(line.substr(comma + 1));
+  }
+  return force_N;
+}
+
+/// The same at 1, 2, 3 ... mm, as far as it lists each whole millimetre.
+std::vector<double> keptReference() {
+  std::vector<double> force_N;
+  for (const auto& [depth_mm, at_N] : keptReferenceByDepth()) {
+    if (depth_mm == static_cast<double>(force_N.size() + 1)) force_N.push_back(at_N);
   }
   return force_N;
 }
@@ -196,6 +204,36 @@ TEST(HapticRateBody, TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference)
     for (const InstabilityEvent& event : poke.events)
       ADD_FAILURE() << event.kind << ": " << event.detail;
   }
+}
+
+TEST(HapticRateBody, PressedAtATraineesSpeedTheBodysStiffeningKeepsItWithinTenPerCent) {
+  // At twice the window's tool limit (a trainee's 20 mm/s), 10 mm into the liver: the tangent
+  // each update takes ages while the probe travels 1.2 mm an update, and the stiffening each
+  // update measures and hands its contact keeps the force within 10 % of the kept FEM reference
+  // from 4 mm on, with no event (linear between updates, the probe outruns the updates before
+  // 10 mm). The first millimetres read soft: from rest the first update under load comes in 1.2
+  // to 2.4 mm after the probe touches (docs/performance-details.md, "The body's stiffening
+  // between updates").
+  const std::map<double, double> reference = keptReferenceByDepth();
+  ASSERT_EQ(reference.count(10.0), 1u);
+  const SceneDescription scene = hapticRateScene();
+  const double speed_m_s = 2.0 * hapticRateToolSpeed_m_s(scene, Simulation(scene).energy());
+  ASSERT_NEAR(speed_m_s, 0.02, 1e-3);
+  Simulation simulation(scene);
+  const AxisPoke poke = pokeAlongTheAxis(simulation, 0.0015, 0.0102, speed_m_s, false);
+  for (const auto& [depth_mm, expected_N] : reference) {
+    const double force_N = forceAtDepth(poke, 1e-3 * depth_mm);
+    if (depth_mm < 4.0) continue;
+    EXPECT_NEAR(force_N, expected_N, 0.1 * expected_N)
+        << depth_mm << " mm: " << 100.0 * (force_N / expected_N - 1.0) << " %";
+  }
+  for (const InstabilityEvent& event : poke.events)
+    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  // Let go, the body sits where the stiffening's law puts it unloaded (a few micrometres off
+  // rest, the law's estimate of where the tissue springs back to), until an update under no load
+  // brings it to rest; some updates on, it is there.
+  for (int n = 0; n < 200; ++n) EXPECT_TRUE(simulation.step().isGood) << n;
+  EXPECT_LT((simulation.state().x - poke.restPositions_m).colwise().norm().maxCoeff(), 1e-9);
 }
 
 TEST(HapticRateBody, ASecondPokeOfTheSoftenedLiverIsSofterAndAResetForgetsIt) {
@@ -377,12 +415,12 @@ struct StaticScenesBody {
   }
 };
 
-/// The probe's force along its axis depth_m below where the axis meets the body of `simulation`'s
-/// scene (a fem-haptic-rate one) at its start, in static equilibrium: the same quadratic body,
-/// surface points, weight and tray as the scene's, the probe's penalty among its energies,
-/// Newton (the exact Hessian) to a converged balance at each half millimetre from the body
-/// settled under its weight with the probe clear.
-double staticForceOnTheScenesBody(const Simulation& simulation, double depth_m) {
+/// The probe's force along its axis at each half millimetre to deepest_m (a whole number of
+/// them) below where the axis meets the body of `simulation`'s scene (a fem-haptic-rate one) at
+/// its start, in static equilibrium: the same quadratic body, surface points, weight and tray as
+/// the scene's, the probe's penalty among its energies, Newton (the exact Hessian) to a converged
+/// balance at each half millimetre from the body settled under its weight with the probe clear.
+std::vector<double> staticForcesOnTheScenesBody(const Simulation& simulation, double deepest_m) {
   StaticScenesBody body(simulation);
   const SceneDescription& scene = body.scene;
   const TetMesh& linear = body.linear;
@@ -411,13 +449,15 @@ double staticForceOnTheScenesBody(const Simulation& simulation, double depth_m) 
   Eigen::Vector3d entry;
   EXPECT_TRUE(firstCrossing(x.leftCols(linear.nodeCount()), boundaryFaces(linear),
                             scene.instrument->tipStart_m, direction, entry));
-  const int steps = static_cast<int>(std::ceil(depth_m / 0.0005 - 1e-9));
+  const int steps = static_cast<int>(std::ceil(deepest_m / 0.0005 - 1e-9));
+  std::vector<double> force_N;
   for (int s = 1; s <= steps; ++s) {
-    probe.tip_m = entry + (depth_m * s / steps - probe.radius_m) * direction;
+    probe.tip_m = entry + (deepest_m * s / steps - probe.radius_m) * direction;
     probe.top_m = probe.tip_m - 0.3 * direction;
     EXPECT_TRUE(solver.solve(model, x, isFixed).converged) << s;
+    force_N.push_back(probe.reaction(x).dot(-direction));
   }
-  return probe.reaction(x).dot(-direction);
+  return force_N;
 }
 
 TEST(HapticRateBody, UnderGravityItOpensSettledOnItsTray) {
@@ -447,33 +487,46 @@ TEST(HapticRateBody, UnderGravityItOpensSettledOnItsTray) {
 }
 
 TEST(HapticRateBody, UnderGravityAPokeAtTheToolsLimitIsTheStaticFemsAndComesBack) {
-  // Its weight stretches and stiffens the liver: 4 mm into it at the speed the window's tool is
-  // held to (half the weightless scene's) reads the force of the same body in static
-  // equilibrium within 5 % (the scheme against its converged FEM; no continuum reference hangs
-  // the liver), reports nothing, and the liver is back where it opened once the probe has left.
-  // At four times that speed the probe goes through the surface, and that is reported, not
+  // Its weight stretches and stiffens the liver: a poke at the speed the window's tool is held to
+  // (five sixths of the weightless scene's: 0.5 mm an update, not 0.6) reads the force of the
+  // same body in static equilibrium within 10 % at 1 to 5 mm and 5 % at 4 mm (the scheme against
+  // its converged FEM; no continuum reference hangs the liver), reports nothing, and the liver is
+  // back where it opened once the probe has left. At 10 mm/s an update's one Newton iteration can
+  // leave the body out of balance, and the update then takes another: still the static FEM's force
+  // at 4 mm, within 5 %. At a trainee's 20 mm/s the body's stiffening between updates keeps it
+  // within 10 % there; at 30 mm/s the probe goes through the surface, and that is reported, not
   // silent.
   const SceneDescription scene = heavyHapticRateScene();
   const SceneDescription weightless = hapticRateScene();
   const Simulation heavy(scene);
   const double fastest_m_s = hapticRateToolSpeed_m_s(scene, heavy.energy());
-  EXPECT_NEAR(fastest_m_s, 0.5 * hapticRateToolSpeed_m_s(weightless, heavy.energy()), 1e-12);
-  const double static_N = staticForceOnTheScenesBody(heavy, 0.004);
-  EXPECT_GT(static_N, 2.0 * keptReference()[3]) << "stiffer than the weightless liver";
-  const AxisPoke atLimit = pokeAlongTheAxis(scene, 0.0015, 0.0042, fastest_m_s);
-  const double atLimit_N = forceAtDepth(atLimit, 0.004);
-  EXPECT_NEAR(atLimit_N, static_N, 0.05 * static_N);
+  EXPECT_NEAR(fastest_m_s, 5.0 / 6.0 * hapticRateToolSpeed_m_s(weightless, heavy.energy()), 1e-12);
+  // At 1, 2, 3, 4, 5 mm: every second half millimetre.
+  std::vector<double> static_N;
+  const std::vector<double> halfMillimetres_N = staticForcesOnTheScenesBody(heavy, 0.005);
+  for (std::size_t i = 1; i < halfMillimetres_N.size(); i += 2)
+    static_N.push_back(halfMillimetres_N[i]);
+  ASSERT_EQ(static_N.size(), 5u);
+  EXPECT_GT(static_N[3], 2.0 * keptReference()[3]) << "stiffer than the weightless liver";
+  const AxisPoke atLimit = pokeAlongTheAxis(scene, 0.0015, 0.0052, fastest_m_s);
+  for (int mm = 1; mm <= 5; ++mm) {
+    const double expected_N = static_N[static_cast<std::size_t>(mm - 1)];
+    const double force_N = forceAtDepth(atLimit, 1e-3 * mm);
+    EXPECT_NEAR(force_N, expected_N, 0.1 * expected_N)
+        << mm << " mm: " << 100.0 * (force_N / expected_N - 1.0) << " %";
+  }
+  EXPECT_NEAR(forceAtDepth(atLimit, 0.004), static_N[3], 0.05 * static_N[3]);
   EXPECT_LT((atLimit.finalPositions_m - atLimit.restPositions_m).colwise().norm().maxCoeff(), 1e-5);
   for (const InstabilityEvent& event : atLimit.events)
     ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
-  // At twice that speed an update's one Newton iteration can leave the body out of balance, and
-  // the update then takes another: still the static FEM's force, nothing to report.
-  const AxisPoke twice = pokeAlongTheAxis(scene, 0.0015, 0.0042, 2.0 * fastest_m_s);
-  const double twice_N = forceAtDepth(twice, 0.004);
-  EXPECT_NEAR(twice_N, static_N, 0.05 * static_N);
-  for (const InstabilityEvent& event : twice.events)
-    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
-  const AxisPoke tooFast = pokeAlongTheAxis(scene, 0.0015, 0.0042, 4.0 * fastest_m_s, false);
+  for (const auto& [speed_m_s, share] : {std::pair{0.01, 0.05}, std::pair{0.02, 0.1}}) {
+    SCOPED_TRACE(std::to_string(1e3 * speed_m_s) + " mm/s");
+    const AxisPoke faster = pokeAlongTheAxis(scene, 0.0015, 0.0042, speed_m_s, false);
+    EXPECT_NEAR(forceAtDepth(faster, 0.004), static_N[3], share * static_N[3]);
+    for (const InstabilityEvent& event : faster.events)
+      ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  }
+  const AxisPoke tooFast = pokeAlongTheAxis(scene, 0.0015, 0.0042, 0.03, false);
   const bool isReported =
       std::any_of(tooFast.events.begin(), tooFast.events.end(),
                   [](const InstabilityEvent& event) { return event.kind == "outrun"; });
