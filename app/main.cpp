@@ -13,6 +13,7 @@
 #include "app/FitCommand.h"
 #include "app/GuiCommand.h"
 #include "app/IndentCommand.h"
+#include "app/LargeBlocksReturned.h"
 #include "app/MeshCommand.h"
 #include "app/OrganPokeCommand.h"
 #include "app/ReplayCommand.h"
@@ -24,6 +25,7 @@
 #include "app/UniaxialCommand.h"
 
 int main(int argc, char** argv) {
+  tissuesim::app::returnLargeBlocksToTheSystem();
   CLI::App app{
       "TissueSim: real-time soft-tissue simulation with the Equivalent Energy Spring "
       "Model (Moreno-Guerra et al., Polymers 2022)",
