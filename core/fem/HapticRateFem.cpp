@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <utility>
 
-#include "fem/BlasThreads.h"
 #include "forces/CapsuleGap.h"
 
 namespace tissuesim {
@@ -35,10 +34,6 @@ HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
     }
   }
   m_isInContact.assign(m_surface.size(), 0);
-  // OpenBLAS's threaded dense kernels (CHOLMOD's supernodes) round differently on one thread
-  // and on several, and an update near the refusal threshold flips with them: one thread keeps
-  // the scheme's results the same whatever the environment sets (fem/BlasThreads.h).
-  keepBlasToOneThread();
   m_model.setTangent(FemTangent::Definite);
   m_extraEnergy.terms = {&m_loads, support};
   m_model.setExtraEnergy(&m_extraEnergy);

@@ -32,6 +32,7 @@
 
 #include <Eigen/Core>
 
+#include "fem/BlasThreads.h"
 #include "fem/FemModel.h"
 #include "fem/FemStaticSolver.h"
 #include "forces/CapsulePenalty.h"
@@ -101,6 +102,7 @@ class HapticRateFem {
   /// newtonIterations: an update's, >= 0 (0: the body linearised where the contact has it).
   /// support: what holds the body besides its fixed DOFs and loads it besides the probe (its
   /// weight, a tray: an energy that must outlive this object; null: none), in every update.
+  /// The process's BLAS runs on one thread while this object lives (fem/BlasThreads.h).
   /// @throws std::invalid_argument on a size or setting out of range.
   HapticRateFem(FemModel& model, std::vector<char> isFixed,
                 std::vector<CapsulePenalty::Point> surface, double candidateMargin_m,
@@ -173,6 +175,11 @@ class HapticRateFem {
   /// next contact is linear).
   double stiffening(double load_N, Eigen::Matrix3Xd& loadResponse);
 
+  /// OpenBLAS's threaded dense kernels (CHOLMOD's supernodes) round differently on one thread
+  /// and on several, and an update near the refusal threshold flips with them: one thread, while
+  /// the scheme lives, keeps its results the same whatever the environment sets; its updates
+  /// share the cores with the haptic step and the window's drawing besides.
+  OneBlasThread m_oneBlasThread;
   FemModel& m_model;
   NodalLoads m_loads;            ///< the contact's forces
   SummedEnergies m_extraEnergy;  ///< m_loads and the support
