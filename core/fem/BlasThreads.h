@@ -19,11 +19,8 @@ class OneBlasThread {
   OneBlasThread(const OneBlasThread&) = delete;
   OneBlasThread& operator=(const OneBlasThread&) = delete;
 
-  /// Whether the BLAS has the control (OpenBLAS): false, nothing was changed.
-  bool isKept() const { return m_isKept; }
-
  private:
-  bool m_isKept = false;
+  bool m_isKept = false;  ///< the BLAS has the control (OpenBLAS), and this one counts
 };
 
 }  // namespace tissuesim
