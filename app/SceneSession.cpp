@@ -46,12 +46,12 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
   const InstrumentPose start{description.instrument->tipStart_m, description.instrument->direction,
                              false};
   // The FEM at its own rate follows the probe only so fast (sim/HapticRateReach.h): its tool
-  // moves no faster, and its default poke goes at that speed.
+  // moves no faster near the organ, and its default poke goes at that speed.
   const bool isHapticRate = description.model == "fem-haptic-rate";
   ToolMotionLimits limits;
   double pokeDepth_m = kDefaultPokeDepth_m, pokeTime_s = kDefaultPokePressTime_s;
   if (isHapticRate) {
-    limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(description, m_simulation->energy());
+    limits = hapticRateToolLimits(description, m_simulation->energy());
     // 7 mm past where the tool's axis meets the organ as it opens: a liver settled under its
     // weight lies further below the scene's start than the weightless one.
     Eigen::Vector3d entry;
@@ -60,7 +60,7 @@ SceneSession::SceneSession(const SceneDescription& scene, const std::string& scr
                       start.tip_m, start.direction, entry)
             ? (entry - start.tip_m).dot(start.direction) + kHapticRateDefaultPokeIntoOrgan_m
             : kHapticRateDefaultPokeDepth_m;
-    pokeTime_s = pokeDepth_m / limits.maxSpeed_m_s;
+    pokeTime_s = pokeDepth_m / limits.nearSpeed_m_s;
   }
   if (driver == InstrumentDriver::Live) {
     // The window's tool follows the mouse as a proxy (bounded speed and acceleration), so a
@@ -89,7 +89,7 @@ void SceneSession::replaceTissue(const TissueParameters& parameters) {
   // modulus, against which the scene's is judged).
   const SceneDescription& scene = m_simulation->scene();
   if (m_live && scene.model == "fem-haptic-rate")
-    m_live->setMaxSpeed(hapticRateToolSpeed_m_s(scene, m_simulation->energy()));
+    m_live->setNearSpeed(hapticRateToolSpeed_m_s(scene, m_simulation->energy()));
 }
 
 void SceneSession::printAssumptions() const {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "collision/SegmentTriangleDistance.h"
+#include "mesh/SegmentTriangleDistance.h"
 #include "mesh/TetLocator.h"
 
 namespace tissuesim {

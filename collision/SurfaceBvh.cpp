@@ -12,7 +12,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
-#include "collision/SegmentTriangleDistance.h"
+#include "mesh/SegmentTriangleDistance.h"
 
 namespace tissuesim {
 namespace {

@@ -45,4 +45,11 @@ double hapticRateToolSpeed_m_s(const SceneDescription& scene, const StrainEnergy
          updateEvery_s;
 }
 
+ToolMotionLimits hapticRateToolLimits(const SceneDescription& scene, const StrainEnergy& energy) {
+  ToolMotionLimits limits;
+  limits.nearSpeed_m_s = hapticRateToolSpeed_m_s(scene, energy);
+  limits.nearClearance_m = kHapticRateNearClearance_m;
+  return limits;
+}
+
 }  // namespace tissuesim

@@ -4,11 +4,13 @@
 // between two FEM updates the body answers the probe linearly, about where the last update left
 // it, and that holds while the probe travels a fraction of a millimetre between updates (the
 // staggered iteration's reach, measured on the liver poke: docs/performance-details.md, "One
-// Newton iteration an update on a softer volume term"). The window's tool and the default poke
-// move no faster than that reach per update.
+// Newton iteration an update on a softer volume term"). The default poke moves no faster than
+// that reach per update, nor does the window's tool near the organ; in free space the tool
+// moves at its own limit and brakes to that speed before it comes near (sim/ToolProxy.h).
 
 #include "material/StrainEnergy.h"
 #include "sim/SceneFile.h"
+#include "sim/ToolProxy.h"
 
 namespace tissuesim {
 
@@ -35,5 +37,16 @@ inline constexpr double kHapticRateDefaultPokeDepth_m = 0.015;
 
 /// The probe's speed limit for the scene with its tissue (m/s): its reach per update.
 double hapticRateToolSpeed_m_s(const SceneDescription& scene, const StrainEnergy& energy);
+
+/// The clearance within which the window's tool moves no faster than the scheme follows (m),
+/// measured to the tet mesh's boundary (sim/ToolClearance.h). An update takes as candidates the
+/// surface points within a millimetre of the probe where it starts and is in use until the next
+/// comes in, two updates' time after it started: at the limit the probe travels two reaches
+/// meanwhile, so the tool is down to that speed five updates' travel before it can touch.
+inline constexpr double kHapticRateNearClearance_m = 0.003;
+
+/// The window's tool motion limits in such a scene: the proxy's own, and the probe's speed limit
+/// within kHapticRateNearClearance_m of the organ.
+ToolMotionLimits hapticRateToolLimits(const SceneDescription& scene, const StrainEnergy& energy);
 
 }  // namespace tissuesim

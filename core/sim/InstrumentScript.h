@@ -15,6 +15,12 @@ class InstrumentSource {
  public:
   virtual ~InstrumentSource() = default;
   virtual InstrumentPose poseAt(double time_s) const = 0;
+  /// Whether the source moves its tool by the tool's clearance from the organ: at bounded speed,
+  /// slower near an organ whose model follows the probe only so fast (sim/ToolProxy.h). The
+  /// physics then measures it and notes it (m; <= 0 in contact) before it asks for each next
+  /// pose. A script moves as written.
+  virtual bool takesClearance() const { return false; }
+  virtual void noteClearance(double /*clearance_m*/) const {}
 };
 
 /// Timed poses; between them positions are interpolated linearly, directions normalised.

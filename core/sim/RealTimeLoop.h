@@ -15,6 +15,7 @@
 // dropped. Nothing is dropped silently.
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -65,16 +66,21 @@ class LiveInstrument final : public InstrumentSource {
     if (!m_proxy) return m_poses.front();
     const double h_s = m_lastTime_s ? time_s - *m_lastTime_s : 0.0;
     m_lastTime_s = time_s;
-    return m_proxy->advance(m_poses.front(), h_s);
+    return m_proxy->advance(m_poses.front(), h_s, m_clearance_m);
   }
-  /// The proxy's speed limit (m/s; none without a proxy: infinity).
-  double maxSpeed_m_s() const {
-    return m_proxy ? m_proxy->limits().maxSpeed_m_s : std::numeric_limits<double>::infinity();
+  /// Physics side: the clearance the proxy's next advance slows by, where it has a near speed.
+  bool takesClearance() const override {
+    return m_proxy && std::isfinite(m_proxy->limits().nearSpeed_m_s);
   }
-  /// A new speed limit for the proxy (ToolProxy::setMaxSpeed; nothing without one). Physics
-  /// side: from the stepping thread, or while no step runs.
-  void setMaxSpeed(double maxSpeed_m_s) {
-    if (m_proxy) m_proxy->setMaxSpeed(maxSpeed_m_s);
+  void noteClearance(double clearance_m) const override { m_clearance_m = clearance_m; }
+  /// The proxy's speed limit near the organ (m/s; none without a proxy or a near limit: infinity).
+  double nearSpeed_m_s() const {
+    return m_proxy ? m_proxy->limits().nearSpeed_m_s : std::numeric_limits<double>::infinity();
+  }
+  /// A new speed limit near the organ for the proxy (ToolProxy::setNearSpeed; nothing without
+  /// one). Physics side: from the stepping thread, or while no step runs.
+  void setNearSpeed(double nearSpeed_m_s) {
+    if (m_proxy) m_proxy->setNearSpeed(nearSpeed_m_s);
   }
   /// Steps that have asked for a pose so far: the session's clock for recordings.
   long steps() const { return m_calls.load(std::memory_order_relaxed); }
@@ -88,6 +94,7 @@ class LiveInstrument final : public InstrumentSource {
   mutable TripleBuffer<InstrumentPose> m_poses;
   mutable std::optional<ToolProxy> m_proxy;
   mutable std::optional<double> m_lastTime_s;
+  mutable double m_clearance_m = std::numeric_limits<double>::infinity();
 };
 
 struct LoopStatistics {

@@ -16,6 +16,7 @@
 #include "material/TissueFile.h"
 #include "sim/HapticRateBody.h"
 #include "sim/HapticRateReach.h"
+#include "sim/ToolClearance.h"
 #include "sim/UnconvergedResidual.h"
 
 namespace tissuesim {
@@ -236,6 +237,18 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     m_grasp =
         std::make_unique<Grasp>(std::move(surfaceNodes), 2.0 * scene.instrument->shaftRadius_m);
   }
+  // The FEM at its own rate grasps its own surface; its tool slows by its clearance from the
+  // organ (sim/ToolProxy.h's near speed).
+  if (scene.instrument && isHapticRate)
+    m_toolClearance = std::make_unique<ToolClearance>(m_geometry.mesh);
+}
+
+double Simulation::toolClearance_m() const {
+  if (!m_toolClearance) return std::numeric_limits<double>::infinity();
+  const SceneInstrument& tool = *m_scene.instrument;
+  const Eigen::Vector3d centre = m_pose.tip_m - tool.shaftRadius_m * m_pose.direction;
+  const Eigen::Vector3d top = centre - tool.shaftLength_m * m_pose.direction;
+  return (*m_toolClearance)(m_state.x, centre, top, tool.shaftRadius_m, kHapticRateNearClearance_m);
 }
 
 std::vector<int> Simulation::heldNodes() const {
@@ -445,7 +458,10 @@ StepOutcome Simulation::step() {
 StepOutcome Simulation::stepHapticRate() {
   StepOutcome outcome;
   const double next = m_time_s + m_timeStep_s;
-  if (m_instrument != nullptr) m_pose = m_instrument->poseAt(next);
+  if (m_instrument != nullptr) {
+    if (m_instrument->takesClearance()) m_instrument->noteClearance(toolClearance_m());
+    m_pose = m_instrument->poseAt(next);
+  }
   const SceneInstrument& tool = *m_scene.instrument;
   const Eigen::Vector3d centre = m_pose.tip_m - tool.shaftRadius_m * m_pose.direction;
   const HapticRateStep haptic = m_hapticRate->step(

@@ -40,6 +40,7 @@
 #include "sim/InstrumentScript.h"
 #include "sim/SceneGeometry.h"
 #include "sim/SessionAssessment.h"
+#include "sim/ToolClearance.h"
 #include "sim/TraySupport.h"
 #include "springs/NodalVolumeForceField.h"
 #include "springs/SpringForceField.h"
@@ -159,6 +160,9 @@ class Simulation {
   /// step() with effects.model fem-haptic-rate: the probe's contact at this rate, the body's
   /// updates on their own thread (sim/HapticRateBody.h).
   StepOutcome stepHapticRate();
+  /// The tool's clearance from the organ where the last step left both (sim/ToolClearance.h),
+  /// exact within kHapticRateNearClearance_m.
+  double toolClearance_m() const;
   /// Records the conditions on now (each step's m_conditionsNow), their text built only then.
   template <typename Describe>
   void check(bool isOn, const char* kind, const Describe& describe) {
@@ -188,6 +192,7 @@ class Simulation {
   std::size_t m_eventCount = 0;
   const char* m_latestEventKind = nullptr;
   std::unique_ptr<Grasp> m_grasp;                     ///< only with an instrument
+  std::unique_ptr<ToolClearance> m_toolClearance;     ///< only with fem-haptic-rate's instrument
   std::unique_ptr<TraySupport> m_tray;                ///< only with a tray, not for fem-haptic-rate
   std::unique_ptr<PlaneFriction> m_friction;          ///< only with a tray that has friction
   std::vector<PlaneFriction::Anchor> m_startAnchors;  ///< where settling left the tray's grip

@@ -13,7 +13,19 @@ ToolProxy::ToolProxy(const InstrumentPose& start, ToolMotionLimits limits)
   m_pose.direction.normalize();
 }
 
-const InstrumentPose& ToolProxy::advance(const InstrumentPose& target, double h_s) {
+double ToolProxy::speedLimit_m_s(double clearance_m) const {
+  const double nearSpeed = m_limits.nearSpeed_m_s;
+  if (!(nearSpeed < m_limits.maxSpeed_m_s)) return m_limits.maxSpeed_m_s;
+  const double beyond_m = clearance_m - m_limits.nearClearance_m;
+  if (!(beyond_m > 0.0)) return nearSpeed;  // near, in contact, or not known (NaN)
+  // Braking at half the acceleration limit leaves the other half to follow the curve itself.
+  const double braking = 0.5 * m_limits.maxAcceleration_m_s2;
+  return std::min(m_limits.maxSpeed_m_s,
+                  std::sqrt(nearSpeed * nearSpeed + 2.0 * braking * beyond_m));
+}
+
+const InstrumentPose& ToolProxy::advance(const InstrumentPose& target, double h_s,
+                                         double clearance_m) {
   m_pose.isGrasping = target.isGrasping;
   if (!(h_s > 0.0) || !target.tip_m.allFinite() || !target.direction.allFinite()) return m_pose;
   const double aMax = m_limits.maxAcceleration_m_s2;
@@ -27,7 +39,7 @@ const InstrumentPose& ToolProxy::advance(const InstrumentPose& target, double h_
     // v^2 / (2 a) + v h / 2 = |e|, and never more than one step's way to it.
     const double stoppable =
         aMax * (std::sqrt(0.25 * h_s * h_s + 2.0 * distance / aMax) - 0.5 * h_s);
-    const double wantedSpeed = std::min({m_limits.maxSpeed_m_s, stoppable, distance / h_s});
+    const double wantedSpeed = std::min({speedLimit_m_s(clearance_m), stoppable, distance / h_s});
     const Eigen::Vector3d wanted =
         distance > 0.0 ? (wantedSpeed / distance) * error : Eigen::Vector3d::Zero().eval();
     Eigen::Vector3d change = wanted - m_velocity_m_s;

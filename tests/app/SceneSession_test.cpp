@@ -21,7 +21,7 @@ TEST(SceneSession, ANewTissueSetsTheFemAtItsOwnRatesToolLimitAfresh) {
   SceneSession session(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-fem-haptic-rate.json", "",
                        InstrumentDriver::Live);
   ASSERT_NE(session.liveInstrument(), nullptr);
-  const double bundled_m_s = session.liveInstrument()->maxSpeed_m_s();
+  const double bundled_m_s = session.liveInstrument()->nearSpeed_m_s();
   EXPECT_NEAR(bundled_m_s, 0.0006 / 0.06, 1e-12);
   const TissueParameters bundled = session.simulation().parameters();
   TissueParameters softer = bundled;
@@ -30,11 +30,11 @@ TEST(SceneSession, ANewTissueSetsTheFemAtItsOwnRatesToolLimitAfresh) {
   softer.A2_Pa *= 0.5;
   session.replaceTissue(softer);
   EXPECT_EQ(session.simulation().parameters().mu_Pa, softer.mu_Pa);
-  EXPECT_NEAR(session.liveInstrument()->maxSpeed_m_s(), 0.5 * bundled_m_s, 1e-12);
-  EXPECT_EQ(session.liveInstrument()->maxSpeed_m_s(),
+  EXPECT_NEAR(session.liveInstrument()->nearSpeed_m_s(), 0.5 * bundled_m_s, 1e-12);
+  EXPECT_EQ(session.liveInstrument()->nearSpeed_m_s(),
             hapticRateToolSpeed_m_s(session.simulation().scene(), session.simulation().energy()));
   session.replaceTissue(bundled);
-  EXPECT_EQ(session.liveInstrument()->maxSpeed_m_s(), bundled_m_s);
+  EXPECT_EQ(session.liveInstrument()->nearSpeed_m_s(), bundled_m_s);
 }
 
 }  // namespace

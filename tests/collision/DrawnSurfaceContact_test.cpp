@@ -11,7 +11,7 @@
 #include <string>
 
 #include "collision/CapsuleContact.h"
-#include "collision/SegmentTriangleDistance.h"
+#include "mesh/SegmentTriangleDistance.h"
 #include "sim/SceneFile.h"
 
 namespace tissuesim {

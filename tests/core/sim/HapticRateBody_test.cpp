@@ -721,9 +721,7 @@ TEST(HapticRateBody, AResetWithTheProbeDeepInTheLiverReportsNothingAsItWithdraws
   Simulation simulation(scene);
   const Eigen::Vector3d direction = scene.instrument->direction;
   const InstrumentPose start{scene.instrument->tipStart_m, direction};
-  ToolMotionLimits limits;
-  limits.maxSpeed_m_s = hapticRateToolSpeed_m_s(scene, simulation.energy());
-  LiveInstrument tool(start, limits);
+  LiveInstrument tool(start, hapticRateToolLimits(scene, simulation.energy()));
   simulation.setInstrumentSource(&tool);
   const Eigen::Vector3d entry = entryPoint(simulation);
   tool.setPose({entry + 0.005 * direction, direction});
@@ -746,6 +744,74 @@ TEST(HapticRateBody, AResetWithTheProbeDeepInTheLiverReportsNothingAsItWithdraws
     ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
   EXPECT_LT(largestForce_N, 0.01);
   EXPECT_LT(largestMove_m, 2e-4);
+}
+
+/// The window's tool in the bundled scene sent from `start_m` to `target_m` through its proxy
+/// and held there: each step's tool speed and force along its axis.
+struct ProxiedPress {
+  std::vector<double> speed_m_s, force_N;
+  std::vector<InstabilityEvent> events;
+};
+
+ProxiedPress pressThroughTheProxy(const ToolMotionLimits& limits, const Eigen::Vector3d& start_m,
+                                  const Eigen::Vector3d& target_m, long steps) {
+  const SceneDescription scene = hapticRateScene();
+  Simulation simulation(scene);
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  LiveInstrument tool({start_m, direction}, limits);
+  simulation.setInstrumentSource(&tool);
+  tool.setPose({target_m, direction});
+  ProxiedPress press;
+  Eigen::Vector3d last = start_m;
+  for (long n = 0; n < steps; ++n) {
+    const StepOutcome outcome = simulation.step();
+    const Eigen::Vector3d tip = simulation.instrumentPose().tip_m;
+    press.speed_m_s.push_back((tip - last).norm() / simulation.timeStep_s());
+    press.force_N.push_back(outcome.contact.toolForce_N.dot(-direction));
+    last = tip;
+  }
+  press.events = simulation.events();
+  return press;
+}
+
+TEST(HapticRateBody, TheWindowsToolCrossesFreeSpaceFastAndMeetsTheLiverNoFasterThanItIsFollowed) {
+  // Sent from 4 cm above the entry point to 3 mm below it, the tool crosses the free space at
+  // the proxy's own speed, brakes as it nears the organ, and touches it no faster than the
+  // scheme follows: it is there in under a second and a half (4.3 s at the scheme's speed all
+  // the way), with no event, and held there it reads the force it reads when it came all the
+  // way at that speed, within 10 % of the kept FEM reference.
+  const SceneDescription scene = hapticRateScene();
+  const Simulation reference(scene);
+  const ToolMotionLimits limits = hapticRateToolLimits(scene, reference.energy());
+  const double near_m_s = limits.nearSpeed_m_s;
+  ASSERT_LT(near_m_s, 0.1 * limits.maxSpeed_m_s);
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  const Eigen::Vector3d entry = entryPoint(reference);
+  const Eigen::Vector3d target = entry + 0.003 * direction;
+  const ProxiedPress fast = pressThroughTheProxy(limits, entry - 0.04 * direction, target, 2000);
+  EXPECT_GT(*std::max_element(fast.speed_m_s.begin(), fast.speed_m_s.end()), 0.3);
+  long touched = -1, arrived = -1;
+  for (std::size_t n = 0; n < fast.force_N.size(); ++n) {
+    if (fast.force_N[n] > 0.0 && touched < 0) touched = static_cast<long>(n);
+    if (touched >= 0) {
+      EXPECT_LE(fast.speed_m_s[n], near_m_s * (1.0 + 1e-9)) << "step " << n;
+    }
+    if (arrived < 0 && n > 0 && fast.speed_m_s[n] == 0.0 && fast.force_N[n] > 0.0)
+      arrived = static_cast<long>(n);
+  }
+  ASSERT_GT(touched, 0) << "it pressed";
+  ASSERT_GT(arrived, touched) << "and came to rest on the target";
+  EXPECT_LT(arrived, 1300);
+  for (const InstabilityEvent& event : fast.events)
+    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  // The same press at the scheme's speed from 6 mm above the entry, outside the near zone.
+  ToolMotionLimits slow = limits;
+  slow.maxSpeed_m_s = near_m_s;
+  const ProxiedPress steady = pressThroughTheProxy(slow, entry - 0.006 * direction, target, 2000);
+  EXPECT_NEAR(fast.force_N.back(), steady.force_N.back(), 0.01 * steady.force_N.back());
+  const double reference_N = keptReferenceByDepth().at(3.0);
+  EXPECT_NEAR(steady.force_N.back(), reference_N, 0.1 * reference_N);
+  EXPECT_TRUE(steady.events.empty());
 }
 
 TEST(HapticRateBody, AResetWithAnUpdateInFlightStartsAfresh) {

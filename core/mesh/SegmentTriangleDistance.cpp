@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "collision/SegmentTriangleDistance.h"
+#include "mesh/SegmentTriangleDistance.h"
 
 #include <algorithm>
 #include <array>
