@@ -17,9 +17,10 @@ namespace tissuesim {
 /// The probe's travel between updates that the scheme holds within 10 % of the reference (m),
 /// for an update's Newton iterations, its body's bulk modulus and whether it hangs under its
 /// weight: two iterations, or one on a weightless body whose bulk modulus is at most a tenth of
-/// the reference's (defaultFemBulkModulus), hold 0.6 mm; one on such a body its own weight has
-/// stretched and stiffened (about four times the weightless force at 4 mm), 0.5 mm; one on a
-/// stiffer volume term, which that iteration leaves further from its balance, half of 0.6 mm.
+/// the reference's (defaultFemBulkModulus), hold 0.54 mm wherever the first touch falls between
+/// two updates; one on such a body its own weight has stretched and stiffened (about four times
+/// the weightless force at 4 mm), 0.5 mm; one on a stiffer volume term, which that iteration
+/// leaves further from its balance, 0.3 mm.
 double hapticRateReach_m(int newtonIterations, double bulkModulus_Pa, bool isHeavy,
                          const StrainEnergy& energy);
 

@@ -192,17 +192,22 @@ TEST(HapticRateBody, AFixedLatencyPokeIsTheSameRunToRunAndLeavesTheBodyAtRest) {
 
 TEST(HapticRateBody, TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference) {
   // The liver poke (organ-poke's, here from 1.5 mm above the entry point, clear of the surface)
-  // through the scene's own steps at 2 mm/s and at the fastest the window's tool moves in it:
-  // within 10 % of the kept FEM reference at 1 to 5 mm, no event, and back at rest once the
-  // probe has left.
+  // through the scene's own steps at 2 mm/s and at the fastest the window's tool moves near the
+  // organ: within 10 % of the kept FEM reference at 1 to 5 mm, no event, and back at rest once
+  // the probe has left. At that speed the first millimetre depends on where the touch falls
+  // between two updates: the poke from seventeen starts, 1 to 5 mm above the entry point a
+  // quarter of a millimetre apart, holds it at every one.
   const std::vector<double> reference = keptReference();
   ASSERT_GE(reference.size(), 5u);
   const SceneDescription scene = hapticRateScene();
   const double fastest_m_s = hapticRateToolSpeed_m_s(scene, Simulation(scene).energy());
-  ASSERT_GT(fastest_m_s, 0.0099) << "half a trainee's 20 mm/s";
-  for (const double speed_m_s : {0.002, fastest_m_s}) {
-    SCOPED_TRACE(std::to_string(1e3 * speed_m_s) + " mm/s");
-    const AxisPoke poke = pokeAlongTheAxis(scene, 0.0015, 0.0052, speed_m_s);
+  ASSERT_GT(fastest_m_s, 0.0089) << "nearly half a trainee's 20 mm/s";
+  std::vector<std::pair<double, double>> pokes{{0.002, 0.0015}};
+  for (int quarter = 4; quarter <= 20; ++quarter) pokes.emplace_back(fastest_m_s, 2.5e-4 * quarter);
+  for (const auto& [speed_m_s, above_m] : pokes) {
+    SCOPED_TRACE(std::to_string(1e3 * speed_m_s) + " mm/s from " + std::to_string(1e3 * above_m) +
+                 " mm above");
+    const AxisPoke poke = pokeAlongTheAxis(scene, above_m, 0.0052, speed_m_s);
     for (int mm = 1; mm <= 5; ++mm) {
       const double force_N = forceAtDepth(poke, 1e-3 * mm);
       const double expected_N = reference[static_cast<std::size_t>(mm - 1)];
@@ -217,7 +222,7 @@ TEST(HapticRateBody, TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference)
 }
 
 TEST(HapticRateBody, PressedAtATraineesSpeedTheBodysStiffeningKeepsItWithinTenPerCent) {
-  // At twice the window's tool limit (a trainee's 20 mm/s), 10 mm into the liver: the tangent
+  // At a trainee's 20 mm/s (over twice the window's tool limit), 10 mm into the liver: the tangent
   // each update takes ages while the probe travels 1.2 mm an update, and the stiffening each
   // update measures and hands its contact keeps the force within 10 % of the kept FEM reference
   // from 4 mm on, with no event (linear between updates, the probe outruns the updates before
@@ -227,8 +232,8 @@ TEST(HapticRateBody, PressedAtATraineesSpeedTheBodysStiffeningKeepsItWithinTenPe
   const std::map<double, double> reference = keptReferenceByDepth();
   ASSERT_EQ(reference.count(10.0), 1u);
   const SceneDescription scene = hapticRateScene();
-  const double speed_m_s = 2.0 * hapticRateToolSpeed_m_s(scene, Simulation(scene).energy());
-  ASSERT_NEAR(speed_m_s, 0.02, 1e-3);
+  const double speed_m_s = 0.02;
+  ASSERT_GT(speed_m_s, 2.0 * hapticRateToolSpeed_m_s(scene, Simulation(scene).energy()));
   Simulation simulation(scene);
   const AxisPoke poke = pokeAlongTheAxis(simulation, 0.0015, 0.0102, speed_m_s, false);
   for (const auto& [depth_mm, expected_N] : reference) {
@@ -498,7 +503,7 @@ TEST(HapticRateBody, UnderGravityItOpensSettledOnItsTray) {
 
 TEST(HapticRateBody, UnderGravityAPokeAtTheToolsLimitIsTheStaticFemsAndComesBack) {
   // Its weight stretches and stiffens the liver: a poke at the speed the window's tool is held to
-  // (five sixths of the weightless scene's: 0.5 mm an update, not 0.6) reads the force of the
+  // (0.5 mm an update, not the weightless scene's 0.54) reads the force of the
   // same body in static equilibrium within 10 % at 1 to 5 mm and 5 % at 4 mm (the scheme against
   // its converged FEM; no continuum reference hangs the liver), reports nothing, and the liver is
   // back where it opened once the probe has left. At 10 mm/s an update's one Newton iteration can
@@ -510,7 +515,7 @@ TEST(HapticRateBody, UnderGravityAPokeAtTheToolsLimitIsTheStaticFemsAndComesBack
   const SceneDescription weightless = hapticRateScene();
   const Simulation heavy(scene);
   const double fastest_m_s = hapticRateToolSpeed_m_s(scene, heavy.energy());
-  EXPECT_NEAR(fastest_m_s, 5.0 / 6.0 * hapticRateToolSpeed_m_s(weightless, heavy.energy()), 1e-12);
+  EXPECT_NEAR(fastest_m_s, 0.5 / 0.54 * hapticRateToolSpeed_m_s(weightless, heavy.energy()), 1e-12);
   // At 1, 2, 3, 4, 5 mm: every second half millimetre.
   std::vector<double> static_N;
   const std::vector<double> halfMillimetres_N = staticForcesOnTheScenesBody(heavy, 0.005);
@@ -777,7 +782,7 @@ ProxiedPress pressThroughTheProxy(const ToolMotionLimits& limits, const Eigen::V
 TEST(HapticRateBody, TheWindowsToolCrossesFreeSpaceFastAndMeetsTheLiverNoFasterThanItIsFollowed) {
   // Sent from 4 cm above the entry point to 3 mm below it, the tool crosses the free space at
   // the proxy's own speed, brakes as it nears the organ, and touches it no faster than the
-  // scheme follows: it is there in under a second and a half (4.3 s at the scheme's speed all
+  // scheme follows: it is there in under a second and a half (4.8 s at the scheme's speed all
   // the way), with no event, and held there it reads the force it reads when it came all the
   // way at that speed, within 10 % of the kept FEM reference.
   const SceneDescription scene = hapticRateScene();
