@@ -48,6 +48,13 @@ Eigen::Matrix3Xi boundaryFaces(const TetMesh& mesh) {
   return out;
 }
 
+std::vector<int> faceNodes(const Eigen::Matrix3Xi& faces) {
+  std::vector<int> nodes(faces.data(), faces.data() + faces.size());
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
 Eigen::Index countUniqueEdges(const TetMesh& mesh) {
   std::vector<std::pair<int, int>> edges;
   edges.reserve(static_cast<std::size_t>(6 * mesh.tetCount()));

@@ -96,6 +96,9 @@ TetQualityReport inspectTets(const TetMesh& mesh, double sliverFraction = 1e-3);
 /// mesh's boundary surface, which collision and rendering use.
 Eigen::Matrix3Xi boundaryFaces(const TetMesh& mesh);
 
+/// The nodes the faces use (3 by #F node indices), each once, in increasing order.
+std::vector<int> faceNodes(const Eigen::Matrix3Xi& faces);
+
 /// The number of distinct tet edges: the springs a mesh will have.
 Eigen::Index countUniqueEdges(const TetMesh& mesh);
 

@@ -230,12 +230,8 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
   m_integrator = makeIntegrator(scene.integrator, realTimeIntegratorSettings(scene));
   if (scene.instrument && !isHapticRate) {
     // The grasper reaches surface nodes within two shaft radii of the tip.
-    const Eigen::Matrix3Xi faces = boundaryFaces(m_geometry.mesh);
-    std::vector<int> surfaceNodes(faces.data(), faces.data() + faces.size());
-    std::sort(surfaceNodes.begin(), surfaceNodes.end());
-    surfaceNodes.erase(std::unique(surfaceNodes.begin(), surfaceNodes.end()), surfaceNodes.end());
-    m_grasp =
-        std::make_unique<Grasp>(std::move(surfaceNodes), 2.0 * scene.instrument->shaftRadius_m);
+    m_grasp = std::make_unique<Grasp>(faceNodes(boundaryFaces(m_geometry.mesh)),
+                                      2.0 * scene.instrument->shaftRadius_m);
   }
   // The FEM at its own rate grasps its own surface; its tool slows by its clearance from the
   // organ (sim/ToolProxy.h's near speed).

@@ -38,9 +38,9 @@ class ToolClearance {
 
  private:
   Eigen::Matrix3Xi m_faces;
-  std::vector<int> m_nodes;            ///< the boundary's nodes, sorted
-  std::vector<int> m_faceCorners;      ///< 3 per face: indices into m_nodes
-  mutable std::vector<double> m_gaps;  ///< per boundary node: its distance to the axis less R
+  std::vector<int> m_nodes;  ///< the boundary's nodes, sorted
+  mutable std::vector<double>
+      m_gaps;  ///< per mesh node (the boundary's set): distance to the axis less R
 };
 
 }  // namespace tissuesim
