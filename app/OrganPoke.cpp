@@ -76,14 +76,8 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
   SceneSession session(scene, "", InstrumentDriver::Script);
   Simulation& simulation = session.simulation();
   const SceneInstrument& tool = *scene.instrument;
-  const SceneGeometry& geometry = simulation.geometry();
   Eigen::Vector3d entry;
-  const bool meets = geometry.surface
-                         ? firstCrossing(geometry.surface->vertices_m, geometry.surface->triangles,
-                                         tool.tipStart_m, tool.direction, entry)
-                         : firstCrossing(geometry.mesh.nodes_m, boundaryFaces(geometry.mesh),
-                                         tool.tipStart_m, tool.direction, entry);
-  if (!meets) {
+  if (!firstOrganCrossing(simulation.geometry(), tool.tipStart_m, tool.direction, entry)) {
     throw CommandError("the instrument's axis in " + scene.source.string() +
                        " does not meet the organ's surface");
   }

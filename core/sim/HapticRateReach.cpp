@@ -14,10 +14,11 @@ namespace {
 /// 0.6 mm, where two held 0.6 mm (a poke 4 mm deep); since each update hands its contact the
 /// body's stiffening, one holds 0.525 mm within 6 % at 1 to 7 mm (docs/performance-details.md,
 /// "The body's stiffening between updates"), and 0.6 mm reads 11 % soft at 2 mm. Where the
-/// first touch falls between two updates decides the first millimetre: swept over seventeen
-/// starts a quarter of a millimetre apart, 0.6 mm an update read up to 17 % soft there, 0.57 mm
-/// up to 11 %, 0.54 mm within 9 % ("The window's tool: slowed near the organ, not everywhere").
-constexpr double kReach_m = 0.00054;
+/// first touch falls between two updates decides the first millimetre: until the first update
+/// under load comes in, the body at rest answers, linearly. Swept over the touch's phase, with
+/// depths below the drawn surface as the reference's, 0.36 mm an update holds it within 10 %
+/// and 0.39 mm does not ("The window's tool: slowed near the organ, not everywhere").
+constexpr double kReach_m = 0.00036;
 constexpr double kOneIterationHeavyReach_m = 0.0005;
 constexpr double kOneIterationShortReach_m = 0.0003;
 constexpr double kSoftVolumeShare = 0.1;

@@ -17,7 +17,7 @@ namespace tissuesim {
 /// The probe's travel between updates that the scheme holds within 10 % of the reference (m),
 /// for an update's Newton iterations, its body's bulk modulus and whether it hangs under its
 /// weight: two iterations, or one on a weightless body whose bulk modulus is at most a tenth of
-/// the reference's (defaultFemBulkModulus), hold 0.54 mm wherever the first touch falls between
+/// the reference's (defaultFemBulkModulus), hold 0.36 mm wherever the first touch falls between
 /// two updates; one on such a body its own weight has stretched and stiffened (about four times
 /// the weightless force at 4 mm), 0.5 mm; one on a stiffer volume term, which that iteration
 /// leaves further from its balance, 0.3 mm.

@@ -99,4 +99,14 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
   return geometry;
 }
 
+bool firstOrganCrossing(const SceneGeometry& geometry, const Eigen::Vector3d& from_m,
+                        const Eigen::Vector3d& direction, Eigen::Vector3d& crossing_m) {
+  if (geometry.surface) {
+    return firstCrossing(geometry.surface->vertices_m, geometry.surface->triangles, from_m,
+                         direction, crossing_m);
+  }
+  return firstCrossing(geometry.mesh.nodes_m, boundaryFaces(geometry.mesh), from_m, direction,
+                       crossing_m);
+}
+
 }  // namespace tissuesim

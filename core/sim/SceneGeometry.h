@@ -29,4 +29,13 @@ struct SceneGeometry {
 /// listed node out of range.
 SceneGeometry loadSceneGeometry(const SceneDescription& scene);
 
+/// Where the ray from `from_m` along unit `direction` first meets the organ at rest: its drawn
+/// surface where the scene names one (what the user sees the tool touch, and what the FEM
+/// reference's mesh is conformal to), else the tet mesh's boundary. The liver poke's entry
+/// point: its depths are measured below it, for every model alike (a model's own boundary, a
+/// coarse tet mesh's chords, lies a little inside the drawn surface, and measured from there a
+/// model would be credited with that offset). false when the ray misses.
+bool firstOrganCrossing(const SceneGeometry& geometry, const Eigen::Vector3d& from_m,
+                        const Eigen::Vector3d& direction, Eigen::Vector3d& crossing_m);
+
 }  // namespace tissuesim
