@@ -37,7 +37,7 @@ UniaxialExperiment::UniaxialExperiment(const StrainEnergy& energy, const Stiffne
     : m_energy(energy),
       m_table(table),
       m_softening(energy.parameters()),
-      m_roundedSoftening(energy.parameters(), SpringForceLaw::kSofteningOnsetMeasure) {}
+      m_roundedSoftening(energy.parameters(), kIsochoricSofteningOnsetMeasure) {}
 
 void UniaxialExperiment::validate(const UniaxialProtocol& protocol) const {
   if (protocol.lambdaMax.empty()) throw std::invalid_argument("no lambda_max given");

@@ -66,7 +66,7 @@ class UniaxialExperiment {
   const StrainEnergy& m_energy;
   const StiffnessTable& m_table;
   StressSoftening m_softening;
-  StressSoftening m_roundedSoftening;  ///< with the spring law's onset, as the FEM's points
+  StressSoftening m_roundedSoftening;  ///< with the FEM's points' onset
 };
 
 }  // namespace tissuesim

@@ -143,6 +143,7 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
   ElementVector ge;
   ElementMatrix he;
   ElementMatrix isochoric;  // the isochoric part of he, rows and columns ordered 10 i + a
+  const bool isSoftened = m_softening != nullptr && !m_peaks.empty();
   for (Eigen::Index t = 0; t < m_mesh.tetCount(); ++t) {
     Eigen::Matrix<double, 3, 10> xe;
     for (int a = 0; a < 10; ++a) xe.col(a) = x.col(m_mesh.tets(a, t));
@@ -152,24 +153,22 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
     for (int q = 0; q < 4; ++q) {
       const PointData& point = m_energyPoints[static_cast<std::size_t>(4 * t + q)];
       const Eigen::Matrix3d f = deformationGradient(xe, point.gradients);
-      const bool isDefinite = m_tangent == FemTangent::Definite;
-      IsochoricResponse response = evaluateIsochoric(m_energy, f, withHessian && !isDefinite);
-      if (!response.isAdmissible) {
+      const double j = f.determinant();
+      const double shift = j > 0.0 ? isochoricShift(f) : 0.0;
+      if (!(j > 0.0) || !(shift < m_energy.usableInvariantShift())) {
         state.isAdmissible = false;
         state.energy_J = std::numeric_limits<double>::infinity();
         return state;
       }
-      if (withHessian && isDefinite) {
-        const double shift = std::pow(f.determinant(), -2.0 / 3.0) * f.squaredNorm() - 3.0;
-        const EnergyInI1 w = m_energy.slopesAtInvariantShift(std::max(shift, 0.0));
+      EnergyInI1 w = m_energy.atInvariantShift(std::max(shift, 0.0));
+      if (isSoftened) {  // below its peak, the point's softened energy (fem/IsochoricSoftening.h)
+        w = softenedIsochoricEnergy(m_energy, *m_softening, std::max(shift, 0.0),
+                                    m_peaks[static_cast<std::size_t>(4 * t + q)], w, true);
+      }
+      const bool isDefinite = m_tangent == FemTangent::Definite;
+      IsochoricResponse response = evaluateIsochoric(f, w, withHessian && !isDefinite);
+      if (withHessian && isDefinite)
         response.tangent_Pa = projectedIsochoricTangent(f, w.dEnergy, w.d2Energy);
-      }
-      if (!m_softeningFactors.empty()) {  // F frozen: the virgin point's energy scaled
-        const double factor = m_softeningFactors[static_cast<std::size_t>(4 * t + q)];
-        response.energy_Pa *= factor;
-        response.stress_Pa *= factor;
-        if (withHessian) response.tangent_Pa *= factor;
-      }
       state.energy_J += point.weight_m3 * response.energy_Pa;
       if (!withGradient) continue;
       for (int a = 0; a < 10; ++a) {
@@ -293,31 +292,24 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
   return state;
 }
 
-void FemModel::softenAt(const Eigen::Matrix3Xd& x, double largestFall) {
+void FemModel::softenAt(const Eigen::Matrix3Xd& x) {
   if (m_softening == nullptr) return;
   const std::size_t points = m_energyPoints.size();
   if (m_peaks.size() != points) m_peaks.assign(points, IsochoricPeak{});
-  if (m_softeningFactors.size() != points) m_softeningFactors.assign(points, 1.0);
   for (Eigen::Index t = 0; t < m_mesh.tetCount(); ++t) {
     Eigen::Matrix<double, 3, 10> xe;
     for (int a = 0; a < 10; ++a) xe.col(a) = x.col(m_mesh.tets(a, t));
     for (int q = 0; q < 4; ++q) {
       const std::size_t at = static_cast<std::size_t>(4 * t + q);
       const Eigen::Matrix3d f = deformationGradient(xe, m_energyPoints[at].gradients);
-      const double j = f.determinant();
-      if (!(j > 0.0)) continue;
-      const double shift = std::pow(j, -2.0 / 3.0) * f.squaredNorm() - 3.0;
-      if (shift > m_peaks[at].shift) m_peaks[at] = isochoricPeak(shift);
-      m_softeningFactors[at] = std::max(isochoricSofteningFactor(*m_softening, shift, m_peaks[at]),
-                                        m_softeningFactors[at] - largestFall);
+      if (!(f.determinant() > 0.0)) continue;
+      const double shift = isochoricShift(f);
+      if (shift > m_peaks[at].shift) m_peaks[at] = isochoricPeak(m_energy, *m_softening, shift);
     }
   }
 }
 
-void FemModel::clearSoftening() {
-  m_peaks.clear();
-  m_softeningFactors.clear();
-}
+void FemModel::clearSoftening() { m_peaks.clear(); }
 
 std::vector<double> FemModel::peakShifts() const {
   std::vector<double> shifts(m_energyPoints.size(), 0.0);
@@ -328,10 +320,10 @@ std::vector<double> FemModel::peakShifts() const {
 void FemModel::setPeakShifts(const std::vector<double>& shifts) {
   if (shifts.size() != m_energyPoints.size())
     throw std::invalid_argument("FemModel: one peak a quadrature point");
-  m_softeningFactors.clear();
   m_peaks.assign(shifts.size(), IsochoricPeak{});
+  if (m_softening == nullptr) return;
   for (std::size_t p = 0; p < shifts.size(); ++p) {
-    if (shifts[p] > 0.0) m_peaks[p] = isochoricPeak(shifts[p]);
+    if (shifts[p] > 0.0) m_peaks[p] = isochoricPeak(m_energy, *m_softening, shifts[p]);
   }
 }
 

@@ -14,10 +14,10 @@
 // The isochoric energy is integrated by the degree-2 rule (four points), v_e exactly by the
 // degree-3 rule (J is cubic on a straight-edged quadratic tet): QuadraticTetShape.h.
 //
-// With stress softening (setSoftening; fem/IsochoricSoftening.h) each isochoric point's
-// W_T is scaled by its factor F_q in (0, 1], frozen by softenAt() where the caller takes the
-// history: between two calls E is still a plain energy of x, its gradient and Hessian scaled
-// alike.
+// With stress softening (setSoftening; fem/IsochoricSoftening.h) each isochoric point below its
+// peak has W_s in place of W_T, whose stress is the virgin one times the paper's F: its peak
+// held between two calls of softenAt() (where the caller takes the history), E is still a plain
+// energy of x, and its Hessian is that energy's.
 //
 // U is the spring model's volume-term form (VolumeForceField.h), here on the element's mean J.
 // kappa (Pa) must hold the volume over the stretches used: the tissue stiffens about twenty-fold
@@ -84,19 +84,15 @@ class FemModel {
 
   /// Stress softening per isochoric quadrature point (fem/IsochoricSoftening.h), which must
   /// outlive its use here; null (the default): none, the virgin curve. softenAt(x) raises each
-  /// point's peak to its I1bar at x and freezes its factor F there; evaluate() scales each
-  /// point's isochoric energy, stress and tangent by its frozen F, so that E stays a plain,
-  /// smooth energy of x between two calls: the history is taken at the caller's pace (the FEM at
-  /// its own rate takes it where each update starts), not within a solve, so Newton meets no
-  /// kink at a peak.
+  /// point's peak to its I1bar at x; evaluate() takes each point below its peak on its softened
+  /// energy W_s. The peaks are raised at the caller's pace (the FEM at its own rate raises them
+  /// where each update starts), not within a solve, so that E stays one energy of x for Newton.
   void setSoftening(const StressSoftening* softening) { m_softening = softening; }
-  /// largestFall: the most a point's factor may fall in one call (it rises at once), for a
-  /// caller whose solves follow the softening only so fast; 1: no limit.
-  void softenAt(const Eigen::Matrix3Xd& x, double largestFall = 1.0);
+  void softenAt(const Eigen::Matrix3Xd& x);
   /// Every point back to the virgin curve (F = 1, no peak).
   void clearSoftening();
-  /// Each point's peak I1bar - 3 (4 per element, in element order), and the same set again with
-  /// F = 1 until the next softenAt (a body taken up by another material: the peaks are strains).
+  /// Each point's peak I1bar - 3 (4 per element, in element order), and the same set again (a
+  /// body taken up by another material: the peaks are strains; none without softening).
   std::vector<double> peakShifts() const;
   void setPeakShifts(const std::vector<double>& shifts);
 
@@ -142,8 +138,7 @@ class FemModel {
   const FemExtraEnergy* m_extra = nullptr;
   FemTangent m_tangent = FemTangent::Exact;
   const StressSoftening* m_softening = nullptr;
-  std::vector<IsochoricPeak> m_peaks;      ///< one an isochoric point (empty: none)
-  std::vector<double> m_softeningFactors;  ///< F frozen by softenAt (empty: 1 everywhere)
+  std::vector<IsochoricPeak> m_peaks;  ///< one an isochoric point (empty: none)
 };
 
 }  // namespace tissuesim

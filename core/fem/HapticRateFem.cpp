@@ -18,7 +18,7 @@ HapticRateFem::HapticRateFem(FemModel& model, std::vector<char> isFixed,
       m_surface(std::move(surface)),
       m_candidateMargin_m(candidateMargin_m),
       m_newtonIterations(newtonIterations),
-      m_solver(1e-6, newtonIterations),
+      m_solver(kSolverTolerance_N, newtonIterations),
       m_x(model.mesh().nodes_m),
       m_settled(m_x) {
   if (m_isFixed.size() != static_cast<std::size_t>(m_x.size()))
@@ -122,10 +122,10 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
     }
     if (report.isStepped) m_x = m_candidate;
   }
-  // The softening's history where the update starts: its peaks raised and each point's factor
-  // frozen there for this update's Newton iterations and linearisation, falling no faster than
-  // the updates re-balance the body.
-  m_model.softenAt(m_x, kSofteningFallPerUpdate);
+  // The softening's history where the update starts: its peaks raised there and held for this
+  // update's Newton iterations and linearisation, each point below its peak on its softened
+  // energy (FemModel::softenAt).
+  m_model.softenAt(m_x);
   // Newton under the contact's forces now (as loads), from there; the solve's last
   // factorisation (one iterate behind where it ends) is the linearisation, or, where it took no
   // step, the Hessian factorised there.
@@ -134,19 +134,25 @@ HapticRateUpdate HapticRateFem::update(const Eigen::Matrix3Xd* body_m,
   FemSolveReport solved = m_solver.solve(m_model, m_x, m_isFixed);
   // Linearised far from its balance, the body's x_rest (below) is a long linear extrapolation of
   // a nonlinear body, and can fold it inside out: where the iterations leave it out of balance,
-  // as many again once (the probe further than one round follows, or the softening moved on
-  // since the last update: the paper's F falls steeply below a peak), and the contact in use
-  // kept where that too falls short. A body with no load now or at the last update is not
+  // as many again, up to kRoundsUnderLoad rounds (the probe further than one round follows, or
+  // points unloading from their peaks, where the paper's F falls steeply), and the contact in
+  // use kept where that too falls short. A body with no load now or at the last update is not
   // behind the probe (it springs back, its softening redistributing the stress as it unloads):
-  // it takes up to kRoundsWithNoLoad rounds, and no outrun is reported for it.
+  // it takes up to kRoundsWithNoLoad rounds, and no outrun is reported for it. It is iterated to
+  // the solver's tolerance, not only to what the linearisation allows: its x_rest, a step taken
+  // with the tangent where the iterations started, overshoots rest by the tissue's stiffening
+  // (and by the softened curve's kink where points pass their peaks), and the next update, from
+  // there, can throw it back as far: it would never settle.
   const double largestLoad_N =
       candidateForces_N.size() > 0 ? candidateForces_N.colwise().norm().maxCoeff() : 0.0;
   // A body the probe has just let go of still springs back from the last update's load.
   const double loadBorne_N = std::max(largestLoad_N, m_lastLargestLoad_N);
   m_lastLargestLoad_N = largestLoad_N;
   const double linearisable_N = kLinearisableResidual_N + kLinearisableLoadShare * loadBorne_N;
-  const int rounds = loadBorne_N > 0.0 ? 2 : kRoundsWithNoLoad;
-  for (int round = 1; round < rounds && solved.residual_N > linearisable_N; ++round)
+  const bool isFree = !(loadBorne_N > 0.0);
+  const int rounds = isFree ? kRoundsWithNoLoad : kRoundsUnderLoad;
+  const double wanted_N = isFree ? kSolverTolerance_N : linearisable_N;
+  for (int round = 1; round < rounds && solved.residual_N > wanted_N; ++round)
     solved = m_solver.solve(m_model, m_x, m_isFixed);
   report.residual_N = solved.residual_N;
   if (solved.residual_N > linearisable_N) {

@@ -65,14 +65,15 @@ class HapticRateFem {
   /// docs/performance-details.md, "The FEM at its own rate in a scene").
   static constexpr double kLinearisableResidual_N = 0.05;
   static constexpr double kLinearisableLoadShare = 0.05;
-  /// The rounds of iterations an update takes, where out of balance, on a body with no load
-  /// from the probe now or at the last update (it springs back behind no probe).
+  /// The rounds of iterations an update takes, where out of balance: under the probe's load
+  /// (points that unload from their peaks meet the softened curve's steep fall there, which the
+  /// tangent at the round's start does not foresee), and on a body with no load from the probe
+  /// now or at the last update (it springs back behind no probe).
+  static constexpr int kRoundsUnderLoad = 3;
   static constexpr int kRoundsWithNoLoad = 4;
-  /// The most a material point's softening factor falls in one update (FemModel::softenAt): the
-  /// paper's F falls steeply below a peak, and a body held deep in the liver redistributes its
-  /// stress as it softens faster than an update re-balances it (docs/performance-details.md,
-  /// "Softening, and a second round of iterations for an update left out of balance").
-  static constexpr double kSofteningFallPerUpdate = 0.1;
+  /// The largest |dE/dx| on a free DOF (N) at which Newton stops: settle()'s, and an update's on
+  /// a body with no load (which, unlike one under load, goes on to it: above).
+  static constexpr double kSolverTolerance_N = 1e-6;
   /// A surface point deeper inside the probe than this at an update (m) is no contact: the
   /// penalty holds a pressed point within micrometres of the probe, so the probe has passed it.
   static constexpr double kPassedThrough_m = 1e-4;

@@ -10,16 +10,23 @@
 
 namespace tissuesim {
 
+double isochoricShift(const Eigen::Matrix3d& f) {
+  return std::pow(f.determinant(), -2.0 / 3.0) * f.squaredNorm() - 3.0;
+}
+
 IsochoricResponse evaluateIsochoric(const StrainEnergy& energy, const Eigen::Matrix3d& f,
                                     bool withTangent) {
+  if (!(f.determinant() > 0.0)) return {};
+  const double shift = isochoricShift(f);  // I1bar - 3
+  if (!(shift < energy.usableInvariantShift())) return {};
+  return evaluateIsochoric(f, energy.atInvariantShift(std::max(shift, 0.0)), withTangent);
+}
+
+IsochoricResponse evaluateIsochoric(const Eigen::Matrix3d& f, const EnergyInI1& w,
+                                    bool withTangent) {
   IsochoricResponse response;
-  const double j = f.determinant();
-  if (!(j > 0.0)) return response;
   const double i1 = f.squaredNorm();
-  const double scale = std::pow(j, -2.0 / 3.0);  // J^(-2/3)
-  const double shift = scale * i1 - 3.0;         // I1bar - 3
-  if (!(shift < energy.usableInvariantShift())) return response;
-  const EnergyInI1 w = energy.atInvariantShift(std::max(shift, 0.0));
+  const double scale = std::pow(f.determinant(), -2.0 / 3.0);  // J^(-2/3)
   const Eigen::Matrix3d inverseTranspose = f.inverse().transpose();
   const Eigen::Matrix3d a = scale * (2.0 * f - (2.0 / 3.0) * i1 * inverseTranspose);
   response.isAdmissible = true;

@@ -32,6 +32,12 @@ struct IsochoricResponse {
 /// W, P and, when `withTangent`, dP/dF at F.
 IsochoricResponse evaluateIsochoric(const StrainEnergy& energy, const Eigen::Matrix3d& f,
                                     bool withTangent);
+/// The same for W_T's value and slopes at F's I1bar given (`w`: a softened point's,
+/// fem/IsochoricSoftening.h), at an F that is admissible (det F > 0, within the usable range).
+IsochoricResponse evaluateIsochoric(const Eigen::Matrix3d& f, const EnergyInI1& w,
+                                    bool withTangent);
+/// I1bar - 3 = J^(-2/3) tr(F^T F) - 3 at F (det F > 0).
+double isochoricShift(const Eigen::Matrix3d& f);
 
 /// dP/dF at F (det F > 0) with its negative eigenvalues set to zero, for W' = dW_T/dI1bar and
 /// W'' = d2W_T/dI1bar2 (Pa) given: in closed form, from F's singular values sigma (F = U S V^T),

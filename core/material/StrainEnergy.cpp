@@ -2,25 +2,17 @@
 #include "material/StrainEnergy.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "material/InverseLangevin.h"
+#include "numerics/GaussLegendre.h"
 
 namespace tissuesim {
 namespace {
 
 /// Below this |I1 - 3| the energy and its secant come from quadrature of dW_T/dI1.
 constexpr double kQuadratureBelowShift = 1e-2;
-
-// 8-point Gauss-Legendre on [0, 1]: exact for polynomials of degree 15.
-constexpr std::array<double, 8> kGaussNodes = {
-    0.019855071751231856, 0.10166676129318664, 0.2372337950418355, 0.4082826787521751,
-    0.5917173212478249,   0.7627662049581645,  0.8983332387068134, 0.9801449282487681};
-constexpr std::array<double, 8> kGaussWeights = {
-    0.05061426814518813, 0.11119051722668724, 0.15685332293894363, 0.18134189168918100,
-    0.18134189168918100, 0.15685332293894363, 0.11119051722668724, 0.05061426814518813};
 
 }  // namespace
 
@@ -92,10 +84,10 @@ SecantFromRest StrainEnergy::secantFromRest(double shift) const {
   }
   // Q = int_0^1 W'(3 + s shift) ds;  dQ/dI1 = int_0^1 s W''(3 + s shift) ds.
   SecantFromRest q{0.0, 0.0};
-  for (std::size_t k = 0; k < kGaussNodes.size(); ++k) {
-    const EnergyInI1 w = closedFormAtShift(kGaussNodes[k] * shift, /*withEnergy=*/false);
-    q.value += kGaussWeights[k] * w.dEnergy;
-    q.slope += kGaussWeights[k] * kGaussNodes[k] * w.d2Energy;
+  for (std::size_t k = 0; k < kGaussLegendreNodes.size(); ++k) {
+    const EnergyInI1 w = closedFormAtShift(kGaussLegendreNodes[k] * shift, /*withEnergy=*/false);
+    q.value += kGaussLegendreWeights[k] * w.dEnergy;
+    q.slope += kGaussLegendreWeights[k] * kGaussLegendreNodes[k] * w.d2Energy;
   }
   return q;
 }

@@ -11,6 +11,7 @@
 
 #include "analysis/NetworkCalibration.h"
 #include "analysis/UniaxialExperiment.h"
+#include "fem/IsochoricSoftening.h"
 #include "integrators/ImplicitEulerSolver.h"
 #include "integrators/IntegratorChoice.h"
 #include "material/TissueFile.h"
@@ -127,9 +128,10 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     settings.gravity_m_s2 = scene.gravity_m_s2;
     settings.density_kg_m3 = newParameters->density_kg_m3;
     settings.letGoTravel_m = hapticRateToolSpeed_m_s(scene, *energy) * scene.timeStep_s;
-    // The spring law's rounded onset (SpringForceLaw.h): the same softening, per material point.
+    // The same softening as the springs', per material point, its onset rounded for the
+    // updates' Newton iterations (fem/IsochoricSoftening.h).
     if (scene.isSoftening && StressSoftening(*newParameters).isEnabled())
-      settings.softening.emplace(*newParameters, SpringForceLaw::kSofteningOnsetMeasure);
+      settings.softening.emplace(*newParameters, kIsochoricSofteningOnsetMeasure);
     if (scene.tray)
       settings.tray =
           HapticRateTray{scene.tray->up, scene.tray->height_m, scene.tray->stiffness_Pa_per_m};

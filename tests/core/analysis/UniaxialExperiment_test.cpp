@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "analysis/GoodnessOfFit.h"
+#include "fem/IsochoricSoftening.h"
 #include "support/TestTissues.h"
 
 namespace tissuesim {
@@ -89,13 +90,13 @@ TEST_F(UniaxialCycles, LinearSpringIsTheLeastSquaresFit) {
 
 TEST_F(UniaxialCycles, TheFemsMaterialPointSoftensWithoutAPermanentSet) {
   // The FEM's points soften through I1bar, the residual strain left out: the first loading is
-  // the continuum's virgin curve, each unloading is virgin times the spring law's F (its rounded
-  // onset) at the same stretch, and the tissue unloads to no stress at rest, where the paper's
-  // sedf curve keeps the residual stress of its permanent set.
+  // the continuum's virgin curve, each unloading is virgin times the spring law's F (with the
+  // FEM's rounded onset) at the same stretch, and the tissue unloads to no stress at rest, where
+  // the paper's sedf curve keeps the residual stress of its permanent set.
   const auto fem = m_test.run(UniaxialModel::Fem, m_paperProtocol);
   const auto sedf = m_test.run(UniaxialModel::Sedf, m_paperProtocol);
   ASSERT_EQ(fem.size(), sedf.size());
-  const StressSoftening softening(m_energy.parameters(), SpringForceLaw::kSofteningOnsetMeasure);
+  const StressSoftening softening(m_energy.parameters(), kIsochoricSofteningOnsetMeasure);
   for (std::size_t i = 0; i < fem[0].stretch.size(); ++i)
     EXPECT_DOUBLE_EQ(fem[0].stress_Pa[i], m_energy.stress(fem[0].stretch[i])) << i;
   for (std::size_t b = 1; b < fem.size(); b += 2) {
