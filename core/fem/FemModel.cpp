@@ -163,7 +163,7 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
       EnergyInI1 w = m_energy.atInvariantShift(std::max(shift, 0.0));
       if (isSoftened) {  // below its peak, the point's softened energy (fem/IsochoricSoftening.h)
         w = softenedIsochoricEnergy(m_energy, *m_softening, std::max(shift, 0.0),
-                                    m_peaks[static_cast<std::size_t>(4 * t + q)], w, true);
+                                    m_peaks[static_cast<std::size_t>(4 * t + q)], w);
       }
       const bool isDefinite = m_tangent == FemTangent::Definite;
       IsochoricResponse response = evaluateIsochoric(f, w, withHessian && !isDefinite);

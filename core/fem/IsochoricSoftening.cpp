@@ -90,10 +90,7 @@ IsochoricPeak isochoricPeak(const StrainEnergy& energy, const StressSoftening& s
 
 double isochoricSofteningFactor(const StressSoftening& softening, double shift,
                                 const IsochoricPeak& peak) {
-  if (!(shift < peak.shift)) return 1.0;
-  const double m = measureOfShift(shift).value;
-  const double q = std::max(0.0, (1.0 - m * peak.inverseMeasure) * m);
-  return std::exp(-softening.b() * softening.rootOfMeasure<false>(q).value);
+  return isochoricSofteningFactorWithSlope(softening, shift, peak).value;
 }
 
 IsochoricSofteningFactor isochoricSofteningFactorWithSlope(const StressSoftening& softening,
@@ -111,15 +108,13 @@ IsochoricSofteningFactor isochoricSofteningFactorWithSlope(const StressSoftening
 
 EnergyInI1 softenedIsochoricEnergy(const StrainEnergy& energy, const StressSoftening& softening,
                                    double shift, const IsochoricPeak& peak,
-                                   const EnergyInI1& virgin, bool withEnergy) {
+                                   const EnergyInI1& virgin) {
   if (!(shift < peak.shift)) return virgin;
   const IsochoricSofteningFactor factor = isochoricSofteningFactorWithSlope(softening, shift, peak);
   EnergyInI1 softened;
   softened.dEnergy = factor.value * virgin.dEnergy;
   softened.d2Energy = factor.value * virgin.d2Energy + factor.slope * virgin.dEnergy;
-  if (withEnergy) {
-    softened.energy = peak.energy_Pa - softenedWork(energy, softening, peak, shift, peak.shift);
-  }
+  softened.energy = peak.energy_Pa - softenedWork(energy, softening, peak, shift, peak.shift);
   return softened;
 }
 

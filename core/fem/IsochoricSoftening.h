@@ -70,9 +70,9 @@ IsochoricSofteningFactor isochoricSofteningFactorWithSlope(const StressSoftening
                                                            double shift, const IsochoricPeak& peak);
 
 /// W_s, W_s' and W_s'' (Pa) at I1bar - 3 = shift >= 0 under `peak` (made with the energy), given
-/// W_T's value and slopes there (`virgin`); W_s itself only when `withEnergy` (the integral).
+/// W_T's value and slopes there (`virgin`).
 EnergyInI1 softenedIsochoricEnergy(const StrainEnergy& energy, const StressSoftening& softening,
                                    double shift, const IsochoricPeak& peak,
-                                   const EnergyInI1& virgin, bool withEnergy);
+                                   const EnergyInI1& virgin);
 
 }  // namespace tissuesim
