@@ -17,7 +17,8 @@ CreateGeometry;
 Surface Loop(1) = Surface{:};
 Volume(1) = {1};
 Field[1] = MathEval;
-Field[1].F = Sprintf("%g + %g * sqrt((x - %g) * (x - %g) + (y - %g) * (y - %g) + (z - %g) * (z - %g))",
+// Each coordinate in brackets: Gmsh's MathEval refuses "x - -0.04".
+Field[1].F = Sprintf("%g + %g * sqrt((x - (%g)) * (x - (%g)) + (y - (%g)) * (y - (%g)) + (z - (%g)) * (z - (%g)))",
                      finest, growth, px, px, py, py, pz, pz);
 Background Field = 1;
 Mesh.MeshSizeMax = coarsest;

@@ -18,7 +18,11 @@
 //
 // The next update starts at the step that takes the last one in, from the contact's last settled
 // state: a step whose contact does not settle is rolled back to it (the body drawn and the force
-// reported are the last settled ones). With softening (the settings'), each update takes the
+// reported are the last settled ones). Where it would repeat the last one (the body balanced to
+// the solver's tolerance there, the probe where it was, the load on the body changed by less
+// than what that tolerance leaves), none starts until something changes: a body at rest, free
+// or under a probe held still, costs its thread nothing, and the window's other threads have the
+// machine. With softening (the settings'), each update takes the
 // material points' history (fem/IsochoricSoftening.h) where it starts, and a reset clears it.
 // Under gravity (the consistent loads of its weight, fem/QuadraticTetWeight.h) and on a tray (a
 // penalty on the sampled surface, as the probe's, forces/PlanePenalty.h), both in every update's
@@ -162,9 +166,15 @@ class HapticRateBody {
   const HapticRateBodySettings& settings() const { return m_settings; }
   /// The last refused update's reason (empty when none was).
   const std::string& updateProblem() const { return m_updateProblem; }
+  /// The updates started so far (none while the body rests: above).
+  long updatesStarted() const { return m_updatesStarted; }
+  /// The probe's travel since the last update started below which it is still (m).
+  static constexpr double kRestingProbeTravel_m = 1e-9;
 
  private:
   void startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);
+  /// An update started now would repeat the last one taken in (above): nothing has moved.
+  bool wouldRepeatLastUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m) const;
   /// The last settled step's state: the whole body where its contact has one (@returns whether
   /// it has: else the body at rest), the contact's candidates and the forces on them.
   bool settledState(Eigen::Matrix3Xd& body_m, std::vector<int>& candidates,
@@ -208,6 +218,11 @@ class HapticRateBody {
   bool m_isInFlight = false;
   bool m_isRefusing = false;       ///< the last update taken in was refused
   bool m_isPassedThrough = false;  ///< the last update taken in: HapticRateUpdate's
+  /// The last update taken in left the body balanced to the solver's tolerance (its residual, N),
+  /// its contact made; false until one has, and again after a reset.
+  bool m_isBalanced = false;
+  double m_balancedResidual_N = 0.0;
+  long m_updatesStarted = 0;
   std::string m_updateProblem;
 
   // The grasp (the haptic thread's): the held surface points, their offsets from the probe's

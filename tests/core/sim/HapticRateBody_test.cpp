@@ -323,6 +323,75 @@ TEST(HapticRateBody, HeldInTheSoftenedLiverTheBodyComesToRestUnderTheProbe) {
   }
 }
 
+TEST(HapticRateBody, ABodyAtRestStartsNoUpdatesUntilTheProbeMoves) {
+  // Updates that would repeat the last one are not started: with the probe still above the
+  // organ, and again once the body has come to rest under a probe held 3 mm in, the update
+  // thread falls idle. Pressed on to 4 mm, the updates start again at once, and the body reads
+  // the force of the same press made in one go, within the solver's tolerance (on the virgin
+  // curve, where the balance under a still probe does not depend on the way there).
+  SceneDescription scene = hapticRateScene();
+  scene.isSoftening = false;
+  Simulation simulation(scene), straight(scene);
+  const double speed_m_s = hapticRateToolSpeed_m_s(scene, simulation.energy());
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  const Eigen::Vector3d above = entryPoint(simulation) - 0.0015 * direction;
+  const auto pose = [&](double depth_m) {
+    return InstrumentPose{above + (0.0015 + depth_m) * direction, direction};
+  };
+  const double toThree_s = 0.5, toFour_s = toThree_s + 0.0045 / speed_m_s + 2.5;
+  const double arrive_s = toFour_s + 0.001 / speed_m_s;
+  const InstrumentScript script({{0.0, pose(-0.0015)},
+                                 {toThree_s, pose(-0.0015)},
+                                 {toThree_s + 0.0045 / speed_m_s, pose(0.003)},
+                                 {toFour_s, pose(0.003)},
+                                 {arrive_s, pose(0.004)},
+                                 {arrive_s + 10.0, pose(0.004)}});
+  simulation.setInstrumentSource(&script);
+  const HapticRateBody& body = *simulation.hapticRateBody();
+  const auto stepTo = [&](double time_s) {
+    while (simulation.time_s() < time_s - 0.5 * simulation.timeStep_s()) {
+      const StepOutcome outcome = simulation.step();
+      if (!outcome.isGood) {
+        ADD_FAILURE() << "step at " << simulation.time_s() << " s";
+        return outcome;
+      }
+    }
+    return simulation.step();
+  };
+  stepTo(0.25);
+  const long freeUpdates = body.updatesStarted();
+  EXPECT_GE(freeUpdates, 1);
+  stepTo(toThree_s - 0.01);
+  EXPECT_EQ(body.updatesStarted(), freeUpdates) << "the free body at rest, the probe still";
+  stepTo(toFour_s - 0.5);
+  const long heldUpdates = body.updatesStarted();
+  EXPECT_GT(heldUpdates, freeUpdates + 10) << "it followed the press";
+  const Eigen::Matrix3Xd heldBody_m = simulation.state().x;
+  const StepOutcome held = stepTo(toFour_s - 0.01);
+  EXPECT_EQ(body.updatesStarted(), heldUpdates) << "at rest under the still probe";
+  EXPECT_LT((simulation.state().x - heldBody_m).colwise().norm().maxCoeff(), 1e-12);
+  EXPECT_GT(held.contact.toolForce_N.norm(), 0.01) << "pressed";
+  stepTo(toFour_s + 0.01);
+  EXPECT_GT(body.updatesStarted(), heldUpdates) << "moving again";
+  const StepOutcome pressedOn = stepTo(arrive_s + 2.0);
+  EXPECT_GT(pressedOn.contact.toolForce_N.norm(), 1.2 * held.contact.toolForce_N.norm());
+  // The same 4 mm press in one go, held as long.
+  const InstrumentScript oneGo({{0.0, pose(-0.0015)},
+                                {toThree_s, pose(-0.0015)},
+                                {toThree_s + 0.0055 / speed_m_s, pose(0.004)},
+                                {arrive_s + 10.0, pose(0.004)}});
+  straight.setInstrumentSource(&oneGo);
+  StepOutcome last;
+  while (straight.time_s() < simulation.time_s() - 0.5 * straight.timeStep_s())
+    last = straight.step();
+  EXPECT_NEAR(pressedOn.contact.toolForce_N.norm(), last.contact.toolForce_N.norm(),
+              1e-5 * last.contact.toolForce_N.norm());
+  for (const Simulation* run : {&simulation, &straight}) {
+    for (const InstabilityEvent& event : run->events())
+      ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+  }
+}
+
 TEST(HapticRateBody, ASecondPokeOfTheSoftenedLiverIsSofterAndAResetForgetsIt) {
   // The bundled scene softens (the Mullins effect per material point): poked 5 mm deep and
   // withdrawn, the liver is back at rest but reads less force 3 mm into it the second time, where
