@@ -2,6 +2,7 @@
 #include "app/OrganPokeCommand.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -18,6 +19,8 @@
 #include "app/OutputFile.h"
 #include "app/SceneSession.h"
 #include "fem/FemModel.h"
+#include "mesh/TetMesh.h"
+#include "mesh/TriangleSurface.h"
 
 namespace tissuesim::app {
 namespace {
@@ -45,6 +48,8 @@ struct OrganPokeOptions {
   double hapticRateVolumeTerm_kPa = 0.0;
   /// Its body linear between updates (no stiffening handed to the contact).
   bool isHapticRateLinear = false;
+  /// The probe's tip starts here (m) instead of at the scene's tip_start_m; empty: there.
+  std::vector<double> probeAt_m;
 };
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
@@ -67,11 +72,16 @@ std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescri
     }
     std::fprintf(stderr, "fem: not from %s: %s\n", options.femCachePath.c_str(), why.c_str());
   }
+  // Read only to solve: a kept reference needs the mesh file's bytes alone (its key).
+  const TetMesh organ = readOrganMesh(options.femMeshPath);
+  Eigen::Vector3d entry_m;
+  if (!firstCrossing(organ.nodes_m, boundaryFaces(organ), setup.tipStart_m,
+                     setup.direction.normalized(), entry_m))
+    throw CommandError(options.femMeshPath +
+                       ": the probe's axis does not meet the organ's surface");
   std::fprintf(stderr,
                "organ-poke: %s, weightless, a %.1f mm probe along its axis; the FEM on %s\n",
                scene.name.c_str(), 1e3 * setup.probeRadius_m, options.femMeshPath.c_str());
-  // Read only to solve: a kept reference needs the mesh file's bytes alone (its key).
-  const TetMesh organ = readOrganMesh(options.femMeshPath);
   IndentationCurve fem;
   try {
     fem = pokeOrganFem(tissue.energy, organ, setup, bulkModulus_Pa,
@@ -88,6 +98,17 @@ std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescri
       fem.nodes, fem.elements, fem.seconds, fem.newtonIterations,
       fem.newtonIterations > 0 ? 1e3 * fem.solving_s / fem.newtonIterations : 0.0,
       fem.unconvergedPoints, fem.worstResidual_N);
+  // A probe that meets no surface node (the node penalty) on a mesh whose nodes lie further
+  // apart than the probe is wide there reads nothing: no reference to compare with.
+  for (std::size_t d = 0; d < fem.force_N.size(); ++d) {
+    if (!(fem.force_N[d] > 0.0)) {
+      char depth[32];
+      std::snprintf(depth, sizeof depth, "%g", options.depths_mm[d]);
+      throw CommandError(options.femMeshPath + ": the reference reads no force at " + depth +
+                         " mm: its surface nodes lie too far apart where the probe meets it "
+                         "(grade the mesh towards there: assets/meshes/README.md)");
+    }
+  }
   if (!options.femCachePath.empty()) {
     // A millionth of the deepest force left unbalanced moves no kept digit that matters; more,
     // and the forces are no reference to keep.
@@ -125,11 +146,21 @@ void runOrganPoke(const OrganPokeOptions& options) {
     throw CommandError("--haptic-rate-iterations must be in [0, 20]");
   if (!(options.hapticRateVolumeTerm_kPa >= 0.0) || options.hapticRateVolumeTerm_kPa > 1e7)
     throw CommandError("--haptic-rate-volume-term-kpa must be in [0, 1e7]");
+  if (!options.probeAt_m.empty() &&
+      (options.probeAt_m.size() != 3 ||
+       !std::all_of(options.probeAt_m.begin(), options.probeAt_m.end(),
+                    [](double value) { return std::isfinite(value) && std::abs(value) < 10.0; })))
+    throw CommandError(
+        "--probe-at takes three finite coordinates in metres, e.g. -0.04,0.152,0.045");
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.femCachePath.empty()) checkOutputWritable(options.femCachePath, "--fem-cache");
 
   // Weightless and on nothing but its fixed region: the continuum reference's conditions.
-  const SceneDescription scene = weightlessPokeScene(readScene(options.scenePath));
+  SceneDescription scene = weightlessPokeScene(readScene(options.scenePath));
+  if (!options.probeAt_m.empty()) {
+    scene.instrument->tipStart_m =
+        Eigen::Vector3d(options.probeAt_m[0], options.probeAt_m[1], options.probeAt_m[2]);
+  }
   // The haptic-rate row's mesh read before the reference is solved (minutes): a bad file fails
   // at once.
   std::optional<TetMesh> hapticRateOrgan;
@@ -279,6 +310,13 @@ void registerOrganPokeCommand(CLI::App& app) {
   command->add_option("--haptic-rate-volume-term-kpa", options->hapticRateVolumeTerm_kPa,
                       "With --haptic-rate-mesh: its body's bulk modulus (default: the "
                       "reference's)");
+  command
+      ->add_option("--probe-at", options->probeAt_m,
+                   "The probe's tip starts here (x,y,z in metres; default: the scene's "
+                   "tip_start_m), along the scene's direction; the reference's mesh should be "
+                   "graded towards where it meets the organ (assets/meshes/README.md)")
+      ->delimiter(',')
+      ->expected(3);
   command->add_flag("--haptic-rate-linear", options->isHapticRateLinear,
                     "With --haptic-rate-mesh: its body linear between updates (without the "
                     "stiffening each update measures)");
