@@ -196,6 +196,17 @@ case "${1:-}" in
     say "the liver poke against the continuum into $out/organ-poke.csv"
     build/app/tissuesim organ-poke --springs 1000,5300,20000 \
       --fem-cache assets/meshes/liver-fem-poke.csv --output "$out/organ-poke.csv"
+    # The same poke at a second site, 4 cm along the liver from the first, where the FEM at its
+    # own rate's bundled body is coarse: the default scene and that scene against a reference
+    # graded there (kept to 5 mm in assets/meshes/liver-fem-site-b-poke.csv).
+    for scene in liver-poke liver-fem-haptic-rate; do
+      say "the liver poke at the second site ($scene) into $out/organ-poke-site-b-$scene.csv"
+      build/app/tissuesim organ-poke --scene "assets/scenes/$scene.json" \
+        --probe-at -0.04,0.152,0.045 --depths-mm 1,2,3,4,5 \
+        --fem-mesh assets/meshes/liver-fem-site-b.msh \
+        --fem-cache assets/meshes/liver-fem-site-b-poke.csv \
+        --output "$out/organ-poke-site-b-$scene.csv"
+    done
     say "the speed/accuracy map into $out"
     build/app/tissuesim trade ${TRADE_ARGS:-} --output "$out"
     # The quadratic rows' forces the map had to solve (their meshes' kept ones were stale or

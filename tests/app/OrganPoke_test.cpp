@@ -65,6 +65,33 @@ TEST(OrganPoke, TheBundledLiverPokesKeptForcesAreTheBundledScenes) {
   }
 }
 
+TEST(OrganPoke, TheSecondSitesKeptForcesAreTheBundledScenesProbeMovedThere) {
+  // The reference graded towards a second site, 4 cm along x from the bundled poke (`measure`
+  // passes `--probe-at -0.04,0.152,0.045` with it), kept to 5 mm: its key is the bundled scene's
+  // with the probe moved there, not the bundled poke's.
+  const SceneDescription bundled =
+      weightlessPokeScene(readScene(kAssets + "/scenes/liver-poke.json"));
+  SceneDescription moved = bundled;
+  moved.instrument->tipStart_m = Eigen::Vector3d(-0.04, 0.152, 0.045);
+  const LoadedTissue tissue(bundled.tissue.string());
+  const std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0};
+  const std::vector<double> depths_m{0.001, 0.002, 0.003, 0.004, 0.005};
+  const std::string mesh = kAssets + "/meshes/liver-fem-site-b.msh";
+  const std::string kept = kAssets + "/meshes/liver-fem-site-b-poke.csv";
+  const double bulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
+  std::string why;
+  const auto forces = readFemForceCache(
+      kept, femReferenceKey(moved, mesh, organPokeSetup(moved, depths_m), bulkModulus_Pa),
+      depths_mm, why);
+  ASSERT_TRUE(forces.has_value()) << why;
+  for (std::size_t d = 1; d < forces->size(); ++d) EXPECT_GT((*forces)[d], (*forces)[d - 1]);
+  EXPECT_FALSE(
+      readFemForceCache(
+          kept, femReferenceKey(bundled, mesh, organPokeSetup(bundled, depths_m), bulkModulus_Pa),
+          depths_mm, why)
+          .has_value());
+}
+
 TEST(OrganPoke, TheKeyChangesWithTheProbe) {
   const SceneDescription scene =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-poke.json"));
