@@ -18,17 +18,16 @@
 //
 // The next update starts at the step that takes the last one in, from the contact's last settled
 // state: a step whose contact does not settle is rolled back to it (the body drawn and the force
-// reported are the last settled ones). Where it would repeat the last one (the body balanced to
-// the solver's tolerance there, the probe where it was, the load on the body changed by less
-// than what that tolerance leaves), none starts until something changes: a body at rest, free
-// or under a probe held still, costs its thread nothing, and the window's other threads have the
-// machine. With softening (the settings'), each update takes the
-// material points' history (fem/IsochoricSoftening.h) where it starts, and a reset clears it.
-// Under gravity (the consistent loads of its weight, fem/QuadraticTetWeight.h) and on a tray (a
-// penalty on the sampled surface, as the probe's, forces/PlanePenalty.h), both in every update's
-// Newton iterations, the body starts where it balances them with no probe
-// (HapticRateFem::settle), and a reset returns it there. Shapes:
-// positions 3 by #V (m), the first #corners of them the scene's mesh's nodes in its order.
+// reported are the last settled ones). Where it would repeat the last one (the body balanced to the
+// solver's tolerance there, the probe where it was, the load on the body changed by less than what
+// that tolerance leaves), none starts until something changes: a body at rest, free or under a
+// probe held still, costs its thread nothing, and the window's other threads have the machine. With
+// softening (the settings'), each update takes the material points' history
+// (fem/IsochoricSoftening.h) where it starts, and a reset clears it. Under gravity (the consistent
+// loads of its weight, fem/QuadraticTetWeight.h) and on a tray (a penalty on the sampled surface,
+// as the probe's, forces/PlanePenalty.h), both in every update's Newton iterations, the body starts
+// where it balances them with no probe (HapticRateFem::settle), and a reset returns it there.
+// Shapes: positions 3 by #V (m), the first #corners of them the scene's mesh's nodes in its order.
 
 #include <condition_variable>
 #include <memory>

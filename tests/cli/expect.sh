@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# expect.sh PROGRAM ok|fail REGEX ARGS...
+# expect.sh PROGRAM ok|fail|fail-after-progress REGEX ARGS...
 #   ok:   PROGRAM ARGS exits 0 and its stdout+stderr match REGEX (extended grep).
 #   fail: it exits non-zero, prints exactly one line on stderr, and that line matches REGEX.
 #   fail-after-progress: it exits non-zero and the last line on stderr, after the progress lines
