@@ -174,7 +174,7 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
 bool HapticRateBody::wouldRepeatLastUpdate(const Eigen::Vector3d& tip_m,
                                            const Eigen::Vector3d& top_m) const {
   // The grasp's targets move the held points every step, and the opening jaws lead them back.
-  if (!m_isBalanced || m_isRefusing || !m_heldPoints.empty() || m_letGoSteps > 0) return false;
+  if (!m_heldPoints.empty() || m_letGoSteps > 0) return false;
   // A probe still to round-off (a script's held pose interpolated) has not moved; one that
   // moves changes the load it presses with, or, free of the body, the points near it.
   if ((tip_m - m_jobTip).norm() > kRestingProbeTravel_m ||
@@ -185,7 +185,7 @@ bool HapticRateBody::wouldRepeatLastUpdate(const Eigen::Vector3d& tip_m,
   // in load: within the tolerance it takes no iteration, and linearises the body where it is.
   const double loadChange_N =
       m_settledForces.size() > 0 ? (m_settledForces - m_jobForces).cwiseAbs().maxCoeff() : 0.0;
-  return m_balancedResidual_N + loadChange_N <= HapticRateFem::kSolverTolerance_N;
+  return m_lastResidual_N + loadChange_N <= HapticRateFem::kSolverTolerance_N;
 }
 
 bool HapticRateBody::settledState(Eigen::Matrix3Xd& body_m, std::vector<int>& candidates,
@@ -235,7 +235,7 @@ void HapticRateBody::continueFrom(HapticRateBody& other, const Eigen::Vector3d& 
   m_settledForces.setZero(3, static_cast<Eigen::Index>(m_inUse->candidates().size()));
   m_settledCorners = other.m_settledCorners;
   m_settledProbeForce_N = other.m_settledProbeForce_N;
-  m_isBalanced = false;
+  m_lastResidual_N = std::numeric_limits<double>::infinity();
 }
 
 void HapticRateBody::waitForUpdate() {
@@ -258,9 +258,9 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
     if (isTaken) {
       m_isInFlight = false;
       m_isPassedThrough = m_jobReport.isPassedThrough;
-      m_isBalanced = m_jobReport.hasNext && !m_jobReport.isPassedThrough &&
-                     m_jobReport.residual_N <= HapticRateFem::kSolverTolerance_N;
-      m_balancedResidual_N = m_jobReport.residual_N;
+      m_lastResidual_N = m_jobReport.hasNext && !m_jobReport.isPassedThrough
+                             ? m_jobReport.residual_N
+                             : std::numeric_limits<double>::infinity();
       if (m_isPassedThrough) m_updateProblem = m_jobError;
       if (m_jobReport.hasNext) {
         m_next->startFrom(*m_inUse);
@@ -425,7 +425,7 @@ void HapticRateBody::restartSettled() {
   m_settledForces.setZero(3, static_cast<Eigen::Index>(m_start.candidates().size()));
   m_settledCorners = m_startCorners;
   m_settledProbeForce_N.setZero();
-  m_isBalanced = false;
+  m_lastResidual_N = std::numeric_limits<double>::infinity();
 }
 
 void HapticRateBody::reset() {

@@ -30,6 +30,7 @@
 // Shapes: positions 3 by #V (m), the first #corners of them the scene's mesh's nodes in its order.
 
 #include <condition_variable>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -217,10 +218,9 @@ class HapticRateBody {
   bool m_isInFlight = false;
   bool m_isRefusing = false;       ///< the last update taken in was refused
   bool m_isPassedThrough = false;  ///< the last update taken in: HapticRateUpdate's
-  /// The last update taken in left the body balanced to the solver's tolerance (its residual, N),
-  /// its contact made; false until one has, and again after a reset.
-  bool m_isBalanced = false;
-  double m_balancedResidual_N = 0.0;
+  /// The residual (N) the last update taken in left the body with, where it made its contact
+  /// and found the probe on the surface; infinite where not, before any, and after a reset.
+  double m_lastResidual_N = std::numeric_limits<double>::infinity();
   long m_updatesStarted = 0;
   std::string m_updateProblem;
 
