@@ -13,6 +13,7 @@
 #include <random>
 #include <stdexcept>
 
+#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
 #include "forces/CapsuleGap.h"

@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "mesh/TetRefinement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+#include "mesh/BlockMesher.h"
+
+namespace tissuesim {
+namespace {
+
+double totalVolume(const TetMesh& mesh) {
+  double volume = 0.0;
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t)
+    volume += signedTetVolume(mesh.nodes_m, mesh.tets, t);
+  return volume;
+}
+
+double boundaryArea(const TetMesh& mesh) {
+  const Eigen::Matrix3Xi faces = boundaryFaces(mesh);
+  double area = 0.0;
+  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
+    const Eigen::Vector3d a = mesh.nodes_m.col(faces(0, f));
+    area +=
+        0.5 * (mesh.nodes_m.col(faces(1, f)) - a).cross(mesh.nodes_m.col(faces(2, f)) - a).norm();
+  }
+  return area;
+}
+
+/// Each edge of the boundary in exactly two boundary faces: a closed surface, so no face inside
+/// the mesh is left unmatched (a hanging node would leave one).
+bool isBoundaryClosed(const TetMesh& mesh) {
+  const Eigen::Matrix3Xi faces = boundaryFaces(mesh);
+  std::map<std::pair<int, int>, int> uses;
+  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = faces(c, f);
+      const int b = faces((c + 1) % 3, f);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  return std::all_of(uses.begin(), uses.end(), [](const auto& use) { return use.second == 2; });
+}
+
+TetMeshGrading blockGrading() {
+  TetMeshGrading grading;
+  grading.centre_m = Eigen::Vector3d(0.02, 0.02, 0.02);  // the top face's middle
+  grading.finest_m = 0.003;
+  grading.growth = 0.5;
+  grading.coarsest_m = 0.02;
+  return grading;
+}
+
+TEST(TetRefinement, ARefinedBlockConformsKeepsItsVolumeAndMeetsTheGrading) {
+  const TetMesh block = makeBlockMesh(Eigen::Vector3d(0.04, 0.04, 0.02), Eigen::Vector3i(2, 2, 1));
+  const TetMeshGrading grading = blockGrading();
+  const RefinedTetMesh refined = refineTetMesh(block, grading);
+  const TetMesh& mesh = refined.mesh;
+
+  ASSERT_GT(mesh.nodeCount(), 10 * block.nodeCount());
+  EXPECT_EQ(refined.splitEdges.cols(), mesh.nodeCount() - block.nodeCount());
+  EXPECT_TRUE(mesh.nodes_m.leftCols(block.nodeCount()).isApprox(block.nodes_m, 0.0));
+  for (Eigen::Index k = 0; k < refined.splitEdges.cols(); ++k) {
+    const Eigen::Index node = block.nodeCount() + k;
+    ASSERT_LT(refined.splitEdges(0, k), node);
+    ASSERT_LT(refined.splitEdges(1, k), node);
+    // With no surface to follow, each new node is its edge's midpoint.
+    ASSERT_TRUE(mesh.nodes_m.col(node).isApprox(0.5 * (mesh.nodes_m.col(refined.splitEdges(0, k)) +
+                                                       mesh.nodes_m.col(refined.splitEdges(1, k))),
+                                                1e-12));
+  }
+  EXPECT_NEAR(totalVolume(mesh), totalVolume(block), 1e-12 * totalVolume(block));
+  EXPECT_NEAR(boundaryArea(mesh), boundaryArea(block), 1e-12 * boundaryArea(block));
+  EXPECT_TRUE(isBoundaryClosed(mesh));
+  const TetQualityReport before = inspectTets(block);
+  const TetQualityReport after = inspectTets(mesh);
+  EXPECT_TRUE(after.invertedTets.empty());
+  EXPECT_TRUE(after.slivers.empty());
+  // Longest-edge bisection degrades the shapes a bounded amount, not without end.
+  EXPECT_GT(after.minRadiusRatio, 0.3 * before.minRadiusRatio);
+
+  double finestNearCentre_m = 1.0;
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+    for (const auto& edge : {std::pair{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}}) {
+      const Eigen::Vector3d a = mesh.nodes_m.col(mesh.tets(edge.first, t));
+      const Eigen::Vector3d b = mesh.nodes_m.col(mesh.tets(edge.second, t));
+      const double size = grading.sizeAt(0.5 * (a + b));
+      if (size < grading.coarsest_m) {
+        ASSERT_LE((b - a).norm(), size * (1.0 + 1e-12));
+      }
+      if ((0.5 * (a + b) - grading.centre_m).norm() < 0.003)
+        finestNearCentre_m = std::min(finestNearCentre_m, (b - a).norm());
+    }
+  }
+  // Not refined past what the grading asks: the block's 20 mm edges halved down to 2.5 mm.
+  EXPECT_GT(finestNearCentre_m, 0.5 * grading.finest_m);
+}
+
+TEST(TetRefinement, NewBoundaryNodesLieOnTheDrawnSurface) {
+  const TetMesh cube = makeBlockMesh(Eigen::Vector3d(0.02, 0.02, 0.02), Eigen::Vector3i(1, 1, 1));
+  // The drawn surface: the cube's boundary grown 5 % about its centre, half a millimetre out.
+  TriangleSurface drawn;
+  drawn.triangles = boundaryFaces(cube);
+  const Eigen::Vector3d centre(0.01, 0.01, 0.01);
+  drawn.vertices_m = ((cube.nodes_m.colwise() - centre) * 1.05).colwise() + centre;
+  TetMeshGrading grading;
+  grading.centre_m = centre;
+  grading.finest_m = 0.006;
+  grading.growth = 0.0;
+  grading.coarsest_m = 0.02;
+  const RefinedTetMesh refined = refineTetMesh(cube, grading, &drawn);
+  const TetMesh& mesh = refined.mesh;
+  ASSERT_GT(mesh.nodeCount(), cube.nodeCount());
+
+  std::vector<char> onBoundary(static_cast<std::size_t>(mesh.nodeCount()), 0);
+  for (const int node : faceNodes(boundaryFaces(mesh)))
+    onBoundary[static_cast<std::size_t>(node)] = 1;
+  int moved = 0;
+  for (Eigen::Index node = cube.nodeCount(); node < mesh.nodeCount(); ++node) {
+    const Eigen::Vector3d p = mesh.nodes_m.col(node);
+    const double outside = ((p - centre).cwiseAbs().array() - 0.0105).maxCoeff();
+    if (onBoundary[static_cast<std::size_t>(node)] != 0) {
+      // On the grown cube's boundary: its largest offset from the centre is 10.5 mm.
+      ASSERT_NEAR(outside, 0.0, 1e-12) << "node " << node;
+      ++moved;
+    } else {
+      ASSERT_LT(outside, -1e-4) << "node " << node;
+    }
+  }
+  EXPECT_GT(moved, 0);
+  EXPECT_TRUE(inspectTets(mesh).invertedTets.empty());
+  EXPECT_TRUE(isBoundaryClosed(mesh));
+  EXPECT_GT(totalVolume(mesh), totalVolume(cube));
+  EXPECT_LT(totalVolume(mesh), std::pow(0.021, 3));
+}
+
+TEST(TetRefinement, AGradingAlreadyMetLeavesTheMeshAsItIsAndRefiningIsRepeatable) {
+  const TetMesh block = makeBlockMesh(Eigen::Vector3d(0.04, 0.04, 0.02), Eigen::Vector3i(2, 2, 1));
+  TetMeshGrading loose = blockGrading();
+  loose.finest_m = 0.05;
+  loose.coarsest_m = 0.1;
+  const RefinedTetMesh same = refineTetMesh(block, loose);
+  EXPECT_EQ(same.splitEdges.cols(), 0);
+  EXPECT_EQ(same.mesh.tets, block.tets);
+
+  const RefinedTetMesh first = refineTetMesh(block, blockGrading());
+  const RefinedTetMesh second = refineTetMesh(block, blockGrading());
+  EXPECT_EQ(first.mesh.tets, second.mesh.tets);
+  EXPECT_EQ(first.mesh.nodes_m, second.mesh.nodes_m);
+}
+
+TEST(TetRefinement, ItRefusesAGradingOutOfRangeAndAnInvertedTet) {
+  const TetMesh block = makeBlockMesh(Eigen::Vector3d(0.04, 0.04, 0.02), Eigen::Vector3i(2, 2, 1));
+  TetMeshGrading grading = blockGrading();
+  grading.finest_m = 0.0;
+  EXPECT_THROW(refineTetMesh(block, grading), std::invalid_argument);
+  grading = blockGrading();
+  grading.coarsest_m = 0.001;
+  EXPECT_THROW(refineTetMesh(block, grading), std::invalid_argument);
+  grading = blockGrading();
+  grading.growth = -1.0;
+  EXPECT_THROW(refineTetMesh(block, grading), std::invalid_argument);
+  TetMesh inverted = block;
+  std::swap(inverted.tets(0, 3), inverted.tets(1, 3));
+  EXPECT_THROW(refineTetMesh(inverted, blockGrading()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tissuesim
