@@ -197,9 +197,10 @@ case "${1:-}" in
     build/app/tissuesim organ-poke --springs 1000,5300,20000 \
       --fem-cache assets/meshes/liver-fem-poke.csv --output "$out/organ-poke.csv"
     # The same poke at a second site, 4 cm along the liver from the first, where the FEM at its
-    # own rate's bundled body is coarse: the default scene and that scene against a reference
-    # graded there (kept to 5 mm in assets/meshes/liver-fem-site-b-poke.csv).
-    for scene in liver-poke liver-fem-haptic-rate; do
+    # own rate's bundled body is coarse: the default scene, that scene and the one that refines its
+    # body where the tool aims, against a reference graded there (kept to 5 mm in
+    # assets/meshes/liver-fem-site-b-poke.csv).
+    for scene in liver-poke liver-fem-haptic-rate liver-fem-refined; do
       say "the liver poke at the second site ($scene) into $out/organ-poke-site-b-$scene.csv"
       build/app/tissuesim organ-poke --scene "assets/scenes/$scene.json" \
         --probe-at -0.04,0.152,0.045 --depths-mm 1,2,3,4,5 \

@@ -63,7 +63,7 @@ SceneDescription sceneOf(const SceneDescription& bundled, const TradeRow& row) {
     // The FEM as on the organ's conformal meshes: contact on the mesh's own boundary, which is
     // the drawn surface remeshed.
     scene.surface.reset();
-    scene.tetMesh = SceneMeshSource{row.organMeshPath, 1.0, ""};
+    scene.tetMesh = SceneMeshSource{row.organMeshPath, 1.0, "", std::nullopt};
     scene.targetSprings = 0;
     scene.volumeCells = "nodes";
     scene.strainCells = row.strainCells;

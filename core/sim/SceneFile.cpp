@@ -116,12 +116,26 @@ std::filesystem::path resolveFile(const Fields& fields, const char* key,
 SceneMeshSource meshSource(const Json& object, const std::string& path, const std::string& source,
                            const std::filesystem::path& folder, bool isSurface) {
   std::set<std::string> allowed = {"file", "metres_per_unit"};
-  if (isSurface) allowed.insert("part");
+  allowed.insert(isSurface ? "part" : "refine_towards_tool");
   const Fields fields(object, path, source, allowed);
   SceneMeshSource mesh;
   mesh.file = resolveFile(fields, "file", folder);
   mesh.metresPerUnit = fields.number("metres_per_unit", 0.0, 0.0, true);
   if (isSurface) mesh.part = fields.string("part", "");
+  if (!isSurface && fields.has("refine_towards_tool")) {
+    const std::string name = path + ".refine_towards_tool";
+    const Fields refine(fields.at("refine_towards_tool"), name, source,
+                        {"finest_mm", "growth", "coarsest_mm"});
+    SceneTetRefinement refinement;
+    refinement.finest_m = refine.number("finest_mm", 4.0, 0.0, true) / 1000.0;
+    refinement.growth = refine.number("growth", refinement.growth, 0.0, false);
+    refinement.coarsest_m = refine.number("coarsest_mm", 24.0, 0.0, true) / 1000.0;
+    // A bound below a tenth of a millimetre would split an organ's mesh into millions of tets.
+    if (refinement.finest_m < 1e-4) refine.fail(name + ".finest_mm", "must be at least 0.1");
+    if (refinement.coarsest_m < refinement.finest_m)
+      refine.fail(name + ".coarsest_mm", "must be at least finest_mm");
+    mesh.refinement = refinement;
+  }
   return mesh;
 }
 
@@ -177,6 +191,10 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   if (!scene.tetMesh && scene.targetSprings == 0) {
     fields.fail("tet_mesh", "is missing (or give 'generate_tet_mesh' with a 'surface')");
   }
+  if (scene.tetMesh && scene.tetMesh->refinement && !scene.surface) {
+    fields.fail("tet_mesh.refine_towards_tool",
+                "needs a 'surface': the refined boundary is moved onto it");
+  }
   if (fields.has("fixed_region")) {
     const Fields fixed(fields.at("fixed_region"), "fixed_region", source,
                        {"box_min_m", "box_max_m", "nodes"});
@@ -222,6 +240,10 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
     if (direction.norm() < 1e-9) tool.fail("instrument.direction", "must not be the zero vector");
     instrument.direction = direction.normalized();
     scene.instrument = instrument;
+  }
+  if (scene.tetMesh && scene.tetMesh->refinement && !scene.instrument) {
+    fields.fail("tet_mesh.refine_towards_tool",
+                "needs an 'instrument': the mesh is refined where its axis meets the organ");
   }
   if (fields.has("effects")) {
     const Fields effects(fields.at("effects"), "effects", source,

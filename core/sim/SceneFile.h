@@ -23,11 +23,21 @@ class SceneFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A tet mesh refined where the instrument first aims (mesh/TetRefinement.h): edges at most
+/// finest_m there, the bound growing by `growth` per unit distance, the mesh as read where the
+/// bound reaches coarsest_m.
+struct SceneTetRefinement {
+  double finest_m = 0.004;
+  double growth = 2.0;
+  double coarsest_m = 0.024;
+};
+
 struct SceneMeshSource {
   std::filesystem::path file;  ///< resolved against the scene's folder
   /// > 0: the file's scale; 0: not given, guessed from the file's size (mesh/LengthUnit.h)
   double metresPerUnit = 0.0;
-  std::string part;  ///< surfaces only: one named part, or all
+  std::string part;                              ///< surfaces only: one named part, or all
+  std::optional<SceneTetRefinement> refinement;  ///< tet meshes only
 };
 
 /// How the fixed nodes are chosen: nodes inside an axis-aligned box (m), or listed indices.

@@ -10,6 +10,7 @@
 #include "mesh/SurfaceInspection.h"
 #include "mesh/SurfaceReader.h"
 #include "mesh/TetMeshFile.h"
+#include "mesh/TetRefinement.h"
 
 namespace tissuesim {
 
@@ -73,15 +74,51 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
   } catch (const std::invalid_argument& error) {
     throw SceneFileError(name + ": " + error.what());
   }
+  // Listed fixed nodes are the file's: the refinement's come after them.
+  const Eigen::Index fileNodeCount = geometry.mesh.nodeCount();
+  Eigen::Matrix2Xi splitEdges(2, 0);
+  if (scene.tetMesh && scene.tetMesh->refinement) {
+    const SceneTetRefinement& refinement = *scene.tetMesh->refinement;
+    TetMeshGrading grading;
+    if (!firstOrganCrossing(geometry, scene.instrument->tipStart_m, scene.instrument->direction,
+                            grading.centre_m)) {
+      throw SceneFileError(name +
+                           ": field 'tet_mesh.refine_towards_tool': the instrument's axis from "
+                           "tip_start_m along its direction misses the organ");
+    }
+    grading.finest_m = refinement.finest_m;
+    grading.growth = refinement.growth;
+    grading.coarsest_m = refinement.coarsest_m;
+    try {
+      RefinedTetMesh refined = refineTetMesh(geometry.mesh, grading, &*geometry.surface);
+      geometry.mesh = std::move(refined.mesh);
+      splitEdges = std::move(refined.splitEdges);
+    } catch (const std::invalid_argument& error) {
+      throw SceneFileError(name + ": " + scene.tetMesh->file.string() + ": " + error.what());
+    }
+  }
   if (geometry.surface) geometry.embedding.emplace(geometry.mesh, geometry.surface->vertices_m);
 
   for (const int node : scene.fixed.nodes) {
-    if (node >= geometry.mesh.nodeCount()) {
+    if (node >= fileNodeCount) {
       throw SceneFileError(name + ": field 'fixed_region.nodes' lists node " +
                            std::to_string(node) + ", but the mesh has " +
-                           std::to_string(geometry.mesh.nodeCount()) + " nodes");
+                           std::to_string(fileNodeCount) + " nodes");
     }
     geometry.fixedNodes.push_back(node);
+  }
+  // A node the refinement put between two listed nodes is held with them.
+  if (!scene.fixed.nodes.empty()) {
+    std::vector<char> isListed(static_cast<std::size_t>(geometry.mesh.nodeCount()), 0);
+    for (const int node : geometry.fixedNodes) isListed[static_cast<std::size_t>(node)] = 1;
+    const Eigen::Index firstNew = geometry.mesh.nodeCount() - splitEdges.cols();
+    for (Eigen::Index k = 0; k < splitEdges.cols(); ++k) {
+      if (isListed[static_cast<std::size_t>(splitEdges(0, k))] != 0 &&
+          isListed[static_cast<std::size_t>(splitEdges(1, k))] != 0) {
+        isListed[static_cast<std::size_t>(firstNew + k)] = 1;
+        geometry.fixedNodes.push_back(static_cast<int>(firstNew + k));
+      }
+    }
   }
   if (scene.fixed.box_m) {
     const std::size_t before = geometry.fixedNodes.size();

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What a scene's geometry builds, and only that: the simulation tet mesh (read, or generated
-// from the surface), the visual surface welded and embedded in it when the scene names one, and
-// the fixed nodes. The physics (springs, integrator, instrument) is assembled by the caller.
+// from the surface; refined where the instrument first aims when the scene asks, its boundary's
+// new nodes on the drawn surface), the visual surface welded and embedded in it when the scene
+// names one, and the fixed nodes (a listed node's index is the file's; a node the refinement put
+// between two listed ones is held too). The physics (springs, integrator, instrument) is assembled
+// by the caller.
 
 #include <optional>
 #include <string>
@@ -25,7 +28,8 @@ struct SceneGeometry {
 };
 
 /// @throws SceneFileError naming the scene (and MeshFileError's text for its meshes): bad mesh,
-/// open or non-manifold surface to generate from, a fixed region that selects no node, or a
+/// open or non-manifold surface to generate from, an instrument's axis that misses the organ
+/// where the mesh is to be refined, a fixed region that selects no node, or a
 /// listed node out of range.
 SceneGeometry loadSceneGeometry(const SceneDescription& scene);
 

@@ -92,6 +92,35 @@ TEST(OrganPoke, TheSecondSitesKeptForcesAreTheBundledScenesProbeMovedThere) {
           .has_value());
 }
 
+TEST(OrganPoke, TheRefinedFemSceneMovedToTheSecondSiteIsWithinTenPerCentOfItsReference) {
+  // The coarse body refined where the tool aims, its tool started over the second site: the
+  // liver poke there through the scene's own steps, against the reference kept for that site.
+  const SceneDescription scene =
+      weightlessPokeScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
+  SceneDescription moved = scene;
+  moved.instrument->tipStart_m = Eigen::Vector3d(-0.04, 0.152, 0.045);
+  const LoadedTissue tissue(scene.tissue.string());
+  const std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0};
+  const std::vector<double> depths_m{0.001, 0.002, 0.003, 0.004, 0.005};
+  const std::string mesh = kAssets + "/meshes/liver-fem-site-b.msh";
+  std::string why;
+  const auto reference =
+      readFemForceCache(kAssets + "/meshes/liver-fem-site-b-poke.csv",
+                        femReferenceKey(moved, mesh, organPokeSetup(moved, depths_m),
+                                        defaultFemBulkModulus(tissue.energy)),
+                        depths_mm, why);
+  ASSERT_TRUE(reference.has_value()) << why;
+  const SimulatorPoke refined = pokeSimulator(moved, depths_m, 0.002);
+  EXPECT_EQ(refined.events, 0);
+  for (std::size_t d = 0; d < depths_m.size(); ++d)
+    EXPECT_NEAR(refined.force_N[d] / (*reference)[d], 1.0, 0.10) << depths_mm[d] << " mm";
+  // The same body as the file has it, 24 mm tets there: far too stiff.
+  SceneDescription coarse = moved;
+  coarse.tetMesh->refinement.reset();
+  const SimulatorPoke unrefined = pokeSimulator(coarse, depths_m, 0.002);
+  EXPECT_GT(unrefined.force_N[1] / (*reference)[1], 1.3);
+}
+
 TEST(OrganPoke, TheKeyChangesWithTheProbe) {
   const SceneDescription scene =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-poke.json"));
@@ -177,7 +206,7 @@ TEST(OrganPoke, TheFemOnTheOrgansMeshIsARowOfTheLiverPokeWithItsCost) {
   // that mesh, no drawn surface, a volume per node, no softening.
   SceneDescription scene = weightlessPokeScene(bundled);
   scene.surface.reset();
-  scene.tetMesh = SceneMeshSource{mesh, 1.0, ""};
+  scene.tetMesh = SceneMeshSource{mesh, 1.0, "", std::nullopt};
   scene.model = "fem";
   scene.isSoftening = false;
   scene.volumeCells = "nodes";

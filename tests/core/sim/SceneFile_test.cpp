@@ -163,6 +163,17 @@ INSTANTIATE_TEST_SUITE_P(
                  "number > 1"},
         BadScene{"assessment-unknown.json",
                  "field 'assessment.force_threshold' is not a known field"},
+        BadScene{"refine-no-surface.json",
+                 "field 'tet_mesh.refine_towards_tool' needs a 'surface'"},
+        BadScene{"refine-no-instrument.json",
+                 "field 'tet_mesh.refine_towards_tool' needs an 'instrument'"},
+        BadScene{"refine-too-fine.json",
+                 "field 'tet_mesh.refine_towards_tool.finest_mm' must be at least 0.1"},
+        BadScene{"refine-coarsest-below-finest.json",
+                 "field 'tet_mesh.refine_towards_tool.coarsest_mm' must be at least finest_mm"},
+        BadScene{"refine-unknown.json",
+                 "field 'tet_mesh.refine_towards_tool.finest' is not a known field"},
+        BadScene{"refine-surface.json", "field 'surface.refine_towards_tool' is not a known field"},
         BadScene{"does-not-exist.json", "cannot open the scene file"}),
     [](const auto& scene) {
       std::string name = scene.param.file;
@@ -254,7 +265,7 @@ TEST(SceneGeometry, AMeshFarFromTheOriginInItsGuessedUnitIsRefused) {
            "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
   }
   SceneDescription scene = loadSceneFile(scenePath("minimal.json"));
-  scene.surface = SceneMeshSource{huge, 0.0, ""};
+  scene.surface = SceneMeshSource{huge, 0.0, "", std::nullopt};
   try {
     loadSceneGeometry(scene);
     ADD_FAILURE() << "a surface 10 km from the origin was accepted";
@@ -266,6 +277,84 @@ TEST(SceneGeometry, AMeshFarFromTheOriginInItsGuessedUnitIsRefused) {
         << message;
   }
   std::filesystem::remove_all(folder);
+}
+
+TEST(SceneGeometry, TheRefinedScenesMeshIsFineWhereTheToolAimsAndFollowsIt) {
+  const SceneDescription scene =
+      loadSceneFile(std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-fem-refined.json");
+  ASSERT_TRUE(scene.tetMesh->refinement.has_value());
+  EXPECT_DOUBLE_EQ(scene.tetMesh->refinement->finest_m, 0.004);
+  const TetMesh file = readTetMesh(scene.tetMesh->file);
+  const Eigen::Vector3d down(0.0, -1.0, 0.0);
+  // The longest edge with its midpoint within 5 mm of where the axis meets the drawn surface, and
+  // how far the mesh's own boundary lies below that point along the axis.
+  const auto nearAim = [&](const SceneGeometry& geometry, const Eigen::Vector3d& tip,
+                           double& longest_m, double& boundaryBelow_m) {
+    Eigen::Vector3d aim, boundary;
+    ASSERT_TRUE(
+        firstCrossing(geometry.surface->vertices_m, geometry.surface->triangles, tip, down, aim));
+    ASSERT_TRUE(
+        firstCrossing(geometry.mesh.nodes_m, boundaryFaces(geometry.mesh), tip, down, boundary));
+    boundaryBelow_m = aim.y() - boundary.y();
+    longest_m = 0.0;
+    const TetMesh& mesh = geometry.mesh;
+    for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+      for (int a = 0; a < 4; ++a) {
+        for (int b = a + 1; b < 4; ++b) {
+          const Eigen::Vector3d p = mesh.nodes_m.col(mesh.tets(a, t));
+          const Eigen::Vector3d q = mesh.nodes_m.col(mesh.tets(b, t));
+          if ((0.5 * (p + q) - aim).norm() < 0.005) longest_m = std::max(longest_m, (q - p).norm());
+        }
+      }
+    }
+  };
+  const SceneGeometry refined = loadSceneGeometry(scene);
+  EXPECT_GT(refined.mesh.nodeCount(), file.nodeCount());
+  double longest_m = 0.0, below_m = 0.0;
+  nearAim(refined, scene.instrument->tipStart_m, longest_m, below_m);
+  EXPECT_GT(longest_m, 0.0);
+  EXPECT_LE(longest_m, 0.004 + 0.005 * 2.0 * 2.0);  // the bound at 5 mm from the aim
+  // The coarse boundary's chord lies 2.4 mm inside the drawn surface there; moved onto it, 0.1.
+  EXPECT_LT(std::abs(below_m), 2e-4);
+  for (const int node : refined.fixedNodes)
+    EXPECT_TRUE(scene.fixed.box_m->contains(refined.mesh.nodes_m.col(node)));
+
+  SceneDescription unrefined = scene;
+  unrefined.tetMesh->refinement.reset();
+  const SceneGeometry coarse = loadSceneGeometry(unrefined);
+  EXPECT_EQ(coarse.mesh.nodeCount(), file.nodeCount());
+  double coarseLongest_m = 0.0, coarseBelow_m = 0.0;
+  nearAim(coarse, scene.instrument->tipStart_m, coarseLongest_m, coarseBelow_m);
+  EXPECT_GT(coarseLongest_m, 0.015);
+  EXPECT_GT(coarseBelow_m, 1e-3);
+
+  // The tool started 4 cm along x: the fine mesh is there now.
+  SceneDescription moved = scene;
+  moved.instrument->tipStart_m = Eigen::Vector3d(-0.04, 0.152, 0.045);
+  const SceneGeometry there = loadSceneGeometry(moved);
+  nearAim(there, moved.instrument->tipStart_m, longest_m, below_m);
+  EXPECT_LE(longest_m, 0.004 + 0.005 * 2.0 * 2.0);
+  EXPECT_LT(std::abs(below_m), 2e-4);
+
+  // Listed fixed nodes hold the nodes the refinement put between them.
+  SceneDescription listed = scene;
+  listed.fixed.box_m.reset();
+  for (int node = 0; node < file.nodeCount(); ++node) listed.fixed.nodes.push_back(node);
+  EXPECT_EQ(static_cast<Eigen::Index>(loadSceneGeometry(listed).fixedNodes.size()),
+            refined.mesh.nodeCount());
+
+  SceneDescription missing = scene;
+  missing.instrument->tipStart_m = Eigen::Vector3d(1.0, 0.152, 0.045);
+  try {
+    loadSceneGeometry(missing);
+    ADD_FAILURE() << "a refinement aimed past the organ was accepted";
+  } catch (const SceneFileError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("'tet_mesh.refine_towards_tool': the instrument's "
+                        "axis from tip_start_m along its direction misses"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 TEST(SceneGeometry, AFixedBoxThatSelectsNothingIsRefused) {
