@@ -170,6 +170,11 @@ class Refiner {
   }
 
   void addTet(const Tet& tet) {
+    if (++m_aliveCount > kMaxRefinedTets) {
+      throw std::invalid_argument("refined to this grading the mesh would pass " +
+                                  std::to_string(kMaxRefinedTets) +
+                                  " tets; make the finest size or the growth larger");
+    }
     const int index = static_cast<int>(m_tets.size());
     m_tets.push_back(tet);
     m_alive.push_back(1);
@@ -190,6 +195,7 @@ class Refiner {
       if (tets.empty()) m_edgeTets.erase(found);
     }
     m_alive[static_cast<std::size_t>(index)] = 0;
+    --m_aliveCount;
   }
 
   /// Longest-edge propagation: the tets round `key` whose longest edge is another are split at
@@ -292,6 +298,7 @@ class Refiner {
   std::vector<Eigen::Vector3d> m_nodes;
   std::vector<Tet> m_tets;
   std::vector<char> m_alive;
+  long m_aliveCount = 0;
   std::unordered_map<EdgeKey, std::vector<int>> m_edgeTets;
   std::priority_queue<std::pair<double, EdgeKey>> m_queue;
   std::vector<std::array<int, 2>> m_splitEdges;

@@ -39,9 +39,13 @@ struct RefinedTetMesh {
   Eigen::Matrix2Xi splitEdges;  ///< each new node's parents
 };
 
+/// The most tets a refinement may make: past it, a grading finer than any simulation here runs
+/// is refused rather than filling the memory (several times the trade map's largest network).
+inline constexpr long kMaxRefinedTets = 300'000;
+
 /// `mesh` refined to `grading`, its boundary's midpoints moved onto `surface` when it is given.
 /// @throws std::invalid_argument on a grading out of range (finest_m <= 0, growth < 0,
-/// coarsest_m < finest_m) or a mesh with an inverted tet.
+/// coarsest_m < finest_m), a mesh with an inverted tet, or a refinement past kMaxRefinedTets.
 RefinedTetMesh refineTetMesh(const TetMesh& mesh, const TetMeshGrading& grading,
                              const TriangleSurface* surface = nullptr);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -165,6 +166,16 @@ TEST(TetRefinement, ItRefusesAGradingOutOfRangeAndAnInvertedTet) {
   grading = blockGrading();
   grading.growth = -1.0;
   EXPECT_THROW(refineTetMesh(block, grading), std::invalid_argument);
+  grading = blockGrading();
+  grading.finest_m = 1e-5;  // 10 micrometres everywhere: billions of tets
+  grading.growth = 0.0;
+  try {
+    refineTetMesh(block, grading);
+    ADD_FAILURE() << "a refinement past the limit was made";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("would pass 300000 tets"), std::string::npos)
+        << error.what();
+  }
   TetMesh inverted = block;
   std::swap(inverted.tets(0, 3), inverted.tets(1, 3));
   EXPECT_THROW(refineTetMesh(inverted, blockGrading()), std::invalid_argument);
