@@ -94,7 +94,8 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
       geometry.mesh = std::move(refined.mesh);
       splitEdges = std::move(refined.splitEdges);
     } catch (const std::invalid_argument& error) {
-      throw SceneFileError(name + ": " + scene.tetMesh->file.string() + ": " + error.what());
+      throw SceneFileError(name + ": " + scene.tetMesh->file.lexically_normal().string() + ": " +
+                           error.what());
     }
   }
   if (geometry.surface) geometry.embedding.emplace(geometry.mesh, geometry.surface->vertices_m);
