@@ -1,26 +1,32 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "app/MeshCommand.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/CommandError.h"
 #include "app/OutputFile.h"
+#include "app/SceneSession.h"
 #include "mesh/LatticeMesher.h"
 #include "mesh/LengthUnit.h"
 #include "mesh/SurfaceInspection.h"
 #include "mesh/SurfaceReader.h"
 #include "mesh/TetMeshFile.h"
 #include "render/VtkMeshFiles.h"
+#include "sim/SceneGeometry.h"
 
 namespace tissuesim::app {
 namespace {
 
 struct MeshOptions {
   std::string input;
+  std::string scene;
+  std::vector<double> probeAt_m;
   std::string output;
   double edgeLength_mm = 0.0;
   int targetSprings = 0;
@@ -86,15 +92,62 @@ bool isTetMeshInput(const std::filesystem::path& path) {
   }
 }
 
+void writeMesh(const MeshOptions& options, const TetMesh& mesh) {
+  if (options.output.empty()) return;
+  try {
+    writeGmsh(options.output, mesh);
+  } catch (const MeshFileError& error) {
+    throw CommandError(error.what());
+  }
+  std::printf("wrote %s (Gmsh 2.2, metres)\n", options.output.c_str());
+}
+
+/// The tet mesh a scene simulates, refined where its tool aims when the scene says so
+/// (docs/scene-file.md, "Refined where the tool aims").
+void runSceneMesh(const MeshOptions& options) {
+  SceneDescription scene = readScene(options.scene);
+  if (!options.probeAt_m.empty()) {
+    if (!scene.instrument)
+      throw CommandError("--probe-at: " + options.scene + " has no instrument");
+    scene.instrument->tipStart_m =
+        Eigen::Vector3d(options.probeAt_m[0], options.probeAt_m[1], options.probeAt_m[2]);
+  }
+  SceneGeometry geometry;
+  try {
+    geometry = loadSceneGeometry(scene);
+  } catch (const SceneFileError& error) {
+    throw CommandError(error.what());
+  }
+  printQuality(geometry.mesh, scene.tetMesh && scene.tetMesh->refinement
+                                  ? "scene tet mesh, refined where its tool aims"
+                                  : "scene tet mesh");
+  writeMesh(options, geometry.mesh);
+}
+
 void runMesh(const MeshOptions& options) {
   if (options.edgeLength_mm > 0.0 && options.targetSprings > 0) {
     throw CommandError("give --edge-length or --target-springs, not both");
+  }
+  if (options.input.empty() == options.scene.empty()) {
+    throw CommandError("give --input or --scene, one of them");
+  }
+  if (!options.probeAt_m.empty() &&
+      (options.scene.empty() || options.probeAt_m.size() != 3 ||
+       !std::all_of(options.probeAt_m.begin(), options.probeAt_m.end(),
+                    [](double value) { return std::isfinite(value) && std::abs(value) < 10.0; }))) {
+    throw CommandError(
+        "--probe-at takes three finite coordinates in metres with --scene, e.g. "
+        "-0.04,0.152,0.045");
   }
   if (!options.output.empty()) {
     if (std::filesystem::path(options.output).extension() != ".msh") {
       throw CommandError("--output " + options.output + ": only Gmsh 2.2 (.msh) is written");
     }
     checkOutputWritable(options.output, "--output");
+  }
+  if (!options.scene.empty()) {
+    runSceneMesh(options);
+    return;
   }
   const std::filesystem::path input(options.input);
   const double scale = metresPerUnit(options);
@@ -164,14 +217,7 @@ void runMesh(const MeshOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(options.input + ": " + error.what());
   }
-  if (!options.output.empty()) {
-    try {
-      writeGmsh(options.output, mesh);
-    } catch (const MeshFileError& error) {
-      throw CommandError(error.what());
-    }
-    std::printf("wrote %s (Gmsh 2.2, metres)\n", options.output.c_str());
-  }
+  writeMesh(options, mesh);
 }
 
 }  // namespace
@@ -183,7 +229,15 @@ void registerMeshCommand(CLI::App& app) {
       "Given a surface (OBJ, STL, PLY, glTF/GLB, OFF, VTK...), build a tet mesh inside it; given a "
       "tet mesh (.msh, .node/.ele, .vtk, .vtu), check it. Quality figures either way; --output "
       "writes Gmsh 2.2.");
-  command->add_option("--input", options->input, "Surface or tet mesh file")->required();
+  command->add_option("--input", options->input, "Surface or tet mesh file");
+  command->add_option("--scene", options->scene,
+                      "Instead of --input: the tet mesh this scene simulates (refined where its "
+                      "tool aims when the scene says so)");
+  command
+      ->add_option("--probe-at", options->probeAt_m,
+                   "With --scene: the tool's tip starts here (x,y,z in metres)")
+      ->delimiter(',')
+      ->expected(3);
   command->add_option("--output", options->output, "Tet mesh to write (.msh)");
   command->add_option("--edge-length", options->edgeLength_mm, "Lattice edge length in mm");
   command->add_option("--target-springs", options->targetSprings,
