@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "app/MeshCommand.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -11,6 +10,7 @@
 
 #include "app/CommandError.h"
 #include "app/OutputFile.h"
+#include "app/ProbeAtOption.h"
 #include "app/SceneSession.h"
 #include "mesh/LatticeMesher.h"
 #include "mesh/LengthUnit.h"
@@ -104,13 +104,12 @@ void writeMesh(const MeshOptions& options, const TetMesh& mesh) {
 
 /// The tet mesh a scene simulates, refined where its tool aims when the scene says so
 /// (docs/scene-file.md, "Refined where the tool aims").
-void runSceneMesh(const MeshOptions& options) {
+void runSceneMesh(const MeshOptions& options, const std::optional<Eigen::Vector3d>& probeAt_m) {
   SceneDescription scene = readScene(options.scene);
-  if (!options.probeAt_m.empty()) {
+  if (probeAt_m) {
     if (!scene.instrument)
       throw CommandError("--probe-at: " + options.scene + " has no instrument");
-    scene.instrument->tipStart_m =
-        Eigen::Vector3d(options.probeAt_m[0], options.probeAt_m[1], options.probeAt_m[2]);
+    scene.instrument->tipStart_m = *probeAt_m;
   }
   SceneGeometry geometry;
   try {
@@ -131,14 +130,8 @@ void runMesh(const MeshOptions& options) {
   if (options.input.empty() == options.scene.empty()) {
     throw CommandError("give --input or --scene, one of them");
   }
-  if (!options.probeAt_m.empty() &&
-      (options.scene.empty() || options.probeAt_m.size() != 3 ||
-       !std::all_of(options.probeAt_m.begin(), options.probeAt_m.end(),
-                    [](double value) { return std::isfinite(value) && std::abs(value) < 10.0; }))) {
-    throw CommandError(
-        "--probe-at takes three finite coordinates in metres with --scene, e.g. "
-        "-0.04,0.152,0.045");
-  }
+  const std::optional<Eigen::Vector3d> probeAt_m = probeAtOption(options.probeAt_m);
+  if (probeAt_m && options.scene.empty()) throw CommandError("--probe-at is for --scene");
   if (!options.output.empty()) {
     if (std::filesystem::path(options.output).extension() != ".msh") {
       throw CommandError("--output " + options.output + ": only Gmsh 2.2 (.msh) is written");
@@ -146,7 +139,7 @@ void runMesh(const MeshOptions& options) {
     checkOutputWritable(options.output, "--output");
   }
   if (!options.scene.empty()) {
-    runSceneMesh(options);
+    runSceneMesh(options, probeAt_m);
     return;
   }
   const std::filesystem::path input(options.input);

@@ -17,6 +17,7 @@
 #include "app/LoadedTissue.h"
 #include "app/OrganPoke.h"
 #include "app/OutputFile.h"
+#include "app/ProbeAtOption.h"
 #include "app/SceneSession.h"
 #include "fem/FemModel.h"
 #include "mesh/TetMesh.h"
@@ -146,21 +147,13 @@ void runOrganPoke(const OrganPokeOptions& options) {
     throw CommandError("--haptic-rate-iterations must be in [0, 20]");
   if (!(options.hapticRateVolumeTerm_kPa >= 0.0) || options.hapticRateVolumeTerm_kPa > 1e7)
     throw CommandError("--haptic-rate-volume-term-kpa must be in [0, 1e7]");
-  if (!options.probeAt_m.empty() &&
-      (options.probeAt_m.size() != 3 ||
-       !std::all_of(options.probeAt_m.begin(), options.probeAt_m.end(),
-                    [](double value) { return std::isfinite(value) && std::abs(value) < 10.0; })))
-    throw CommandError(
-        "--probe-at takes three finite coordinates in metres, e.g. -0.04,0.152,0.045");
+  const std::optional<Eigen::Vector3d> probeAt_m = probeAtOption(options.probeAt_m);
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.femCachePath.empty()) checkOutputWritable(options.femCachePath, "--fem-cache");
 
   // Weightless and on nothing but its fixed region: the continuum reference's conditions.
   SceneDescription scene = weightlessPokeScene(readScene(options.scenePath));
-  if (!options.probeAt_m.empty()) {
-    scene.instrument->tipStart_m =
-        Eigen::Vector3d(options.probeAt_m[0], options.probeAt_m[1], options.probeAt_m[2]);
-  }
+  if (probeAt_m) scene.instrument->tipStart_m = *probeAt_m;
   // The haptic-rate row's mesh read before the reference is solved (minutes): a bad file fails
   // at once.
   std::optional<TetMesh> hapticRateOrgan;
