@@ -4,8 +4,10 @@
 // the point are bisected, each bisection splitting every tet round the edge in two at its
 // midpoint, so the mesh stays conforming. A tet is only ever split at its longest edge (Rivara's
 // longest-edge propagation: to split an edge that is not the longest of one of its tets, that
-// tet's longest edge is split first), which bounds how far the tets' shapes can degrade however
-// deep the refinement goes (Rivara, Int. J. Numer. Meth. Eng. 1984, 20:745-756).
+// tet's longest edge is split first; Rivara and Levin, Commun. Appl. Numer. Methods 1992,
+// 8:281-290, for tets). In the plane this bounds how far the shapes degrade however deep the
+// refinement goes (Rivara 1984); for tets the bound is observed rather than proven, and the tests
+// check it on the meshes refined here.
 //
 // A midpoint on the boundary is moved onto the drawn surface (its closest point), when given and
 // when the move neither inverts one of the new tets nor is more than a quarter of the edge long:
