@@ -310,6 +310,11 @@ TEST(SceneGeometry, TheRefinedScenesMeshIsFineWhereTheToolAimsAndFollowsIt) {
   };
   const SceneGeometry refined = loadSceneGeometry(scene);
   EXPECT_GT(refined.mesh.nodeCount(), file.nodeCount());
+  // Bisected to a sixth of its edges' length, the mesh's worst tet keeps a quarter of the file's
+  // radius ratio, and none is inverted (the boundary's moves onto the surface included).
+  const double fileRadiusRatio = inspectTets(file).minRadiusRatio;
+  EXPECT_GT(inspectTets(refined.mesh).minRadiusRatio, 0.25 * fileRadiusRatio);
+  EXPECT_TRUE(inspectTets(refined.mesh).invertedTets.empty());
   double longest_m = 0.0, below_m = 0.0;
   nearAim(refined, scene.instrument->tipStart_m, longest_m, below_m);
   EXPECT_GT(longest_m, 0.0);
@@ -332,6 +337,8 @@ TEST(SceneGeometry, TheRefinedScenesMeshIsFineWhereTheToolAimsAndFollowsIt) {
   SceneDescription moved = scene;
   moved.instrument->tipStart_m = Eigen::Vector3d(-0.04, 0.152, 0.045);
   const SceneGeometry there = loadSceneGeometry(moved);
+  EXPECT_GT(inspectTets(there.mesh).minRadiusRatio, 0.25 * fileRadiusRatio);
+  EXPECT_TRUE(inspectTets(there.mesh).invertedTets.empty());
   nearAim(there, moved.instrument->tipStart_m, longest_m, below_m);
   EXPECT_LE(longest_m, 0.004 + 0.005 * 2.0 * 2.0);
   EXPECT_LT(std::abs(below_m), 2e-4);
