@@ -13,8 +13,8 @@
 #include <random>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
+#include <Eigen/Cholesky>
 
 #include "forces/CapsuleGap.h"
 #include "forces/CapsulePenalty.h"
