@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,59 +66,55 @@ TEST(OrganPoke, TheBundledLiverPokesKeptForcesAreTheBundledScenes) {
   }
 }
 
+/// The second site, 4 cm along x from the bundled poke (`measure` passes `--probe-at
+/// -0.04,0.152,0.045`), and its reference graded there, kept to 5 mm.
+const Eigen::Vector3d kSecondSite_m(-0.04, 0.152, 0.045);
+const std::vector<double> kSecondSiteDepths_mm{1.0, 2.0, 3.0, 4.0, 5.0};
+const std::vector<double> kSecondSiteDepths_m{0.001, 0.002, 0.003, 0.004, 0.005};
+
+/// The second site's kept forces, when they are `scene`'s reference there.
+std::optional<std::vector<double>> secondSiteKeptForces(const SceneDescription& scene,
+                                                        std::string& why) {
+  const LoadedTissue tissue(scene.tissue.string());
+  const std::string mesh = kAssets + "/meshes/liver-fem-site-b.msh";
+  return readFemForceCache(kAssets + "/meshes/liver-fem-site-b-poke.csv",
+                           femReferenceKey(scene, mesh, organPokeSetup(scene, kSecondSiteDepths_m),
+                                           defaultFemBulkModulus(tissue.energy)),
+                           kSecondSiteDepths_mm, why);
+}
+
 TEST(OrganPoke, TheSecondSitesKeptForcesAreTheBundledScenesProbeMovedThere) {
-  // The reference graded towards a second site, 4 cm along x from the bundled poke (`measure`
-  // passes `--probe-at -0.04,0.152,0.045` with it), kept to 5 mm: its key is the bundled scene's
-  // with the probe moved there, not the bundled poke's.
+  // Its key is the bundled scene's with the probe moved there, not the bundled poke's.
   const SceneDescription bundled =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-poke.json"));
   SceneDescription moved = bundled;
-  moved.instrument->tipStart_m = Eigen::Vector3d(-0.04, 0.152, 0.045);
-  const LoadedTissue tissue(bundled.tissue.string());
-  const std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0};
-  const std::vector<double> depths_m{0.001, 0.002, 0.003, 0.004, 0.005};
-  const std::string mesh = kAssets + "/meshes/liver-fem-site-b.msh";
-  const std::string kept = kAssets + "/meshes/liver-fem-site-b-poke.csv";
-  const double bulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
+  moved.instrument->tipStart_m = kSecondSite_m;
   std::string why;
-  const auto forces = readFemForceCache(
-      kept, femReferenceKey(moved, mesh, organPokeSetup(moved, depths_m), bulkModulus_Pa),
-      depths_mm, why);
+  const auto forces = secondSiteKeptForces(moved, why);
   ASSERT_TRUE(forces.has_value()) << why;
   for (std::size_t d = 1; d < forces->size(); ++d) EXPECT_GT((*forces)[d], (*forces)[d - 1]);
-  EXPECT_FALSE(
-      readFemForceCache(
-          kept, femReferenceKey(bundled, mesh, organPokeSetup(bundled, depths_m), bulkModulus_Pa),
-          depths_mm, why)
-          .has_value());
+  EXPECT_FALSE(secondSiteKeptForces(bundled, why).has_value());
 }
 
 TEST(OrganPoke, TheRefinedFemSceneMovedToTheSecondSiteIsWithinTenPerCentOfItsReference) {
   // The coarse body refined where the tool aims, its tool started over the second site: the
   // liver poke there through the scene's own steps, against the reference kept for that site.
-  const SceneDescription scene =
+  SceneDescription moved =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
-  SceneDescription moved = scene;
-  moved.instrument->tipStart_m = Eigen::Vector3d(-0.04, 0.152, 0.045);
-  const LoadedTissue tissue(scene.tissue.string());
-  const std::vector<double> depths_mm{1.0, 2.0, 3.0, 4.0, 5.0};
-  const std::vector<double> depths_m{0.001, 0.002, 0.003, 0.004, 0.005};
-  const std::string mesh = kAssets + "/meshes/liver-fem-site-b.msh";
+  moved.instrument->tipStart_m = kSecondSite_m;
   std::string why;
-  const auto reference =
-      readFemForceCache(kAssets + "/meshes/liver-fem-site-b-poke.csv",
-                        femReferenceKey(moved, mesh, organPokeSetup(moved, depths_m),
-                                        defaultFemBulkModulus(tissue.energy)),
-                        depths_mm, why);
+  const auto reference = secondSiteKeptForces(moved, why);
   ASSERT_TRUE(reference.has_value()) << why;
-  const SimulatorPoke refined = pokeSimulator(moved, depths_m, 0.002);
+  const SimulatorPoke refined = pokeSimulator(moved, kSecondSiteDepths_m, 0.002);
   EXPECT_EQ(refined.events, 0);
-  for (std::size_t d = 0; d < depths_m.size(); ++d)
-    EXPECT_NEAR(refined.force_N[d] / (*reference)[d], 1.0, 0.10) << depths_mm[d] << " mm";
+  for (std::size_t d = 0; d < kSecondSiteDepths_m.size(); ++d) {
+    EXPECT_NEAR(refined.force_N[d] / (*reference)[d], 1.0, 0.10)
+        << kSecondSiteDepths_mm[d] << " mm";
+  }
   // The same body as the file has it, 24 mm tets there: far too stiff.
   SceneDescription coarse = moved;
   coarse.tetMesh->refinement.reset();
-  const SimulatorPoke unrefined = pokeSimulator(coarse, depths_m, 0.002);
+  const SimulatorPoke unrefined = pokeSimulator(coarse, kSecondSiteDepths_m, 0.002);
   EXPECT_GT(unrefined.force_N[1] / (*reference)[1], 1.3);
 }
 
