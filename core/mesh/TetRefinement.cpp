@@ -106,7 +106,8 @@ class Refiner {
     while (!m_queue.empty()) {
       const EdgeKey key = m_queue.top().second;
       m_queue.pop();
-      if (m_edgeTets.count(key) != 0 && isTooLong(key)) bisect(key);
+      // Queued only when too long, with its ends where they stay: split unless it already was.
+      if (m_edgeTets.count(key) != 0) bisect(key);
     }
   }
 

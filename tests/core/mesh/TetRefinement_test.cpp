@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -11,41 +10,24 @@
 #include <gtest/gtest.h>
 
 #include "mesh/BlockMesher.h"
+#include "mesh/SurfaceInspection.h"
 
 namespace tissuesim {
 namespace {
 
-double totalVolume(const TetMesh& mesh) {
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t)
-    volume += signedTetVolume(mesh.nodes_m, mesh.tets, t);
-  return volume;
-}
+double totalVolume(const TetMesh& mesh) { return inspectTets(mesh).totalVolume_m3; }
 
+/// The mesh's boundary as a surface: its area, and whether it is closed (a hanging node would
+/// leave a face inside the mesh unmatched, an edge with one face).
+TriangleSurface boundarySurface(const TetMesh& mesh) {
+  return TriangleSurface{mesh.nodes_m, boundaryFaces(mesh)};
+}
 double boundaryArea(const TetMesh& mesh) {
-  const Eigen::Matrix3Xi faces = boundaryFaces(mesh);
-  double area = 0.0;
-  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
-    const Eigen::Vector3d a = mesh.nodes_m.col(faces(0, f));
-    area +=
-        0.5 * (mesh.nodes_m.col(faces(1, f)) - a).cross(mesh.nodes_m.col(faces(2, f)) - a).norm();
-  }
-  return area;
+  const TriangleSurface boundary = boundarySurface(mesh);
+  return vertexAreas(boundary.vertices_m, boundary.triangles).sum();
 }
-
-/// Each edge of the boundary in exactly two boundary faces: a closed surface, so no face inside
-/// the mesh is left unmatched (a hanging node would leave one).
 bool isBoundaryClosed(const TetMesh& mesh) {
-  const Eigen::Matrix3Xi faces = boundaryFaces(mesh);
-  std::map<std::pair<int, int>, int> uses;
-  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int a = faces(c, f);
-      const int b = faces((c + 1) % 3, f);
-      ++uses[{std::min(a, b), std::max(a, b)}];
-    }
-  }
-  return std::all_of(uses.begin(), uses.end(), [](const auto& use) { return use.second == 2; });
+  return inspectSurface(boundarySurface(mesh)).isClosedManifold();
 }
 
 TetMeshGrading blockGrading() {
