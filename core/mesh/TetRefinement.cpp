@@ -5,7 +5,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <queue>
 #include <stdexcept>
@@ -14,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/SegmentTriangleDistance.h"
+#include "mesh/ClosestSurfacePoint.h"
 
 namespace tissuesim {
 
@@ -37,54 +36,6 @@ int secondNode(EdgeKey key) { return static_cast<int>(key & 0xffffffffu); }
 
 constexpr std::array<std::array<int, 2>, 6> kTetEdges = {
     {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}}};
-
-/// The drawn surface's closest point, its triangles visited nearest bound first.
-class ClosestSurfacePoint {
- public:
-  explicit ClosestSurfacePoint(const TriangleSurface& surface) : m_surface(surface) {
-    const Eigen::Index count = surface.triangleCount();
-    m_centres.resize(3, count);
-    m_radii.resize(count);
-    for (Eigen::Index t = 0; t < count; ++t) {
-      const Eigen::Vector3d centre = (surface.vertices_m.col(surface.triangles(0, t)) +
-                                      surface.vertices_m.col(surface.triangles(1, t)) +
-                                      surface.vertices_m.col(surface.triangles(2, t))) /
-                                     3.0;
-      m_centres.col(t) = centre;
-      double radius = 0.0;
-      for (int c = 0; c < 3; ++c)
-        radius =
-            std::max(radius, (surface.vertices_m.col(surface.triangles(c, t)) - centre).norm());
-      m_radii(t) = radius;
-    }
-  }
-
-  Eigen::Vector3d operator()(const Eigen::Vector3d& point) const {
-    double best = std::numeric_limits<double>::infinity();
-    Eigen::Vector3d closest = point;
-    for (Eigen::Index t = 0; t < m_centres.cols(); ++t) {
-      // A triangle lies within its radius of its centre: one farther off than the best so far by
-      // more than that cannot hold a nearer point.
-      if ((m_centres.col(t) - point).norm() - m_radii(t) >= best) continue;
-      Eigen::Vector3d weights;
-      const Eigen::Vector3d candidate =
-          closestPointOnTriangle(point, m_surface.vertices_m.col(m_surface.triangles(0, t)),
-                                 m_surface.vertices_m.col(m_surface.triangles(1, t)),
-                                 m_surface.vertices_m.col(m_surface.triangles(2, t)), weights);
-      const double distance = (candidate - point).norm();
-      if (distance < best) {
-        best = distance;
-        closest = candidate;
-      }
-    }
-    return closest;
-  }
-
- private:
-  const TriangleSurface& m_surface;
-  Eigen::Matrix3Xd m_centres;
-  Eigen::VectorXd m_radii;
-};
 
 class Refiner {
  public:
