@@ -35,23 +35,28 @@ FemModel::FemModel(const QuadraticTetMesh& mesh, const StrainEnergy& energy, dou
   m_energyPoints.reserve(4 * static_cast<std::size_t>(mesh.tetCount()));
   m_volumePoints.reserve(5 * static_cast<std::size_t>(mesh.tetCount()));
   for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
-    // Straight edges: X(xi) is affine, dX/dxi the corners' edge vectors.
-    const Eigen::Vector3d x0 = mesh.nodes_m.col(mesh.tets(0, t));
-    Eigen::Matrix3d jacobian;
-    for (int c = 0; c < 3; ++c) jacobian.col(c) = mesh.nodes_m.col(mesh.tets(c + 1, t)) - x0;
-    const double determinant = jacobian.determinant();
-    if (!(determinant > 0.0)) {
-      throw std::invalid_argument("FEM: element " + std::to_string(t) +
-                                  " is flat or inverted at rest");
+    // dX/dxi at each point: constant on a straight-edged tet, linear in xi on one with a curved
+    // boundary edge (isoparametric: QuadraticTetShape.h).
+    const auto restPoint = [&](const TetQuadraturePoint& point) -> PointData {
+      const Eigen::Matrix3d jacobian = quadraticTetJacobian(mesh, t, point.xi);
+      const double determinant = jacobian.determinant();
+      if (!(determinant > 0.0)) {
+        throw std::invalid_argument("FEM: element " + std::to_string(t) +
+                                    " is flat or inverted at rest");
+      }
+      return {quadraticTetShapeGradients(point.xi) * jacobian.inverse(),
+              point.weight * determinant};
+    };
+    for (const TetQuadraturePoint& point : energyRule) m_energyPoints.push_back(restPoint(point));
+    // V_e by the rule its deformed volume takes (exact: det(dX/dxi) is cubic in xi).
+    double restVolume_m3 = 0.0;
+    for (const TetQuadraturePoint& point : volumeRule) {
+      m_volumePoints.push_back(restPoint(point));
+      restVolume_m3 += m_volumePoints.back().weight_m3;
     }
-    const Eigen::Matrix3d inverse = jacobian.inverse();
-    m_restVolume_m3[t] = determinant / 6.0;
-    for (const TetQuadraturePoint& point : energyRule)
-      m_energyPoints.push_back(
-          {quadraticTetShapeGradients(point.xi) * inverse, point.weight * determinant});
-    for (const TetQuadraturePoint& point : volumeRule)
-      m_volumePoints.push_back(
-          {quadraticTetShapeGradients(point.xi) * inverse, point.weight * determinant});
+    if (!(restVolume_m3 > 0.0))
+      throw std::invalid_argument("FEM: element " + std::to_string(t) + " has no volume at rest");
+    m_restVolume_m3[t] = restVolume_m3;
   }
 }
 

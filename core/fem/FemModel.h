@@ -11,8 +11,9 @@
 // quadratic tet with one dilatation per element is locking-free and keeps the energy a plain
 // function of x, so Newton's Hessian is its exact second derivative. Scaling F to the element's
 // mean dilatation (F-bar) leaves I1bar unchanged, so the isochoric part is W_T at F itself.
-// The isochoric energy is integrated by the degree-2 rule (four points), v_e exactly by the
-// degree-3 rule (J is cubic on a straight-edged quadratic tet): QuadraticTetShape.h.
+// The isochoric energy is integrated by the degree-2 rule (four points), v_e and V_e exactly by
+// the degree-3 rule (det(dx/dxi) is cubic on a quadratic tet, its edges straight or curved),
+// each point with its own dX/dxi (isoparametric): QuadraticTetShape.h.
 //
 // With stress softening (setSoftening; fem/IsochoricSoftening.h) each isochoric point below its
 // peak has W_s in place of W_T, whose stress is the virgin one times the paper's F: its peak

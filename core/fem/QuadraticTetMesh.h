@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A quadratic (10-node) tetrahedral mesh made from a linear one: each tet keeps its four corners
-// and gains a node at the middle of each edge (shared between the tets around the edge), with
-// straight edges, so the map from the reference tet is affine (one Jacobian per tet).
+// and gains a node at the middle of each edge (shared between the tets around the edge), its edges
+// straight as made: the map from the reference tet is affine then, and quadratic once a middle
+// node is moved off its edge's middle (the boundary bent onto a drawn surface:
+// fem/CurvedBoundary.h; the FEM takes dX/dxi at each quadrature point, fem/QuadraticTetShape.h).
 //
 // Node order in a tet (VTK's quadratic tetra): corners 0-3, then the midpoints of the edges
 // (0,1), (1,2), (0,2), (0,3), (1,3), (2,3). Shapes: nodes 3 by #V (m), tets 10 by #T; the first

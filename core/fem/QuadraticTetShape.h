@@ -11,8 +11,13 @@
 //   degree 2, four points at (a, b, b, b) permutations, a = (5 + 3 sqrt 5) / 20,
 //     b = (5 - sqrt 5) / 20, weights 1/24: the isochoric energy (positive weights);
 //   degree 3, Keast's five points: the centroid with weight -2/15 and (1/2, 1/6, 1/6, 1/6)
-//     permutations with 3/40: the element's deformed volume, J being cubic in xi on a
-//     quadratic tet with straight edges, so integrated exactly.
+//     permutations with 3/40: the element's volume, at rest and deformed, det(dx/dxi) being
+//     cubic in xi on a quadratic tet (its edges straight or curved), so integrated exactly.
+//
+// The map from the reference tet, X(xi) = sum_a X_a N_a(xi), has the Jacobian
+//   dX/dxi = sum_a X_a (dN_a/dxi)^T   (3 by 3)
+// constant where the edges are straight, linear in xi where a middle node is off its edge's
+// middle (fem/CurvedBoundary.h).
 
 #include <array>
 #include <cmath>
@@ -72,6 +77,15 @@ inline Eigen::Matrix<double, 10, 3> quadraticTetShapeGradients(const Eigen::Vect
     gradients.row(4 + e) = 4.0 * (l[j] * dl[i] + l[i] * dl[j]).transpose();
   }
   return gradients;
+}
+
+/// dX/dxi of tet t at xi (above; 3 by 3, columns d/dxi, d/deta, d/dzeta).
+inline Eigen::Matrix3d quadraticTetJacobian(const QuadraticTetMesh& mesh, Eigen::Index t,
+                                            const Eigen::Vector3d& xi) {
+  const Eigen::Matrix<double, 10, 3> gradients = quadraticTetShapeGradients(xi);
+  Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < 10; ++a) jacobian += mesh.nodes_m.col(mesh.tets(a, t)) * gradients.row(a);
+  return jacobian;
 }
 
 }  // namespace tissuesim

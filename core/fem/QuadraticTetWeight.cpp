@@ -5,6 +5,10 @@
 #include <numeric>
 #include <stdexcept>
 
+#include <Eigen/LU>
+
+#include "fem/QuadraticTetShape.h"
+
 namespace tissuesim {
 
 NodalLoads quadraticTetWeight(const QuadraticTetMesh& mesh, double density_kg_m3,
@@ -15,13 +19,16 @@ NodalLoads quadraticTetWeight(const QuadraticTetMesh& mesh, double density_kg_m3
   loads.nodes.resize(static_cast<std::size_t>(mesh.nodeCount()));
   std::iota(loads.nodes.begin(), loads.nodes.end(), 0);
   loads.forces_N.setZero(3, mesh.nodeCount());
+  const auto rule = tetQuadratureDegree3();
   for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
-    const Eigen::Vector3d x0 = mesh.nodes_m.col(mesh.tets(0, t));
-    Eigen::Matrix3d edges;
-    for (int c = 0; c < 3; ++c) edges.col(c) = mesh.nodes_m.col(mesh.tets(c + 1, t)) - x0;
-    const Eigen::Vector3d weight_N = density_kg_m3 * (edges.determinant() / 6.0) * gravity_m_s2;
-    for (int a = 0; a < 4; ++a) loads.forces_N.col(mesh.tets(a, t)) -= weight_N / 20.0;
-    for (int a = 4; a < 10; ++a) loads.forces_N.col(mesh.tets(a, t)) += weight_N / 5.0;
+    for (const TetQuadraturePoint& point : rule) {
+      const Eigen::Vector4d l(1.0 - point.xi.sum(), point.xi.x(), point.xi.y(), point.xi.z());
+      const Eigen::Matrix<double, 10, 1> shares = quadraticTetShapeValues(l);
+      const double volume_m3 = point.weight * quadraticTetJacobian(mesh, t, point.xi).determinant();
+      for (int a = 0; a < 10; ++a)
+        loads.forces_N.col(mesh.tets(a, t)) +=
+            (density_kg_m3 * shares(a) * volume_m3) * gravity_m_s2;
+    }
   }
   return loads;
 }

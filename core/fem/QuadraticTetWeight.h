@@ -2,10 +2,13 @@
 #pragma once
 // A quadratic tet mesh's own weight as nodal loads, the consistent ones of a uniform body force:
 //
-//   f_a = rho g integral_e N_a dV:   -V_e / 20 at each corner, V_e / 5 at each edge's midpoint
+//   f_a = rho g integral_e N_a dV = rho g integral N_a det(dX/dxi) dxi
 //
-// (the straight-edged 10-node tet's shape functions integrated; they sum to V_e). A corner's load
-// is negative: consistent, not lumped, so that the work of gravity on the quadratic field is exact.
+// integrated by the degree-3 rule (QuadraticTetShape.h): on a straight-edged tet, exactly
+// -V_e / 20 at each corner and V_e / 5 at each edge's middle node; on a curved one (a boundary
+// edge bent onto the drawn surface, fem/CurvedBoundary.h) nearly so, the loads still summing to
+// rho g V_e, since the N_a sum to 1 at every point. A corner's load is negative: consistent, not
+// lumped, so that the work of gravity on the quadratic field is exact.
 // Units: rho kg/m^3, g m/s^2, loads N (3 by #loads).
 
 #include <Eigen/Core>
