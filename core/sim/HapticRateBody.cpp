@@ -59,6 +59,8 @@ HapticRateBody::HapticRateBody(const TetMesh& mesh, const std::vector<int>& fixe
     throw std::invalid_argument(
         "HapticRateBody: the probe's radius, the spacing and the penalty must be > 0, the "
         "latency >= 0");
+  if (settings.drawnSurface != nullptr)
+    m_curvedBoundary = curveBoundaryOnto(m_mesh, mesh, *settings.drawnSurface);
   std::vector<CapsulePenalty::Point> points =
       sampleSurfacePoints(m_mesh, quadraticSurfacePieces(mesh, m_mesh), settings.contactSpacing_m,
                           settings.pressureStiffness_Pa_m, Eigen::Vector3d::Zero(),

@@ -2,8 +2,9 @@
 #pragma once
 // A scene's organ as the continuum reference's element at its own rate, the probe's contact at
 // the haptic rate (effects.model "fem-haptic-rate"; fem/HapticRateFem.h has the scheme): the
-// scene's tet mesh made quadratic (one dilatation per tet, FemModel.h), its surface sampled for
-// the probe's penalty (fem/SampledSurface.h), the fixed nodes held, weightless unless the
+// scene's tet mesh made quadratic (one dilatation per tet, FemModel.h), its boundary bent onto the
+// drawn surface where the scene has one (fem/CurvedBoundary.h), its surface sampled for the
+// probe's penalty (fem/SampledSurface.h), the fixed nodes held, weightless unless the
 // settings give gravity (below).
 //
 // Two clocks on two threads. The haptic step (the caller's, 1 kHz) solves the probe's contact
@@ -41,6 +42,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "fem/CurvedBoundary.h"
 #include "fem/FemModel.h"
 #include "fem/HapticRateFem.h"
 #include "fem/QuadraticTetMesh.h"
@@ -51,6 +53,7 @@
 #include "material/StrainEnergy.h"
 #include "material/StressSoftening.h"
 #include "mesh/TetMesh.h"
+#include "mesh/TriangleSurface.h"
 #include "sim/Grasp.h"
 
 namespace tissuesim {
@@ -78,6 +81,10 @@ struct HapticRateBodySettings {
   /// Stress softening at the body's material points (fem/IsochoricSoftening.h), its
   /// history taken where each update starts; none: the virgin curve.
   std::optional<StressSoftening> softening;
+  /// The surface the mesh was made conformal to (must outlive the constructor; null: none): the
+  /// boundary's quadratic faces bent onto it (fem/CurvedBoundary.h), so that the probe meets
+  /// the tissue where it is drawn rather than on the coarse mesh's chords inside it.
+  const TriangleSurface* drawnSurface = nullptr;
 };
 
 /// One haptic step's outcome.
@@ -162,6 +169,10 @@ class HapticRateBody {
   /// The force the tray carries with the body where it starts (N; zero without a tray).
   const Eigen::Vector3d& startTraySupport_N() const { return m_startTraySupport_N; }
   Eigen::Index tetCount() const { return m_mesh.tetCount(); }
+  /// The quadratic body at rest (its boundary bent onto the drawn surface where one was given).
+  const QuadraticTetMesh& mesh() const { return m_mesh; }
+  /// The boundary's edges bent onto the drawn surface (all left straight without one).
+  const CurvedBoundaryReport& curvedBoundary() const { return m_curvedBoundary; }
   std::size_t surfacePoints() const { return m_surfacePoints; }
   const HapticRateBodySettings& settings() const { return m_settings; }
   /// The last refused update's reason (empty when none was).
@@ -196,6 +207,7 @@ class HapticRateBody {
 
   HapticRateBodySettings m_settings;
   QuadraticTetMesh m_mesh;
+  CurvedBoundaryReport m_curvedBoundary;
   std::unique_ptr<FemModel> m_model;
   NodalLoads m_weight;                   ///< empty when weightless
   std::unique_ptr<PlanePenalty> m_tray;  ///< null without a tray

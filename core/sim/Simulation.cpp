@@ -128,6 +128,8 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     settings.gravity_m_s2 = scene.gravity_m_s2;
     settings.density_kg_m3 = newParameters->density_kg_m3;
     settings.letGoTravel_m = hapticRateToolSpeed_m_s(scene, *energy) * scene.timeStep_s;
+    // The body meets the probe on the surface the trainee sees (fem/CurvedBoundary.h).
+    if (m_geometry.surface) settings.drawnSurface = &*m_geometry.surface;
     // The same softening as the springs', per material point, its onset rounded for the
     // updates' Newton iterations (fem/IsochoricSoftening.h).
     if (scene.isSoftening && StressSoftening(*newParameters).isEnabled())

