@@ -12,6 +12,8 @@
 #include "app/OutputFile.h"
 #include "app/ProbeAtOption.h"
 #include "app/SceneSession.h"
+#include "fem/CurvedBoundary.h"
+#include "fem/QuadraticTetMesh.h"
 #include "mesh/LatticeMesher.h"
 #include "mesh/LengthUnit.h"
 #include "mesh/SurfaceInspection.h"
@@ -120,6 +122,18 @@ void runSceneMesh(const MeshOptions& options, const std::optional<Eigen::Vector3
   printQuality(geometry.mesh, scene.tetMesh && scene.tetMesh->refinement
                                   ? "scene tet mesh, refined where its tool aims"
                                   : "scene tet mesh");
+  // The FEM at its own rate bends the quadratic body's boundary onto the drawn surface (the file
+  // written is the linear mesh it starts from).
+  if (scene.model == "fem-haptic-rate" && geometry.surface) {
+    QuadraticTetMesh quadratic = makeQuadraticTetMesh(geometry.mesh);
+    const CurvedBoundaryReport curved =
+        curveBoundaryOnto(quadratic, geometry.mesh, *geometry.surface);
+    std::printf(
+        "  boundary bent onto the drawn surface: %d of %d edges (%d part of the way, %d left "
+        "straight), the largest move %.2f mm\n",
+        curved.bent + curved.shortened, curved.boundaryEdges, curved.shortened, curved.left,
+        1e3 * curved.largestMove_m);
+  }
   writeMesh(options, geometry.mesh);
 }
 
