@@ -41,24 +41,37 @@ struct BundledMapPoke {
   }();
 };
 
+/// The liver poke's depths (organ-poke's), in metres.
+std::vector<double> organPokeDepths_m() {
+  std::vector<double> depths_m;
+  for (const double depth : kOrganPokeDepths_mm) depths_m.push_back(depth / 1000.0);
+  return depths_m;
+}
+
+/// The liver poke's forces kept in assets/meshes/`kept` for the reference on assets/meshes/`mesh`,
+/// when they are `scene`'s reference.
+std::optional<std::vector<double>> keptPokeForces(const SceneDescription& scene,
+                                                  const std::string& mesh, const std::string& kept,
+                                                  std::string& why) {
+  const LoadedTissue tissue(scene.tissue.string());
+  return readFemForceCache(kAssets + "/meshes/" + kept,
+                           femReferenceKey(scene, kAssets + "/meshes/" + mesh,
+                                           organPokeSetup(scene, organPokeDepths_m()),
+                                           defaultFemBulkModulus(tissue.energy)),
+                           kOrganPokeDepths_mm, why);
+}
+
 TEST(OrganPoke, TheBundledLiverPokesKeptForcesAreTheBundledScenes) {
   // The reference on its mesh, and the reference's element on the map's graded meshes (`trade`
   // reads these; the 5 mm mesh's solves do not all converge, so it keeps none).
   const SceneDescription scene =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-poke.json"));
-  const LoadedTissue tissue(scene.tissue.string());
-  std::vector<double> depths_m;
-  for (const double depth : kOrganPokeDepths_mm) depths_m.push_back(depth / 1000.0);
   for (const auto& [mesh, kept] :
        {std::pair<std::string, std::string>{"liver-fem.msh", "liver-fem-poke.csv"},
         {"liver-graded-2p5mm.msh", "liver-graded-2p5mm-poke.csv"},
         {"liver-graded-1p25mm.msh", "liver-graded-1p25mm-poke.csv"}}) {
-    const std::uint64_t key =
-        femReferenceKey(scene, kAssets + "/meshes/" + mesh, organPokeSetup(scene, depths_m),
-                        defaultFemBulkModulus(tissue.energy));
     std::string why;
-    const auto forces =
-        readFemForceCache(kAssets + "/meshes/" + kept, key, kOrganPokeDepths_mm, why);
+    const auto forces = keptPokeForces(scene, mesh, kept, why);
     ASSERT_TRUE(forces.has_value()) << kept << ": " << why;
     // The continuum stiffens with depth under the probe.
     for (std::size_t d = 1; d < forces->size(); ++d)
@@ -103,16 +116,9 @@ TEST(OrganPoke, TheRefinedFemSceneIsWithinTenPerCentOfTheReferenceAtTheBundledEn
   // surface there), the same body read 8 to 17 % soft.
   const SceneDescription scene =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
-  const LoadedTissue tissue(scene.tissue.string());
-  std::vector<double> depths_m;
-  for (const double depth : kOrganPokeDepths_mm) depths_m.push_back(depth / 1000.0);
-  const std::string mesh = kAssets + "/meshes/liver-fem.msh";
   std::string why;
-  const auto reference =
-      readFemForceCache(kAssets + "/meshes/liver-fem-poke.csv",
-                        femReferenceKey(scene, mesh, organPokeSetup(scene, depths_m),
-                                        defaultFemBulkModulus(tissue.energy)),
-                        kOrganPokeDepths_mm, why);
+  const auto reference = keptPokeForces(scene, "liver-fem.msh", "liver-fem-poke.csv", why);
+  const std::vector<double> depths_m = organPokeDepths_m();
   ASSERT_TRUE(reference.has_value()) << why;
   const SimulatorPoke refined = pokeSimulator(scene, depths_m, 0.002);
   EXPECT_EQ(refined.events, 0);

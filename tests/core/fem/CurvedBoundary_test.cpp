@@ -80,15 +80,18 @@ TriangleSurface subdivided(TriangleSurface surface, int levels) {
   return surface;
 }
 
-/// The icosahedron filled with one tet a face, round a node at the centre (node 12).
-TetMesh icosahedralBall(const TriangleSurface& coarse) {
+/// A closed surface round the origin filled with one tet a face, round a node at the origin (the
+/// last node: 12 on the icosahedron).
+TetMesh ballRoundCentre(const TriangleSurface& hull) {
+  const Eigen::Index corners = hull.vertexCount();
   TetMesh ball;
-  ball.nodes_m.resize(3, 13);
-  ball.nodes_m.leftCols(12) = coarse.vertices_m;
-  ball.nodes_m.col(12).setZero();
-  ball.tets.resize(4, 20);
-  for (Eigen::Index f = 0; f < 20; ++f) {
-    ball.tets.col(f) << 12, coarse.triangles(0, f), coarse.triangles(1, f), coarse.triangles(2, f);
+  ball.nodes_m.resize(3, corners + 1);
+  ball.nodes_m.leftCols(corners) = hull.vertices_m;
+  ball.nodes_m.col(corners).setZero();
+  ball.tets.resize(4, hull.triangleCount());
+  for (Eigen::Index f = 0; f < hull.triangleCount(); ++f) {
+    ball.tets.col(f) << static_cast<int>(corners), hull.triangles(0, f), hull.triangles(1, f),
+        hull.triangles(2, f);
     if (signedTetVolume(ball.nodes_m, ball.tets, f) < 0.0)
       std::swap(ball.tets(2, f), ball.tets(3, f));
   }
@@ -112,7 +115,7 @@ double restVolume(const QuadraticTetMesh& mesh) { return ruleVolume(mesh, tetQua
 TEST(CurvedBoundary, TheBoundarysMiddleNodesGoOntoTheDrawnSurfaceAndTheVolumeFollowsIt) {
   const TriangleSurface coarse = icosahedron();
   const TriangleSurface drawn = subdivided(coarse, 3);
-  const TetMesh ball = icosahedralBall(coarse);
+  const TetMesh ball = ballRoundCentre(coarse);
   const QuadraticTetMesh straight = makeQuadraticTetMesh(ball);
   QuadraticTetMesh curved = straight;
   const CurvedBoundaryReport report = curveBoundaryOnto(curved, ball, drawn);
@@ -159,7 +162,7 @@ TEST(CurvedBoundary, TheFemTakesAHomogeneousDeformationOfTheCurvedBallExactly) {
   // energy per unit rest volume is the material's at F on both balls. Gradients taken from the
   // corners alone (as if the edges were straight) would see another F where the edges curve.
   const TriangleSurface coarse = icosahedron();
-  const TetMesh ball = icosahedralBall(coarse);
+  const TetMesh ball = ballRoundCentre(coarse);
   const QuadraticTetMesh straight = makeQuadraticTetMesh(ball);
   QuadraticTetMesh curved = straight;
   ASSERT_EQ(curveBoundaryOnto(curved, ball, subdivided(coarse, 3)).bent, 30);
@@ -186,7 +189,7 @@ TEST(CurvedBoundary, TheCurvedBallWeighsWhatItsVolumeHolds) {
   // The consistent loads of its weight (fem/QuadraticTetWeight.h) integrated over the curved
   // elements: they sum to rho g V of the curved ball, not of the chords' one.
   const TriangleSurface coarse = icosahedron();
-  const TetMesh ball = icosahedralBall(coarse);
+  const TetMesh ball = ballRoundCentre(coarse);
   QuadraticTetMesh curved = makeQuadraticTetMesh(ball);
   ASSERT_EQ(curveBoundaryOnto(curved, ball, subdivided(coarse, 3)).bent, 30);
   const Eigen::Vector3d g(0.0, -9.81, 0.0);
@@ -200,7 +203,7 @@ TEST(CurvedBoundary, TheCurvedBallWeighsWhatItsVolumeHolds) {
 TEST(CurvedBoundary, AnEdgeWithACornerOffTheSurfaceStaysStraight) {
   const TriangleSurface coarse = icosahedron();
   const TriangleSurface drawn = subdivided(coarse, 2);
-  TetMesh ball = icosahedralBall(coarse);
+  TetMesh ball = ballRoundCentre(coarse);
   ball.nodes_m.col(0) *= 1.05;  // a corner a millimetre outside the drawn sphere
   const QuadraticTetMesh straight = makeQuadraticTetMesh(ball);
   QuadraticTetMesh curved = straight;
@@ -237,17 +240,7 @@ TEST(CurvedBoundary, AnEdgeSaggingMoreThanAQuarterOfItsLengthStaysStraight) {
   bipyramid.triangles << 0, 1, 2, 0, 2, 1,  //
       1, 2, 0, 2, 1, 0,                     //
       3, 3, 3, 4, 4, 4;
-  TetMesh ball;
-  ball.nodes_m.resize(3, 6);
-  ball.nodes_m.leftCols(5) = bipyramid.vertices_m;
-  ball.nodes_m.col(5).setZero();
-  ball.tets.resize(4, 6);
-  for (Eigen::Index f = 0; f < 6; ++f) {
-    ball.tets.col(f) << 5, bipyramid.triangles(0, f), bipyramid.triangles(1, f),
-        bipyramid.triangles(2, f);
-    if (signedTetVolume(ball.nodes_m, ball.tets, f) < 0.0)
-      std::swap(ball.tets(2, f), ball.tets(3, f));
-  }
+  const TetMesh ball = ballRoundCentre(bipyramid);
   QuadraticTetMesh quadratic = makeQuadraticTetMesh(ball);
   const QuadraticTetMesh straight = quadratic;
   const CurvedBoundaryReport report = curveBoundaryOnto(quadratic, ball, subdivided(bipyramid, 3));
@@ -272,7 +265,7 @@ TEST(CurvedBoundary, AClosestPointOnAnotherSheetOfTheSurfaceLeavesTheEdgeStraigh
   // on the cavity, inward, across the body from the face the edge bounds: that edge stays
   // straight, the other 29 go onto the sphere.
   const TriangleSurface coarse = icosahedron();
-  const TetMesh ball = icosahedralBall(coarse);
+  const TetMesh ball = ballRoundCentre(coarse);
   const QuadraticTetMesh straight = makeQuadraticTetMesh(ball);
   int chosen = -1;
   for (Eigen::Index t = 0; t < straight.tetCount() && chosen < 0; ++t) {
@@ -323,7 +316,7 @@ TEST(CurvedBoundary, TheSampledJacobianFindsAMiddleNodeAtItsEdgesQuarterPoint) {
 
 TEST(CurvedBoundary, RefusesAQuadraticMeshThatIsNotTheLinearOnes) {
   const TriangleSurface coarse = icosahedron();
-  const TetMesh ball = icosahedralBall(coarse);
+  const TetMesh ball = ballRoundCentre(coarse);
   QuadraticTetMesh other = makeQuadraticTetMesh(ball);
   TetMesh fewer = ball;
   fewer.tets.conservativeResize(4, 19);
