@@ -76,8 +76,8 @@ CurvedBoundaryReport curveBoundaryOnto(QuadraticTetMesh& quadratic, const TetMes
       const int a = faces(k, f);
       const int b = faces((k + 1) % 3, f);
       const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
-      auto [at, isNew] = boundaryEdges.try_emplace(key, BoundaryEdge{middleOf.at(key)});
-      at->second.normal += areaNormal;
+      boundaryEdges.try_emplace(key, BoundaryEdge{middleOf.at(key)}).first->second.normal +=
+          areaNormal;
     }
   }
   CurvedBoundaryReport report;
@@ -100,21 +100,28 @@ CurvedBoundaryReport curveBoundaryOnto(QuadraticTetMesh& quadratic, const TetMes
     const int middle = boundary.middle;
     const double length_m =
         (quadratic.nodes_m.col(edge.first) - quadratic.nodes_m.col(edge.second)).norm();
+    if (offsetOf(edge.first) > kCornerOnSurface * length_m ||
+        offsetOf(edge.second) > kCornerOnSurface * length_m) {
+      ++report.left;
+      continue;
+    }
     const Eigen::Vector3d chordMiddle = quadratic.nodes_m.col(middle);
     const Eigen::Vector3d target = closest(chordMiddle);
     const double move_m = (target - chordMiddle).norm();
+    if (move_m > kLongestMove * length_m) {
+      ++report.left;
+      continue;
+    }
     // Out along the faces' normal from a chord inside the surface (where it bulges), in from one
     // outside it (where it is hollow): a closest point the other way is another sheet of the
     // surface, across a part thinner than the chord's sag (a thin rim), not this one.
-    const double inside = windingNumber(surface, chordMiddle) > 0.5 ? 1.0 : -1.0;
-    const bool isAcross = move_m > 1e-9 * length_m &&
-                          inside * (target - chordMiddle).dot(boundary.normal.normalized()) <
-                              kLeastNormalShare * move_m;
-    if (offsetOf(edge.first) > kCornerOnSurface * length_m ||
-        offsetOf(edge.second) > kCornerOnSurface * length_m || move_m > kLongestMove * length_m ||
-        isAcross) {
-      ++report.left;
-      continue;
+    if (move_m > 1e-9 * length_m) {
+      const double inside = windingNumber(surface, chordMiddle) > 0.5 ? 1.0 : -1.0;
+      if (inside * (target - chordMiddle).dot(boundary.normal.normalized()) <
+          kLeastNormalShare * move_m) {
+        ++report.left;
+        continue;
+      }
     }
     const std::vector<int>& round = tetsRound[static_cast<std::size_t>(middle)];
     bool isPlaced = false;

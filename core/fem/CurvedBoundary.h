@@ -29,8 +29,8 @@ struct CurvedBoundaryReport {
   int boundaryEdges = 0;  ///< edges of the linear mesh's boundary faces
   int bent = 0;           ///< whose middle node was put on the surface
   int shortened = 0;      ///< moved only part of the way (half or a quarter)
-  int left = 0;           ///< left straight: a corner off the surface, or a move too long or
-                          ///< too distorting
+  int left = 0;           ///< left straight: a corner off the surface, a move too long, across
+                          ///< the body to another sheet, or folding a tet even at a quarter
   double largestMove_m = 0.0;
 };
 
