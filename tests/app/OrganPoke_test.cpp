@@ -112,8 +112,8 @@ TEST(OrganPoke, TheSecondSitesKeptForcesAreTheBundledScenesProbeMovedThere) {
 TEST(OrganPoke, TheRefinedFemSceneIsWithinTenPerCentOfTheReferenceAtTheBundledEntry) {
   // The coarse body refined where the tool aims, its boundary bent onto the drawn surface: the
   // liver poke through the scene's own steps, against the bundled poke's kept reference, at every
-  // depth to 10 mm. Left with the coarse mesh's chords (a tenth of a millimetre inside the drawn
-  // surface there), the same body read 8 to 17 % soft.
+  // depth to 10 mm. Left with the coarse mesh's chords, inside the drawn surface, the same body
+  // reads soft (docs/performance-details.md, "The boundary bent onto the drawn surface").
   const SceneDescription scene =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
   std::string why;
@@ -129,9 +129,9 @@ TEST(OrganPoke, TheRefinedFemSceneIsWithinTenPerCentOfTheReferenceAtTheBundledEn
 
 TEST(OrganPoke, TheFemSceneRefinedAtTheSecondSiteIsWithinTenPerCentOfItsReference) {
   // The refined scene's tool started over the second site, its body refined there to 3 mm (the
-  // scene's 4 mm reads +15 % at 1 mm there: docs/performance-details.md, "Refined where the tool
-  // aims"): the liver poke there through the scene's own steps, against the reference kept for
-  // that site.
+  // scene's 4 mm is not within 10 % at 1 mm there: docs/performance-details.md, "The boundary bent
+  // onto the drawn surface"): the liver poke there through the scene's own steps, against the
+  // reference kept for that site.
   SceneDescription moved =
       weightlessPokeScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
   moved.instrument->tipStart_m = kSecondSite_m;

@@ -264,10 +264,11 @@ TEST(HapticRateBody, PressedAtATraineesSpeedTheBodysStiffeningHoldsDeepInWhereve
   // in. Where the touch falls between two updates moves what the first updates see, so the press
   // starts from six heights a fifth of a millimetre apart, the touch falling at six points of the
   // 1.2 mm an update takes: at 5 mm within 10 % from every one of them, at 10 mm within 15 %
-  // (docs/performance-details.md, "The body's stiffening between updates"). The first
-  // millimetres read soft, 20 to 50 %: from rest the first update under load comes in 1.2 to
-  // 2.4 mm after the probe touches; from some heights the probe goes through the surface it
-  // pressed before an update follows, and that is reported as an event, not left silent.
+  // (docs/performance-details.md, "The body's stiffening between updates" and "The boundary bent
+  // onto the drawn surface"). The first millimetres read soft: from rest the first update under
+  // load comes in 1.2 to 2.4 mm after the probe touches; from some heights the probe goes through
+  // the surface it pressed before an update follows, and that is reported as an event, not left
+  // silent.
   const std::map<double, double> reference = keptReferenceByDepth();
   ASSERT_EQ(reference.count(10.0), 1u);
   const SceneDescription scene = hapticRateScene();
