@@ -50,16 +50,11 @@ CurvedBoundaryReport curveBoundaryOnto(QuadraticTetMesh& quadratic, const TetMes
   if (quadratic.cornerCount != linear.nodeCount() || quadratic.tetCount() != linear.tetCount())
     throw std::invalid_argument("curveBoundaryOnto: the quadratic mesh is not the linear one's");
   // Each edge's middle node, and the tets round it.
-  std::map<std::pair<int, int>, int> middleOf;
+  const QuadraticEdgeMiddles middleOf = edgeMiddles(quadratic);
   std::vector<std::vector<int>> tetsRound(static_cast<std::size_t>(quadratic.nodeCount()));
   for (Eigen::Index t = 0; t < quadratic.tetCount(); ++t) {
-    for (int e = 0; e < 6; ++e) {
-      const int a = quadratic.tets(kQuadraticTetEdges[e][0], t);
-      const int b = quadratic.tets(kQuadraticTetEdges[e][1], t);
-      const int middle = quadratic.tets(4 + e, t);
-      middleOf[{std::min(a, b), std::max(a, b)}] = middle;
-      tetsRound[static_cast<std::size_t>(middle)].push_back(static_cast<int>(t));
-    }
+    for (int e = 0; e < 6; ++e)
+      tetsRound[static_cast<std::size_t>(quadratic.tets(4 + e, t))].push_back(static_cast<int>(t));
   }
   // Each boundary edge's middle node and the outward normal of its faces (their areas' sum).
   struct BoundaryEdge {

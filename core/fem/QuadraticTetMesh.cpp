@@ -39,4 +39,16 @@ QuadraticTetMesh makeQuadraticTetMesh(const TetMesh& mesh) {
   return quadratic;
 }
 
+QuadraticEdgeMiddles edgeMiddles(const QuadraticTetMesh& mesh) {
+  QuadraticEdgeMiddles middles;
+  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
+    for (int e = 0; e < 6; ++e) {
+      const int a = mesh.tets(kQuadraticTetEdges[e][0], t);
+      const int b = mesh.tets(kQuadraticTetEdges[e][1], t);
+      middles[{std::min(a, b), std::max(a, b)}] = mesh.tets(4 + e, t);
+    }
+  }
+  return middles;
+}
+
 }  // namespace tissuesim

@@ -10,6 +10,9 @@
 // (0,1), (1,2), (0,2), (0,3), (1,3), (2,3). Shapes: nodes 3 by #V (m), tets 10 by #T; the first
 // #corners nodes are the linear mesh's, in its order.
 
+#include <map>
+#include <utility>
+
 #include <Eigen/Core>
 
 #include "mesh/TetMesh.h"
@@ -32,5 +35,9 @@ inline constexpr int kQuadraticTetEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3},
 
 /// @throws std::invalid_argument when `mesh` has a tet that is not positively oriented.
 QuadraticTetMesh makeQuadraticTetMesh(const TetMesh& mesh);
+
+/// Each edge's middle node, keyed by its corners (smaller index first).
+using QuadraticEdgeMiddles = std::map<std::pair<int, int>, int>;
+QuadraticEdgeMiddles edgeMiddles(const QuadraticTetMesh& mesh);
 
 }  // namespace tissuesim

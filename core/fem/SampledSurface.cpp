@@ -9,14 +9,7 @@
 namespace tissuesim {
 
 Eigen::Matrix3Xi quadraticSurfacePieces(const TetMesh& linear, const QuadraticTetMesh& quadratic) {
-  std::map<std::pair<int, int>, int> midpointOf;
-  for (Eigen::Index t = 0; t < quadratic.tetCount(); ++t) {
-    for (int e = 0; e < 6; ++e) {
-      const int a = quadratic.tets(kQuadraticTetEdges[e][0], t);
-      const int b = quadratic.tets(kQuadraticTetEdges[e][1], t);
-      midpointOf[{std::min(a, b), std::max(a, b)}] = quadratic.tets(4 + e, t);
-    }
-  }
+  const QuadraticEdgeMiddles midpointOf = edgeMiddles(quadratic);
   const auto midpoint = [&](int a, int b) {
     return midpointOf.at({std::min(a, b), std::max(a, b)});
   };

@@ -175,17 +175,12 @@ TEST(HapticRateBody, TheBundledSceneIsTheQuadraticBodyOfItsMesh) {
   const CurvedBoundaryReport& curved = body->curvedBoundary();
   const ClosestSurfacePoint drawn(*simulation.geometry().surface);
   const Eigen::Matrix3Xi faces = boundaryFaces(mesh);
+  const QuadraticEdgeMiddles middles = edgeMiddles(body->mesh());
   std::set<int> boundaryMiddles;
-  for (Eigen::Index t = 0; t < mesh.tetCount(); ++t) {
-    for (int e = 0; e < 6; ++e) {
-      const int a = mesh.tets(kQuadraticTetEdges[e][0], t),
-                b = mesh.tets(kQuadraticTetEdges[e][1], t);
-      for (Eigen::Index f = 0; f < faces.cols(); ++f) {
-        if ((faces.col(f).array() == a).any() && (faces.col(f).array() == b).any()) {
-          boundaryMiddles.insert(body->mesh().tets(4 + e, t));
-          break;
-        }
-      }
+  for (Eigen::Index f = 0; f < faces.cols(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = faces(k, f), b = faces((k + 1) % 3, f);
+      boundaryMiddles.insert(middles.at({std::min(a, b), std::max(a, b)}));
     }
   }
   EXPECT_EQ(curved.boundaryEdges, static_cast<int>(boundaryMiddles.size()));
