@@ -208,6 +208,14 @@ case "${1:-}" in
         --fem-cache assets/meshes/liver-fem-site-b-poke.csv \
         --output "$out/organ-poke-site-b-$scene.csv"
     done
+    # The block of the map's error column through the FEM at its own rate, as the bundled FEM
+    # scenes run it (one Newton iteration an update at a tenth of the reference's bulk
+    # modulus, each update used 60 ms after it starts), against the refinement-3 reference.
+    say "the block at the haptic rate into $out/indent-haptic-rate.csv"
+    build/app/tissuesim indent --tissue assets/tissues/porcine-liver.json --depths-mm 1,2,3,4 \
+      --refinement 3 --models fem-haptic-rate --haptic-rate-iterations 1 \
+      --haptic-rate-volume-term-kpa 26000 --update-latency-ms 60 \
+      --output "$out/indent-haptic-rate.csv"
     say "the speed/accuracy map into $out"
     build/app/tissuesim trade ${TRADE_ARGS:-} --output "$out"
     # The quadratic rows' forces the map had to solve (their meshes' kept ones were stale or

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "app/IndentCommand.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "analysis/IndentationExperiment.h"
+#include "analysis/IndentationHapticRate.h"
 #include "app/CommandError.h"
 #include "app/LoadedTissue.h"
 #include "app/OutputFile.h"
@@ -23,7 +25,59 @@ struct IndentCommandOptions {
   double volumeTerm_kPa = 0.0;
   std::vector<std::string> models{"springs"};
   std::string outputPath;
+  // The fem-haptic-rate model's body, its contact and its clock (organ-poke's options alike).
+  double hapticRateCell_mm = IndentationBodyGrading{}.finest_m * 1000.0;
+  double hapticRateGrowth = IndentationBodyGrading{}.growth;
+  double hapticRateCoarsest_mm = IndentationBodyGrading{}.coarsest_m * 1000.0;
+  double hapticRateSpacing_mm = 1.0;
+  int hapticRateIterations = HapticRateSettings{}.newtonIterations;
+  double hapticRateVolumeTerm_kPa = 0.0;  ///< 0: the reference's bulk modulus
+  double speed_mm_s = 2.0;
+  double updateLatency_ms = 0.0;  ///< 0: each update's wall time
 };
+
+/// The fem-haptic-rate row: the probe's force at each depth, its timings on stderr.
+IndentationCurve indentAtHapticRate(const IndentCommandOptions& options, const LoadedTissue& tissue,
+                                    const IndentationSetup& setup) {
+  IndentationBodyGrading grading;
+  grading.finest_m = options.hapticRateCell_mm / 1000.0;
+  grading.growth = options.hapticRateGrowth;
+  grading.coarsest_m = options.hapticRateCoarsest_mm / 1000.0;
+  HapticRateSettings settings;
+  settings.speed_m_s = options.speed_mm_s / 1000.0;
+  settings.updateLatency_s = options.updateLatency_ms / 1000.0;
+  settings.newtonIterations = options.hapticRateIterations;
+  const double bulkModulus_Pa = options.hapticRateVolumeTerm_kPa > 0.0
+                                    ? 1000.0 * options.hapticRateVolumeTerm_kPa
+                                    : defaultFemBulkModulus(tissue.energy);
+  HapticRatePoke poke;
+  try {
+    poke = indentHapticRate(tissue.energy, setup, grading, bulkModulus_Pa,
+                            options.hapticRateSpacing_mm / 1000.0, settings);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(std::string("fem-haptic-rate: ") + error.what());
+  }
+  std::vector<double> sorted = poke.stepTimes_ms;
+  std::sort(sorted.begin(), sorted.end());
+  const auto quantile = [&](double q) {
+    return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+  };
+  const double meanUpdate_ms = poke.updates > 0 ? 1e3 * poke.updating_s / poke.updates : 0.0;
+  char latency[64] = "its own wall time";
+  if (options.updateLatency_ms > 0.0)
+    std::snprintf(latency, sizeof latency, "%g ms", options.updateLatency_ms);
+  std::fprintf(stderr,
+               "fem-haptic-rate: %ld contact steps at %.3g ms median, %.3g ms p99, %ld unsettled; "
+               "%ld FEM updates at %.0f ms mean, %.0f ms longest, each used %s after it started\n",
+               poke.steps, quantile(0.5), quantile(0.99), poke.unconvergedSteps, poke.updates,
+               meanUpdate_ms, 1e3 * poke.longestUpdate_s, latency);
+  IndentationCurve curve;
+  curve.force_N = poke.force_N;
+  curve.nodes = poke.nodes;
+  curve.elements = poke.elements;
+  curve.seconds = poke.seconds;
+  return curve;
+}
 
 void runIndent(const IndentCommandOptions& options) {
   if (options.refinement < 1 || options.refinement > 8)
@@ -36,9 +90,25 @@ void runIndent(const IndentCommandOptions& options) {
   }
   if (options.volumeTerm_kPa < 0.0) throw CommandError("--volume-term-kpa must be >= 0");
   for (const std::string& model : options.models) {
-    if (model != "springs" && model != "tets")
-      throw CommandError("--models: unknown model '" + model + "'; expected springs or tets");
+    if (model != "springs" && model != "tets" && model != "fem-haptic-rate")
+      throw CommandError("--models: unknown model '" + model +
+                         "'; expected springs, tets or fem-haptic-rate");
   }
+  if (!(options.speed_mm_s > 0.0)) throw CommandError("--speed-mm-s must be > 0");
+  if (options.updateLatency_ms < 0.0) throw CommandError("--update-latency-ms must be >= 0");
+  if (options.hapticRateIterations < 1 || options.hapticRateIterations > 20)
+    throw CommandError("--haptic-rate-iterations must be 1 to 20");
+  if (options.hapticRateVolumeTerm_kPa < 0.0)
+    throw CommandError("--haptic-rate-volume-term-kpa must be >= 0");
+  if (!(options.hapticRateSpacing_mm >= 0.1) || options.hapticRateSpacing_mm > 5.0)
+    throw CommandError("--haptic-rate-spacing-mm must be 0.1 to 5");
+  if (!(options.hapticRateCell_mm >= 0.5) || options.hapticRateCell_mm > 15.0)
+    throw CommandError("--haptic-rate-cell-mm must be 0.5 to 15");
+  if (!(options.hapticRateGrowth >= 1.0) || options.hapticRateGrowth > 10.0)
+    throw CommandError("--haptic-rate-growth must be 1 to 10");
+  if (!(options.hapticRateCoarsest_mm >= options.hapticRateCell_mm) ||
+      options.hapticRateCoarsest_mm > 30.0)
+    throw CommandError("--haptic-rate-coarsest-mm must be from --haptic-rate-cell-mm to 30");
   IndentationSetup setup;
   setup.depths_m = indentationDepthsFromMm(options.depths_mm);
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
@@ -58,6 +128,10 @@ void runIndent(const IndentCommandOptions& options) {
       {"fem (refinement " + std::to_string(options.refinement) + ")",
        indentFem(tissue.energy, setup, options.refinement, defaultFemBulkModulus(tissue.energy))});
   for (const std::string& model : options.models) {
+    if (model == "fem-haptic-rate") {
+      rows.push_back({model, indentAtHapticRate(options, tissue, setup)});
+      continue;
+    }
     for (const int count : options.springs) {
       IndentationNetwork network{indentationCellEdge(setup, count), SpringLaw::Eesm,
                                  options.volumeTerm_kPa * 1000.0};
@@ -123,13 +197,17 @@ void registerIndentCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "indent",
       "Indentation test: a 60 x 60 x 30 mm block pressed at its centre by the instrument's probe, "
-      "through the FEM reference and spring networks of the given sizes; the probe's force at "
-      "each depth and each network's error against the FEM (CSV; a table on stderr).");
+      "through the FEM reference and the --models (spring networks of the given sizes, the FEM "
+      "at its own rate); the probe's force at each depth and each model's error against the "
+      "FEM (CSV; a table on stderr).");
   command->add_option("--tissue", options->tissuePath, "Tissue parameter file (JSON)")->required();
   command
       ->add_option("--models", options->models,
-                   "Lattice models: springs (the simulator's network), tets (the tissue's "
-                   "isochoric energy per tet, the volume term per cube)")
+                   "Models: springs (the simulator's network), tets (the tissue's isochoric "
+                   "energy per tet, the volume term per cube), both on lattices of --springs "
+                   "sizes; fem-haptic-rate (the reference's element at its own rate, the "
+                   "probe's contact at each 1 ms step, the probe moving at --speed-mm-s, on "
+                   "the whole block graded by the --haptic-rate-* options)")
       ->delimiter(',')
       ->capture_default_str();
   command->add_option("--depths-mm", options->depths_mm, "Depths below the top face, increasing")
@@ -145,6 +223,38 @@ void registerIndentCommand(CLI::App& app) {
   command
       ->add_option("--volume-term-kpa", options->volumeTerm_kPa,
                    "The networks' volume term (0: none)")
+      ->capture_default_str();
+  command
+      ->add_option("--haptic-rate-cell-mm", options->hapticRateCell_mm,
+                   "fem-haptic-rate: the body's cells under the probe (mm)")
+      ->capture_default_str();
+  command
+      ->add_option("--haptic-rate-growth", options->hapticRateGrowth,
+                   "fem-haptic-rate: each cell this many times the one before, away from the "
+                   "probe")
+      ->capture_default_str();
+  command
+      ->add_option("--haptic-rate-coarsest-mm", options->hapticRateCoarsest_mm,
+                   "fem-haptic-rate: the body's largest cells (mm)")
+      ->capture_default_str();
+  command
+      ->add_option("--haptic-rate-spacing-mm", options->hapticRateSpacing_mm,
+                   "fem-haptic-rate: the probe's contact points this far apart (mm)")
+      ->capture_default_str();
+  command
+      ->add_option("--haptic-rate-iterations", options->hapticRateIterations,
+                   "fem-haptic-rate: Newton iterations an FEM update")
+      ->capture_default_str();
+  command
+      ->add_option("--haptic-rate-volume-term-kpa", options->hapticRateVolumeTerm_kPa,
+                   "fem-haptic-rate: its bulk modulus (kPa; 0: the reference's)")
+      ->capture_default_str();
+  command->add_option("--speed-mm-s", options->speed_mm_s, "fem-haptic-rate: the probe's speed")
+      ->capture_default_str();
+  command
+      ->add_option("--update-latency-ms", options->updateLatency_ms,
+                   "fem-haptic-rate: each FEM update used this long after it starts (0: when "
+                   "done, its own wall time)")
       ->capture_default_str();
   command->add_option("--output", options->outputPath, "CSV file (default: stdout)");
   command->callback([options] { runIndent(*options); });

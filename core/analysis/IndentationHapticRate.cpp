@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "analysis/IndentationHapticRate.h"
+
+#include <stdexcept>
+
+#include "mesh/TetMesh.h"
+
+namespace tissuesim {
+
+HapticRatePoke indentHapticRate(const StrainEnergy& energy, const IndentationSetup& setup,
+                                const IndentationBodyGrading& grading, double bulkModulus_Pa,
+                                double contactSpacing_m, const HapticRateSettings& settings) {
+  if (!(contactSpacing_m >= 0.0))
+    throw std::invalid_argument("the probe's contact points need a spacing of at least 0");
+  const TetMesh block =
+      indentationBlockMesh(setup, grading.finest_m, grading.growth, grading.coarsest_m);
+  const Eigen::Vector3d& size = setup.size_m;
+  OrganPokeSetup poke;
+  // Started well above the top face: the depths are below where the axis meets it.
+  poke.tipStart_m = Eigen::Vector3d(0.5 * size.x(), 0.5 * size.y(), size.z() + 0.01);
+  poke.direction = -Eigen::Vector3d::UnitZ();
+  poke.probeRadius_m = setup.probeRadius_m;
+  // The bottom face held, as the reference holds it.
+  const double onPlane_m = 1e-9 * size.maxCoeff();
+  poke.fixedBox_m =
+      Eigen::AlignedBox3d(Eigen::Vector3d(-onPlane_m, -onPlane_m, -onPlane_m),
+                          Eigen::Vector3d(size.x(), size.y(), 0.0).array() + onPlane_m);
+  poke.depths_m = setup.depths_m;
+  poke.pressureStiffness_Pa_m = setup.pressureStiffness_Pa_m;
+  poke.contactSpacing_m = contactSpacing_m;
+  return pokeOrganHapticRate(energy, block, poke, bulkModulus_Pa, settings);
+}
+
+}  // namespace tissuesim
