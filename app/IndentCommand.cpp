@@ -26,7 +26,7 @@ struct IndentCommandOptions {
   std::vector<std::string> models{"springs"};
   std::string outputPath;
   // The fem-haptic-rate model's body, its contact and its clock (organ-poke's options alike).
-  double hapticRateCell_mm = IndentationBodyGrading{}.finest_m * 1000.0;
+  double hapticRateFinest_mm = IndentationBodyGrading{}.finest_m * 1000.0;
   double hapticRateGrowth = IndentationBodyGrading{}.growth;
   double hapticRateCoarsest_mm = IndentationBodyGrading{}.coarsest_m * 1000.0;
   double hapticRateSpacing_mm = 1.0;
@@ -40,7 +40,7 @@ struct IndentCommandOptions {
 IndentationCurve indentAtHapticRate(const IndentCommandOptions& options, const LoadedTissue& tissue,
                                     const IndentationSetup& setup) {
   IndentationBodyGrading grading;
-  grading.finest_m = options.hapticRateCell_mm / 1000.0;
+  grading.finest_m = options.hapticRateFinest_mm / 1000.0;
   grading.growth = options.hapticRateGrowth;
   grading.coarsest_m = options.hapticRateCoarsest_mm / 1000.0;
   HapticRateSettings settings;
@@ -102,13 +102,13 @@ void runIndent(const IndentCommandOptions& options) {
     throw CommandError("--haptic-rate-volume-term-kpa must be >= 0");
   if (!(options.hapticRateSpacing_mm >= 0.1) || options.hapticRateSpacing_mm > 5.0)
     throw CommandError("--haptic-rate-spacing-mm must be 0.1 to 5");
-  if (!(options.hapticRateCell_mm >= 0.5) || options.hapticRateCell_mm > 15.0)
-    throw CommandError("--haptic-rate-cell-mm must be 0.5 to 15");
-  if (!(options.hapticRateGrowth >= 1.0) || options.hapticRateGrowth > 10.0)
-    throw CommandError("--haptic-rate-growth must be 1 to 10");
-  if (!(options.hapticRateCoarsest_mm >= options.hapticRateCell_mm) ||
+  if (!(options.hapticRateFinest_mm >= 0.5) || options.hapticRateFinest_mm > 15.0)
+    throw CommandError("--haptic-rate-finest-mm must be 0.5 to 15");
+  if (!(options.hapticRateGrowth >= 0.3) || options.hapticRateGrowth > 10.0)
+    throw CommandError("--haptic-rate-growth must be 0.3 to 10");
+  if (!(options.hapticRateCoarsest_mm >= options.hapticRateFinest_mm) ||
       options.hapticRateCoarsest_mm > 30.0)
-    throw CommandError("--haptic-rate-coarsest-mm must be from --haptic-rate-cell-mm to 30");
+    throw CommandError("--haptic-rate-coarsest-mm must be from --haptic-rate-finest-mm to 30");
   IndentationSetup setup;
   setup.depths_m = indentationDepthsFromMm(options.depths_mm);
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
@@ -207,7 +207,7 @@ void registerIndentCommand(CLI::App& app) {
                    "energy per tet, the volume term per cube), both on lattices of --springs "
                    "sizes; fem-haptic-rate (the reference's element at its own rate, the "
                    "probe's contact at each 1 ms step, the probe moving at --speed-mm-s, on "
-                   "the whole block graded by the --haptic-rate-* options)")
+                   "the whole block refined towards the probe by the --haptic-rate-* options)")
       ->delimiter(',')
       ->capture_default_str();
   command->add_option("--depths-mm", options->depths_mm, "Depths below the top face, increasing")
@@ -225,17 +225,17 @@ void registerIndentCommand(CLI::App& app) {
                    "The networks' volume term (0: none)")
       ->capture_default_str();
   command
-      ->add_option("--haptic-rate-cell-mm", options->hapticRateCell_mm,
-                   "fem-haptic-rate: the body's cells under the probe (mm)")
+      ->add_option("--haptic-rate-finest-mm", options->hapticRateFinest_mm,
+                   "fem-haptic-rate: the body's edges at the probe (mm), as a scene's "
+                   "tet_mesh.refine_towards_tool.finest_mm")
       ->capture_default_str();
   command
       ->add_option("--haptic-rate-growth", options->hapticRateGrowth,
-                   "fem-haptic-rate: each cell this many times the one before, away from the "
-                   "probe")
+                   "fem-haptic-rate: their growth away from the probe (mm per mm)")
       ->capture_default_str();
   command
       ->add_option("--haptic-rate-coarsest-mm", options->hapticRateCoarsest_mm,
-                   "fem-haptic-rate: the body's largest cells (mm)")
+                   "fem-haptic-rate: the coarse block's cubes, refined towards the probe (mm)")
       ->capture_default_str();
   command
       ->add_option("--haptic-rate-spacing-mm", options->hapticRateSpacing_mm,

@@ -34,8 +34,17 @@ constexpr double kOnPlane_m = 1e-12;
 constexpr double kSampledRadius_m = 0.012;
 constexpr double kSampleSpacing_m = 2e-4;
 
+/// Grid lines over [0, length]: cells of `finest` at 0, each kIndentationGrowth times the one
+/// before, at most kIndentationCoarsest_m; the last cell ends at `length`.
 std::vector<double> gradedLine(double length, double finest) {
-  return gradedGridLine(length, finest, kIndentationGrowth, kIndentationCoarsest_m);
+  std::vector<double> line{0.0};
+  double cell = finest;
+  while (line.back() + cell < length - 0.5 * cell) {
+    line.push_back(line.back() + cell);
+    cell = std::min(cell * kIndentationGrowth, kIndentationCoarsest_m);
+  }
+  line.push_back(length);
+  return line;
 }
 
 /// Each top-face node's share of the top face (m^2), on a rectilinear arrangement of the nodes
@@ -83,39 +92,6 @@ void load(const IndentationSetup& setup, double top_m, const Eigen::Vector2d& ax
 }
 
 }  // namespace
-
-std::vector<double> gradedGridLine(double length_m, double finest_m, double growth,
-                                   double coarsest_m) {
-  if (!(length_m > 0.0) || !(finest_m > 0.0) || !(growth >= 1.0) || !(coarsest_m >= finest_m))
-    throw std::invalid_argument(
-        "a graded grid line needs a length and a finest cell above 0, a growth of at least 1 and "
-        "a coarsest cell no smaller than the finest");
-  std::vector<double> line{0.0};
-  double cell = finest_m;
-  while (line.back() + cell < length_m - 0.5 * cell) {
-    line.push_back(line.back() + cell);
-    cell = std::min(cell * growth, coarsest_m);
-  }
-  line.push_back(length_m);
-  return line;
-}
-
-TetMesh indentationBlockMesh(const IndentationSetup& setup, double finest_m, double growth,
-                             double coarsest_m) {
-  const Eigen::Vector3d& size = setup.size_m;
-  // Across x and y, graded from the centre both ways; down z, from the top face.
-  const auto across = [&](double length_m) {
-    const std::vector<double> half = gradedGridLine(0.5 * length_m, finest_m, growth, coarsest_m);
-    std::vector<double> line;
-    for (auto it = half.rbegin(); it != half.rend(); ++it) line.push_back(0.5 * length_m - *it);
-    for (std::size_t i = 1; i < half.size(); ++i) line.push_back(0.5 * length_m + half[i]);
-    return line;
-  };
-  std::vector<double> zs = gradedGridLine(size.z(), finest_m, growth, coarsest_m);
-  for (double& z : zs) z = size.z() - z;
-  std::reverse(zs.begin(), zs.end());
-  return makeRectilinearMesh(across(size.x()), across(size.y()), zs);
-}
 
 IndentationCurve indentFem(const StrainEnergy& energy, const IndentationSetup& setup,
                            int refinement, double bulkModulus_Pa) {

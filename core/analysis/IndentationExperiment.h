@@ -87,17 +87,6 @@ struct IndentationPace {
 inline constexpr double kIndentationGrowth = 1.3;
 inline constexpr double kIndentationCoarsest_m = 0.008;
 
-/// Grid lines over [0, length_m]: cells of finest_m at 0, each `growth` times the one before, at
-/// most coarsest_m; the last cell ends at length_m. @throws std::invalid_argument on a length or
-/// finest cell not above 0, a growth under 1 or a coarsest cell under the finest.
-std::vector<double> gradedGridLine(double length_m, double finest_m, double growth,
-                                   double coarsest_m);
-
-/// The whole block (the setup's size, its minimum corner at the origin) on a rectilinear grid
-/// graded towards the top face's centre: cells of finest_m there, growing as gradedGridLine's.
-TetMesh indentationBlockMesh(const IndentationSetup& setup, double finest_m, double growth,
-                             double coarsest_m);
-
 /// The FEM reference at a refinement (>= 1: cells of probeRadius / refinement at the probe).
 IndentationCurve indentFem(const StrainEnergy& energy, const IndentationSetup& setup,
                            int refinement, double bulkModulus_Pa);
