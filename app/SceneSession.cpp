@@ -92,6 +92,17 @@ void SceneSession::replaceTissue(const TissueParameters& parameters) {
     m_live->setNearSpeed(hapticRateToolSpeed_m_s(scene, m_simulation->energy()));
 }
 
+bool SceneSession::refineTowardsTool() {
+  try {
+    if (!m_simulation->refineTowardsTool()) return false;
+  } catch (const SceneFileError& error) {
+    throw CommandError(error.what());
+  }
+  m_contact = makeInstrumentContact(*m_simulation);
+  m_simulation->setContactProvider(m_contact.get());
+  return true;
+}
+
 void SceneSession::printAssumptions() const {
   for (const std::string& line : assumptions()) std::printf("%s\n", line.c_str());
 }

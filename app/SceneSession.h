@@ -49,6 +49,10 @@ class SceneSession {
   /// limit with it where the scene's model sets one from the tissue (fem-haptic-rate:
   /// sim/HapticRateReach.h). From the stepping thread, or while no step runs.
   void replaceTissue(const TissueParameters& parameters);
+  /// The body made again where the tool aims (Simulation::refineTowardsTool), the instrument's
+  /// contact with it rebuilt for the new mesh. From the stepping thread, or while no step runs.
+  /// @returns whether it was made again. @throws CommandError with the scene's one-line reason.
+  bool refineTowardsTool();
   /// Drives the instrument by `script` from now on (one built from the simulation, as the
   /// soak's random session is). The scene must have an instrument.
   void useScript(InstrumentScript script);

@@ -29,6 +29,7 @@ void applyRecordedChanges(const SessionRecording& recording, std::size_t& next, 
     if (event.softening) simulation.setSoftening(*event.softening);
     if (event.gravity_m_s2) simulation.setGravity(*event.gravity_m_s2);
     if (event.tissue) session.replaceTissue(*event.tissue);
+    if (event.isRefinedTowardsTool) session.refineTowardsTool();
     if (event.pose && session.liveInstrument() != nullptr)
       session.liveInstrument()->setPose(*event.pose);
   }
@@ -119,6 +120,8 @@ void runSessionSteps(SceneSession& session, long steps, const SessionOutputs& ou
   report["springs"] = simulation->springMesh().springCount();
   report["tets"] = simulation->geometry().mesh.tetCount();
   report["nodes"] = simulation->springMesh().nodeCount();
+  // The body made again where the tool aims (Simulation::refineTowardsTool), where it can be.
+  if (simulation->refinementCentre()) report["refined_towards_tool"] = simulation->refinements();
   report["integrator"] = scene.integrator;
   report["instability_event_count"] = simulation->eventCount();  // the list keeps the first 100
   report["instability_events"] = nlohmann::json::array();

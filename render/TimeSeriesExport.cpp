@@ -113,20 +113,28 @@ TimeSeriesExport::TimeSeriesExport(const std::filesystem::path& folder,
   m_surface->SetPolys(triangles);
   addFrameArrays(m_surface, m_surfaceRest_m.cols());
 
-  m_tets->SetPoints(makePoints(springs.nodeCount()));
-  m_tets->Allocate(geometry.mesh.tets.cols());
-  for (Eigen::Index t = 0; t < geometry.mesh.tets.cols(); ++t) {
-    const vtkIdType corners[4] = {geometry.mesh.tets(0, t), geometry.mesh.tets(1, t),
-                                  geometry.mesh.tets(2, t), geometry.mesh.tets(3, t)};
+  buildTetGrid();
+}
+
+void TimeSeriesExport::buildTetGrid() {
+  m_tets = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  const TetMesh& mesh = m_geometry.mesh;
+  m_tets->SetPoints(makePoints(m_springs.nodeCount()));
+  m_tets->Allocate(mesh.tets.cols());
+  for (Eigen::Index t = 0; t < mesh.tets.cols(); ++t) {
+    const vtkIdType corners[4] = {mesh.tets(0, t), mesh.tets(1, t), mesh.tets(2, t),
+                                  mesh.tets(3, t)};
     m_tets->InsertNextCell(VTK_TETRA, 4, corners);
   }
-  addFrameArrays(m_tets, springs.nodeCount());
+  addFrameArrays(m_tets, m_springs.nodeCount());
 }
 
 TimeSeriesExport::~TimeSeriesExport() = default;
 
 void TimeSeriesExport::write(double time_s, const Eigen::Matrix3Xd& x) {
   const std::size_t frame = m_times.size();
+  // The body made again where the tool aims (Simulation::refineTowardsTool): its new tets.
+  if (m_tets->GetNumberOfPoints() != m_springs.nodeCount()) buildTetGrid();
   nodeStretch(m_springs, x, m_nodeStretch);
   setFrame(m_tets, x, m_springs.restPositions_m, m_nodeStretch);
   if (m_geometry.surface && m_geometry.embedding) {

@@ -47,6 +47,8 @@ class TimeSeriesExport {
 
  private:
   void writeCollection() const;
+  /// The tet mesh's grid (m_tets) from the geometry's mesh as it is now.
+  void buildTetGrid();
 
   std::filesystem::path m_folder;
   std::filesystem::path m_collection;

@@ -284,15 +284,8 @@ bool MainWindow::loadScene(const QString& path) {
     }
   }
   Simulation& simulation = m_session->simulation();
-  const auto& instrument = m_session->scene().instrument;
-  m_view = std::make_unique<TissueSceneView>(
-      simulation.geometry(), simulation.springMesh(), instrument ? &*instrument : nullptr,
-      simulation.scene().tray ? &*simulation.scene().tray : nullptr);
-  m_view->setColourMap(m_colourMapAction->isChecked());
-  m_view->setWireframe(m_wireframeAction->isChecked());
-  m_view->setDamageOverlay(m_damageAction->isChecked());
+  buildView(false);
   m_forcePlot->setThreshold(simulation.assessment().summary().thresholds.toolForce_N);
-  m_renderWindow->AddRenderer(m_view->renderer());
   m_pose = simulation.instrumentPose();
   m_softeningAction->setChecked(simulation.isSoftening());
   // The FEM on the lattice's tets has no stress softening to turn on (the FEM at its own rate
@@ -325,6 +318,77 @@ bool MainWindow::loadScene(const QString& path) {
   if (!assumptions.isEmpty()) showNotice("Scene loaded with an assumption", assumptions.join("\n"));
   renderFrame();
   return true;
+}
+
+void MainWindow::buildView(bool keepCamera) {
+  vtkNew<vtkCamera> camera;
+  if (m_view) {
+    camera->DeepCopy(m_view->renderer()->GetActiveCamera());
+    m_renderWindow->RemoveRenderer(m_view->renderer());
+    m_view.reset();
+  }
+  const Simulation& simulation = m_session->simulation();
+  const auto& instrument = m_session->scene().instrument;
+  m_view = std::make_unique<TissueSceneView>(
+      simulation.geometry(), simulation.springMesh(), instrument ? &*instrument : nullptr,
+      simulation.scene().tray ? &*simulation.scene().tray : nullptr);
+  m_view->setColourMap(m_colourMapAction->isChecked());
+  m_view->setWireframe(m_wireframeAction->isChecked());
+  m_view->setDamageOverlay(m_damageAction->isChecked());
+  if (keepCamera) m_view->renderer()->GetActiveCamera()->DeepCopy(camera);
+  m_renderWindow->AddRenderer(m_view->renderer());
+}
+
+void MainWindow::refineWhereTheToolAims() {
+  const qint64 started = m_clock.elapsed();
+  const bool isPlayback = m_playback.has_value();
+  bool isMade = false, isRefused = false;
+  const auto refine = [&] {
+    try {
+      if (isPlayback) {
+        // The recorded changes of the step the playback stopped before, the body's among them.
+        const long step = m_playbackStep.load(std::memory_order_relaxed);
+        const long before = m_session->simulation().refinements();
+        applyRecordedChanges(*m_playback, m_playbackNext, step, *m_session);
+        isMade = m_session->simulation().refinements() > before;
+      } else {
+        isMade = m_session->refineTowardsTool();
+      }
+    } catch (const std::exception& error) {
+      isRefused = true;
+      statusBar()->showMessage(
+          QString("the body was not refined where the tool aims: ") + error.what(), 10000);
+    }
+    if (isMade && !isPlayback) {
+      RecordedEvent event;
+      event.isRefinedTowardsTool = true;
+      noteChange(std::move(event));
+    }
+    // A fresh first snapshot, sized to the new mesh.
+    m_loop = std::make_unique<RealTimeLoop>(m_session->simulation());
+    m_latest = nullptr;
+  };
+  if (isPlayback) {
+    m_playbackRefinementDue = false;
+    refine();
+    // A recording whose body cannot be made again no longer plays back as it was recorded.
+    if (isRefused) {
+      m_playback.reset();
+    } else {
+      installPlaybackHook();
+      if (!m_pauseAction->isChecked()) m_loop->start();
+    }
+  } else {
+    whilePaused(refine);
+  }
+  if (isMade) {
+    buildView(true);
+    statusBar()->showMessage(
+        QString("the body refined where the tool aims (%1 quadratic tets) in %2 ms")
+            .arg(m_session->simulation().geometry().mesh.tetCount())
+            .arg(m_clock.elapsed() - started),
+        5000);
+  }
 }
 
 bool MainWindow::loadTissue(const QString& path) {
@@ -414,6 +478,15 @@ void MainWindow::installPlaybackHook() {
   m_loop->setBeforeStep([this] {
     const long step = m_playbackStep.load(std::memory_order_relaxed);
     if (step >= m_playback->steps) return false;  // its end: the loop stops there
+    // The body made again changes what the window draws: the loop stops before this step and
+    // the window makes it, paused (refineWhereTheToolAims).
+    for (std::size_t e = m_playbackNext;
+         e < m_playback->events.size() && m_playback->events[e].step <= step; ++e) {
+      if (m_playback->events[e].isRefinedTowardsTool) {
+        m_playbackRefinementDue = true;
+        return false;
+      }
+    }
     applyRecordedChanges(*m_playback, m_playbackNext, step, *m_session);
     m_playbackStep.store(step + 1, std::memory_order_relaxed);
     return true;
@@ -434,6 +507,7 @@ void MainWindow::seekRecording(double time_s) {
     applyRecordedChanges(*m_playback, m_playbackNext, step, *m_session);
     m_session->simulation().step();
   }
+  if (m_session->simulation().refinements() > 0) buildView(true);
   m_playbackStep = target;
   m_loop = std::make_unique<RealTimeLoop>(m_session->simulation());  // from the state reached
   m_forcePlot->clear();
@@ -804,6 +878,10 @@ void MainWindow::updateStatus(const SimulationSnapshot& snapshot) {
 
 void MainWindow::renderFrame() {
   if (!m_loop || !m_view) return;
+  if (m_playback ? m_playbackRefinementDue.load() && !m_loop->isRunning()
+                 : m_loop->snapshot().wantsRefinement) {
+    refineWhereTheToolAims();
+  }
   const SimulationSnapshot& snapshot = m_loop->snapshot();
   m_latest = &snapshot;
   m_view->update(snapshot.positions_m, snapshot.instrument, &snapshot.damagedSprings);

@@ -122,6 +122,13 @@ class MainWindow : public QMainWindow {
 
   /// A change between steps into the session's recording (its step: the live pose's clock).
   void noteChange(RecordedEvent event);
+  /// The scene's view of the session's geometry, made afresh; keepCamera: where the old view's
+  /// camera was (a body made again), else the view's default (a scene opened).
+  void buildView(bool keepCamera);
+  /// The body made again where the tool aims (Simulation::refineTowardsTool), the physics
+  /// paused meanwhile, the view rebuilt for the new mesh: when the physics asks for it, or when
+  /// a playback reaches the step its recording made it at.
+  void refineWhereTheToolAims();
   /// A change of the user's own to the physics: ends a playback (`why` says which change),
   /// then applies `change` with the physics paused and records `event` at that step.
   template <typename Change>
@@ -138,6 +145,9 @@ class MainWindow : public QMainWindow {
   std::optional<SessionRecording> m_playback;
   std::size_t m_playbackNext = 0;       ///< the next recorded event (physics thread)
   std::atomic<long> m_playbackStep{0};  ///< steps played (physics thread; read by the GUI)
+  /// The playback reached a step where its recording made the body again: its loop ended there
+  /// for the window to do it (physics thread; read by the GUI).
+  std::atomic<bool> m_playbackRefinementDue{false};
   std::unique_ptr<RealTimeLoop> m_loop;
   std::unique_ptr<TissueSceneView> m_view;
   std::unique_ptr<CurveChart> m_materialChart;

@@ -181,6 +181,11 @@ class HapticRateBody {
   long updatesStarted() const { return m_updatesStarted; }
   /// The probe's travel since the last update started below which it is still (m).
   static constexpr double kRestingProbeTravel_m = 1e-9;
+  /// Nothing presses or holds the body and it is back where it starts, within
+  /// kRestingDisplacement_m at every corner: what a new body made for the same scene takes up
+  /// without a jump (Simulation::refineTowardsTool).
+  bool isAtRest() const;
+  static constexpr double kRestingDisplacement_m = 1e-5;
 
  private:
   void startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m);

@@ -77,6 +77,7 @@ void RealTimeLoop::run() {
     snapshot.damagedSprings = m_simulation.assessment().damagedSprings();  // same size: a copy
     snapshot.eventCount = m_simulation.eventCount();
     snapshot.latestEventKind = m_simulation.latestEventKind();
+    snapshot.wantsRefinement = m_simulation.wantsRefinementTowardsTool();
     m_snapshots.publish();
 
     due += period;

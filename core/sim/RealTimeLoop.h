@@ -42,6 +42,8 @@ struct SimulationSnapshot {
   std::vector<std::uint8_t> damagedSprings;
   std::size_t eventCount = 0;  ///< instability events so far (the list stays with the physics)
   const char* latestEventKind = nullptr;  ///< Simulation::latestEventKind(): a literal or null
+  /// Simulation::wantsRefinementTowardsTool(): the window makes the body again, paused.
+  bool wantsRefinement = false;
 };
 
 /// An instrument pose written by one thread (the GUI, a device) and read by the physics.

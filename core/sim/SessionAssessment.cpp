@@ -86,6 +86,35 @@ void SessionAssessment::setDamageStretch(double damageStretch) {
   }
 }
 
+SessionAssessment::SpringPeaks SessionAssessment::springPeaks() const {
+  SpringPeaks peaks;
+  peaks.middles_m.resize(3, m_mesh.springCount());
+  for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
+    peaks.middles_m.col(s) = 0.5 * (m_mesh.restPositions_m.col(m_mesh.springs(0, s)) +
+                                    m_mesh.restPositions_m.col(m_mesh.springs(1, s)));
+  }
+  peaks.peakStretchSquared = m_peakStretchSquared;
+  return peaks;
+}
+
+void SessionAssessment::takeUpMesh(const SpringPeaks& peaks) {
+  m_inverseRestLengthSquared_1_m2 = m_mesh.restLength_m.array().square().inverse().matrix();
+  m_springVolume_m3 = springVolumes(m_mesh);
+  m_organVolume_m3 = m_mesh.tetRestVolume_m3.sum();
+  m_peakStretchSquared = Eigen::VectorXd::Zero(m_mesh.springCount());
+  m_isDamaged.assign(static_cast<std::size_t>(m_mesh.springCount()), 0);
+  if (peaks.peakStretchSquared.size() > 0 && peaks.peakStretchSquared.maxCoeff() > 0.0) {
+    for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
+      const Eigen::Vector3d middle = 0.5 * (m_mesh.restPositions_m.col(m_mesh.springs(0, s)) +
+                                            m_mesh.restPositions_m.col(m_mesh.springs(1, s)));
+      Eigen::Index nearest = 0;
+      (peaks.middles_m.colwise() - middle).colwise().squaredNorm().minCoeff(&nearest);
+      m_peakStretchSquared[s] = peaks.peakStretchSquared[nearest];
+    }
+  }
+  setDamageStretch(m_thresholds.damageStretch);
+}
+
 double SessionAssessment::addStep(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& tip_m,
                                   double toolForce_N, double dt_s) {
   // The springs: each part its own range, its largest stretch and the volume it newly damaged.

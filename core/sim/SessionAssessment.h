@@ -77,6 +77,19 @@ class SessionAssessment {
   /// far. @throws std::invalid_argument unless damageStretch > 1 and finite.
   void setDamageStretch(double damageStretch);
 
+  /// Each spring's middle at rest (3 by #S, m) and its largest squared stretch so far: what
+  /// takeUpMesh carries over to another mesh of the same organ.
+  struct SpringPeaks {
+    Eigen::Matrix3Xd middles_m;
+    Eigen::VectorXd peakStretchSquared;
+  };
+  SpringPeaks springPeaks() const;
+  /// The mesh (the same object, rebuilt in place: the organ meshed otherwise) taken up: its
+  /// springs' rest lengths and volumes, each spring's largest stretch so far that of the spring
+  /// in `peaks` whose middle is nearest its own, its damage judged again on it; the session's
+  /// other figures (time, the tool's path and force, the largest stretch) go on. Allocates.
+  void takeUpMesh(const SpringPeaks& peaks);
+
   AssessmentSummary summary() const;
   /// #S: 1 where the spring is damaged, else 0 (what the damage overlay draws).
   const std::vector<std::uint8_t>& damagedSprings() const { return m_isDamaged; }

@@ -207,6 +207,7 @@ void writeRecording(const std::filesystem::path& path, const SessionRecording& r
       line["gravity_m_s2"] = {event.gravity_m_s2->x(), event.gravity_m_s2->y(),
                               event.gravity_m_s2->z()};
     if (event.tissue) line["tissue"] = tissueJson(*event.tissue);
+    if (event.isRefinedTowardsTool) line["refined_towards_tool"] = true;
     out << line.dump() << '\n';
   }
   out << Json{{"end_steps", recording.steps}}.dump() << '\n';
@@ -307,7 +308,14 @@ SessionRecording readRecording(const std::filesystem::path& path) {
       event.tissue = reader.tissue(json.at("tissue"));
       isKnown = true;
     }
-    if (!isKnown) reader.fail("has none of pose, reset, softening, gravity_m_s2, tissue");
+    if (json.contains("refined_towards_tool")) {
+      if (json.at("refined_towards_tool") != true)
+        reader.fail("field 'refined_towards_tool' must be true");
+      event.isRefinedTowardsTool = true;
+      isKnown = true;
+    }
+    if (!isKnown)
+      reader.fail("has none of pose, reset, softening, gravity_m_s2, tissue, refined_towards_tool");
     recording.events.push_back(std::move(event));
   }
   if (line == 0) throw RecordingError(name + ": the recording is empty");

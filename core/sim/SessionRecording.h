@@ -6,7 +6,8 @@
 // - A scripted session (`tissuesim run`): the script's keyframes and the step count.
 // - A live session (the window): each new input pose (the target the tool's proxy tracks, the
 //   grasper's jaws with it) at the physics step that first saw it, and the changes made
-//   between steps: reset, softening, gravity, a new tissue.
+//   between steps: reset, softening, gravity, a new tissue, the body made again where the tool
+//   aims.
 //
 // Steps are counted as the instrument source's calls (one a physics step, failed steps
 // included), from the start of the session; an event at step k takes effect before step k.
@@ -47,6 +48,8 @@ struct RecordedEvent {
   std::optional<bool> softening;
   std::optional<Eigen::Vector3d> gravity_m_s2;
   std::optional<TissueParameters> tissue;
+  /// The body made again where the tool aims (Simulation::refineTowardsTool).
+  bool isRefinedTowardsTool = false;
 };
 
 struct FileFingerprint {

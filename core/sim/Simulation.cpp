@@ -35,6 +35,13 @@ constexpr int kSettlingMaxSteps = 500;
 
 Simulation::Simulation(const SceneDescription& scene)
     : m_scene(scene), m_geometry(loadSceneGeometry(scene)), m_timeStep_s(scene.timeStep_s) {
+  // The pose the body is made with (buildPhysics); the scene's start until a step moves it.
+  if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
+  if (scene.model == "fem-haptic-rate" && scene.tetMesh && scene.tetMesh->refinement) {
+    Eigen::Vector3d centre;
+    if (firstOrganCrossing(m_geometry, m_pose.tip_m, m_pose.direction, centre))
+      m_refinementCentre = centre;
+  }
   // The FEM at its own rate carries its tray in its own updates (sim/HapticRateBody.h).
   if (scene.tray && scene.model != "fem-haptic-rate")
     m_tray = std::make_unique<TraySupport>(m_geometry, *scene.tray);
@@ -47,8 +54,58 @@ Simulation::Simulation(const SceneDescription& scene)
   settle();
   m_state = m_startState;
   m_lastGoodState = m_state;
-  if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
   m_assessment->restart(m_pose.tip_m);
+}
+
+bool Simulation::refineTowardsTool() {
+  if (!m_refinementCentre || !m_hapticRate) return false;
+  Eigen::Vector3d aim;
+  if (!firstOrganCrossing(m_geometry, m_pose.tip_m, m_pose.direction, aim)) return false;
+  // The scene's own mesh, refined where the tool aims now (as if the scene had started it there).
+  SceneDescription aimed = m_scene;
+  aimed.instrument->tipStart_m = m_pose.tip_m;
+  aimed.instrument->direction = m_pose.direction;
+  // Where the body cannot be made (a grading past the tets' limit there), it is not asked for
+  // again until the tool aims elsewhere: the window would otherwise try every frame.
+  m_refusedAim = aim;
+  SceneGeometry geometry = loadSceneGeometry(aimed);
+  const SessionAssessment::SpringPeaks peaks = m_assessment->springPeaks();
+  std::swap(m_geometry, geometry);
+  // Made afresh, not continued from the old body (buildPhysics continues a body on the same mesh).
+  std::unique_ptr<HapticRateBody> old = std::move(m_hapticRate);
+  try {
+    buildPhysics(*m_parameters);
+  } catch (...) {
+    std::swap(m_geometry, geometry);
+    m_hapticRate = std::move(old);
+    throw;
+  }
+  old.reset();
+  m_assessment->setThreadPool(m_pool.get());
+  m_assessment->takeUpMesh(peaks);
+  settle();
+  m_state = m_startState;
+  m_lastGoodState = m_state;
+  m_refinementCentre = aim;
+  m_refusedAim.reset();
+  m_wantsRefinement = false;
+  m_activeConditions.clear();
+  ++m_refinements;
+  return true;
+}
+
+bool Simulation::computeWantsRefinement() {
+  Eigen::Vector3d aim;
+  const bool isAiming = firstOrganCrossing(m_geometry, m_pose.tip_m, m_pose.direction, aim);
+  // Steady: the aim moved little since the last check (the tool held over a site, or moving
+  // along its axis towards it), so that a tool swept across the organ is not refined for at
+  // every few millimetres of its way.
+  const bool isSteady = isAiming && m_lastAim && (aim - *m_lastAim).norm() <= kSteadyAimTravel_m;
+  m_lastAim = isAiming ? std::optional<Eigen::Vector3d>(aim) : std::nullopt;
+  if (!isSteady || !m_hapticRate->isAtRest()) return false;
+  if (toolClearance_m() < kHapticRateNearClearance_m) return false;
+  return (aim - *m_refinementCentre).norm() > kRefineAgainDistance_m &&
+         (!m_refusedAim || (aim - *m_refusedAim).norm() > kRefineAgainDistance_m);
 }
 
 void Simulation::replaceTissue(const TissueParameters& parameters) {
@@ -137,11 +194,16 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     if (scene.tray)
       settings.tray =
           HapticRateTray{scene.tray->up, scene.tray->height_m, scene.tray->stiffness_Pa_per_m};
-    const Eigen::Vector3d tip = tool.tipStart_m - tool.shaftRadius_m * tool.direction;
+    // The probe where the scene starts it, or, for a body made again where the tool aims
+    // (refineTowardsTool, the tool clear of the organ), where it is; a new tissue's body takes
+    // the probe up from the old one's below.
+    const InstrumentPose made =
+        m_hapticRate ? InstrumentPose{tool.tipStart_m, tool.direction, false} : m_pose;
+    const Eigen::Vector3d tip = made.tip_m - tool.shaftRadius_m * made.direction;
     try {
       hapticRate = std::make_unique<HapticRateBody>(
           m_geometry.mesh, m_geometry.fixedNodes, scene.fixed.box_m, *energy, scene.bulkModulus_Pa,
-          settings, tip, tip - tool.shaftLength_m * tool.direction);
+          settings, tip, tip - tool.shaftLength_m * made.direction);
     } catch (const std::invalid_argument& error) {
       throw SceneFileError(scene.source.string() +
                            ": effects.model fem-haptic-rate: " + error.what());
@@ -494,6 +556,8 @@ StepOutcome Simulation::stepHapticRate() {
   // The springs carry no force here; the assessment measures their stretch all the same.
   outcome.maxStretch = m_assessment->addStep(m_state.x, m_pose.tip_m,
                                              outcome.contact.toolForce_N.norm(), m_timeStep_s);
+  if (m_refinementCentre && m_steps % kRefinementCheckSteps == 0)
+    m_wantsRefinement = computeWantsRefinement();
   return outcome;
 }
 

@@ -27,6 +27,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -148,6 +149,37 @@ class Simulation {
   /// fem-haptic-rate, the mesh's nodes among the held surface points').
   std::vector<int> heldNodes() const;
 
+  // Refined again where the tool aims (effects.model fem-haptic-rate with
+  // tet_mesh.refine_towards_tool): the body is accurate within a few millimetres of where it was
+  // refined (docs/performance-details.md, "Refined where the tool aims"), so as the tool moves
+  // over the organ the body is made again, refined where it aims now, while nothing touches it.
+  /// Where the body was refined towards (m): the point where the tool's axis met the drawn
+  /// surface as the scene opened, or at the last refineTowardsTool(); none unless the scene's
+  /// tet mesh is refined towards the tool.
+  const std::optional<Eigen::Vector3d>& refinementCentre() const { return m_refinementCentre; }
+  /// The body would be refined again now: the tool's axis meets the organ more than
+  /// kRefineAgainDistance_m from the refinement centre, and within kSteadyAimTravel_m of where
+  /// it met it at the last check (the tool held over a site or moving along its axis), the tool
+  /// at least kHapticRateNearClearance_m clear of the organ, and the body at rest
+  /// (HapticRateBody::isAtRest); not within kRefineAgainDistance_m of where it could not be
+  /// made. Checked every kRefinementCheckSteps steps, as of the last.
+  bool wantsRefinementTowardsTool() const { return m_wantsRefinement; }
+  static constexpr double kRefineAgainDistance_m = 0.004;
+  static constexpr double kSteadyAimTravel_m = 0.0005;
+  static constexpr long kRefinementCheckSteps = 16;
+  /// The body made again from the scene's mesh, refined where the tool's axis meets the organ
+  /// now (the caller pauses any loop stepping this simulation first): the geometry, the spring
+  /// mesh (rebuilt in place), the body at rest on the new mesh. Time, events and the session's
+  /// assessment go on (each spring's largest stretch taken from the old spring nearest it:
+  /// SessionAssessment::takeUpMesh); the softening's history at the material points starts
+  /// afresh with the new body. Views of the geometry and the spring mesh must be rebuilt.
+  /// @returns false, changing nothing, where the tool's axis misses the organ or the scene is
+  /// not refined towards the tool. @throws SceneFileError where the new body cannot be made
+  /// (the simulation is left as it was).
+  bool refineTowardsTool();
+  /// Bodies made again so far (0 as the scene opens).
+  long refinements() const { return m_refinements; }
+
  private:
   void record(const char* kind, const std::string& detail);
   /// Material, tables, spring mesh, laws, system and integrator from the parameters.
@@ -163,6 +195,8 @@ class Simulation {
   /// The tool's clearance from the organ where the last step left both (sim/ToolClearance.h),
   /// exact within kHapticRateNearClearance_m.
   double toolClearance_m() const;
+  /// wantsRefinementTowardsTool()'s conditions at the last step (the aim noted for the next).
+  bool computeWantsRefinement();
   /// Records the conditions on now (each step's m_conditionsNow), their text built only then.
   template <typename Describe>
   void check(bool isOn, const char* kind, const Describe& describe) {
@@ -212,6 +246,11 @@ class Simulation {
   /// The kinds on at the last step (events fire on their onset).
   std::vector<std::string_view> m_activeConditions;
   std::vector<std::string_view> m_conditionsNow;  ///< scratch, capacity kept between steps
+  std::optional<Eigen::Vector3d> m_refinementCentre;
+  std::optional<Eigen::Vector3d> m_refusedAim;  ///< where the body could not be made again
+  std::optional<Eigen::Vector3d> m_lastAim;     ///< where the tool aimed at the last check
+  bool m_wantsRefinement = false;
+  long m_refinements = 0;
 };
 
 }  // namespace tissuesim

@@ -3,7 +3,8 @@
 // display): start on the bundled scene, push the instrument into the liver with the mouse
 // wheel, see the surface move and no error; load a bad tissue file, see the error dialog and
 // the simulation carry on; load a good one; save an image; save the session's recording and
-// step it again to the window's state.
+// step it again to the window's state; take the tool aside on a scene refined where it aims and
+// see the body made again there, in the session and in its playback.
 
 #include <algorithm>
 #include <cmath>
@@ -36,9 +37,9 @@ class GuiSmokeTest : public QObject {
   std::unique_ptr<MainWindow> m_window;
   QWidget* view() const { return m_window->findChild<QWidget*>("sceneView"); }
   long steps() const { return m_window->latestSnapshot() ? m_window->latestSnapshot()->step : 0; }
-  void wheel(int notches) {
-    // What the mouse wheel sends, one notch at a time, to the 3D view.
-    const QPoint centre = view()->rect().center();
+  void wheel(int notches) { wheelAt(notches, view()->rect().center()); }
+  void wheelAt(int notches, const QPoint& centre) {
+    // What the mouse wheel sends, one notch at a time, to the 3D view, the cursor at `centre`.
     for (int i = 0; i < std::abs(notches); ++i) {
       QWheelEvent event(centre, view()->mapToGlobal(centre), QPoint(),
                         QPoint(0, notches > 0 ? 120 : -120), Qt::NoButton, Qt::NoModifier,
@@ -425,6 +426,68 @@ class GuiSmokeTest : public QObject {
     QCOMPARE(json.at("scene").get<std::string>(), std::string("assessed liver"));
     dialog->close();
     m_window->setPaused(false);
+  }
+
+  void aRefinedBodyIsMadeAgainWhereTheToolGoesAndPlaysBackSo() {
+    // The scene refined where its tool aims: the tool taken aside over the liver, the body made
+    // again there, pressed there; the recording replays it, and plays back in the window.
+    QVERIFY(m_window->loadScene(QString(TISSUESIM_ASSET_DIR) + "/scenes/liver-fem-refined.json"));
+    m_window->setPaused(false);
+    QTRY_VERIFY_WITH_TIMEOUT(steps() > 50, 10000);
+    QCOMPARE(m_window->simulation()->refinements(), 0L);
+    const Eigen::Vector3d centre = *m_window->simulation()->refinementCentre();
+    // The view's centre: over the middle of the liver, a few centimetres from where the scene
+    // starts the tool.
+    const QPoint aside = view()->rect().center();
+    QMouseEvent move(QEvent::MouseMove, aside, Qt::NoButton, Qt::NoButton, Qt::NoModifier);
+    QApplication::sendEvent(view(), &move);
+    QTRY_VERIFY_WITH_TIMEOUT(m_window->simulation()->refinements() >= 1, 10000);
+    QVERIFY((*m_window->simulation()->refinementCentre() - centre).norm() >
+            Simulation::kRefineAgainDistance_m);
+    QTRY_VERIFY_WITH_TIMEOUT(
+        (m_window->renderFrame(),
+         steps() > 0 && m_window->latestSnapshot()->positions_m.cols() ==
+                            m_window->simulation()->geometry().mesh.nodeCount()),
+        5000);
+    wheelAt(12, aside);
+    double force = 0.0;
+    QTRY_VERIFY_WITH_TIMEOUT((m_window->renderFrame(),
+                              force = m_window->latestSnapshot()->toolForce_N.norm(), force > 0.05),
+                             20000);
+    QVERIFY(errorDialog() == nullptr);
+    m_window->setPaused(true);
+    QCOMPARE(m_window->simulation()->eventCount(), std::size_t{0});
+    QTemporaryDir directory;
+    const QString path = directory.filePath("refined.jsonl");
+    QVERIFY(m_window->saveRecording(path));
+    const Eigen::Matrix3Xd live = m_window->simulation()->state().x;
+    const SessionRecording recording = readRecording(path.toStdString());
+    // Made again once at least (as the tool came to rest over the new site; again wherever it
+    // stopped over another on its way), each noted in the recording.
+    const long made = m_window->simulation()->refinements();
+    QVERIFY(made >= 1);
+    QCOMPARE(std::count_if(recording.events.begin(), recording.events.end(),
+                           [](const RecordedEvent& e) { return e.isRefinedTowardsTool; }),
+             made);
+    SceneSession replay(recording.scenePath.string(), "", InstrumentDriver::Live);
+    std::size_t next = 0;
+    for (long step = 0; step < recording.steps; ++step) {
+      applyRecordedChanges(recording, next, step, replay);
+      replay.simulation().step();
+    }
+    QCOMPARE(replay.simulation().refinements(), made);
+    QCOMPARE(replay.simulation().state().x.cols(), live.cols());
+    QCOMPARE((replay.simulation().state().x - live).cwiseAbs().maxCoeff(), 0.0);
+    // Played back in the window: the body made again at the same step, the same state at its end.
+    m_window->setPaused(false);
+    QVERIFY(m_window->openRecording(path));
+    QTRY_VERIFY_WITH_TIMEOUT(
+        (m_window->renderFrame(),
+         m_window->isPaused() && m_window->playbackTime_s() == m_window->playbackLength_s()),
+        30000);
+    QCOMPARE(m_window->simulation()->refinements(), made);
+    QCOMPARE((m_window->simulation()->state().x - live).cwiseAbs().maxCoeff(), 0.0);
+    QVERIFY(errorDialog() == nullptr);
   }
 
   void cleanupTestCase() { m_window.reset(); }

@@ -13,6 +13,9 @@
 
 #include "app/ReplayCommand.h"
 #include "app/RunCommand.h"
+#include "sim/SceneFile.h"
+#include "sim/SessionRecording.h"
+#include "sim/Simulation.h"
 
 namespace tissuesim::app {
 namespace {
@@ -63,6 +66,58 @@ TEST(Replay, ARecordedRunReplaysToTheSameReport) {
     replay.erase(timing);
   }
   EXPECT_EQ(run, replay);
+  std::filesystem::remove_all(folder);
+}
+
+TEST(Replay, ABodyMadeAgainWhereTheToolAimsIsMadeAgainAtTheSameStep) {
+  // A live session on the scene refined where its tool aims: the tool taken 4 cm along x (the
+  // second poke site), the body made again there at step 600, then pressed there.
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / "tissuesim-replay-refined-test";
+  std::filesystem::create_directories(folder);
+  const std::string scene = std::string(TISSUESIM_ASSET_DIR) + "/scenes/liver-fem-refined.json";
+  const SceneDescription description = loadSceneFile(scene);
+  const Eigen::Vector3d direction = description.instrument->direction;
+  const Eigen::Vector3d second(-0.04, 0.152, 0.045);
+  SessionRecording recording;
+  recording.scenePath = scene;
+  recording.files = sceneFingerprints(scene);
+  recording.isLive = true;
+  RecordedEvent across;
+  across.step = 1;
+  across.pose = InstrumentPose{second, direction, false};
+  RecordedEvent refined;
+  refined.step = 600;
+  refined.isRefinedTowardsTool = true;
+  RecordedEvent pressed;
+  pressed.step = 601;
+  pressed.pose = InstrumentPose{second + 0.012 * direction, direction, false};
+  recording.events = {across, refined, pressed};
+  recording.steps = 2500;
+  const std::string path = (folder / "refined.jsonl").string();
+  writeRecording(path, recording);
+  runCommand({"replay", "--recording", path, "--report", (folder / "first.json").string(),
+              "--export", (folder / "export").string(), "--export-every", "0.5"});
+  runCommand({"replay", "--recording", path, "--report", (folder / "second.json").string()});
+  nlohmann::json first = readJson(folder / "first.json");
+  nlohmann::json second_ = readJson(folder / "second.json");
+  EXPECT_EQ(first.at("refined_towards_tool"), 1);
+  EXPECT_EQ(first.at("instability_event_count"), 0);
+  EXPECT_GT(first.at("max_tool_force_n").get<double>(), 0.05);
+  // The mesh is the one the scene makes with its tool started at the second site.
+  SceneDescription there = description;
+  there.instrument->tipStart_m = second;
+  const Simulation opened(there);
+  EXPECT_EQ(first.at("nodes"), opened.springMesh().nodeCount());
+  EXPECT_NE(first.at("nodes"), Simulation(description).springMesh().nodeCount());
+  // The export took the new mesh up: a frame before it and after it.
+  EXPECT_TRUE(std::filesystem::exists(folder / "export" / "tets_000000.vtu"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "export" / "tets_000005.vtu"));
+  for (const char* timing : {"physics_hz", "realtime_factor", "wall_seconds", "export"}) {
+    first.erase(timing);
+    second_.erase(timing);
+  }
+  EXPECT_EQ(first, second_);
   std::filesystem::remove_all(folder);
 }
 

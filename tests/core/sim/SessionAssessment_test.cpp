@@ -154,5 +154,51 @@ TEST(SessionAssessment, OneThreadAndTwoGiveTheSameFigures) {
   EXPECT_EQ(alone.damagedSprings(), pooled.damagedSprings());
 }
 
+TEST(SessionAssessment, AMeshTakenUpKeepsTheDamageWhereItWasDone) {
+  // The block's springs stretched past the threshold in its left half only; the same block then
+  // meshed twice as finely (the mesh rebuilt in place, as a body made again is).
+  SpringMesh mesh = blockSprings();
+  SessionAssessment assessment(mesh, {8.0, 1.18});
+  Eigen::Matrix3Xd x = mesh.restPositions_m;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    if (x(0, i) <= 0.01 + 1e-12) x(0, i) *= 1.3;  // the left half stretched 1.3 along x
+  }
+  assessment.addStep(x, Eigen::Vector3d(0.0, 0.0, 0.01), 2.0, kDt_s);
+  const AssessmentSummary before = assessment.summary();
+  ASSERT_GT(before.damagedSpringCount, 0);
+  mesh = buildSpringMesh(makeBlockMesh({0.02, 0.01, 0.01}, {8, 4, 4}), 1000.0);
+  assessment.takeUpMesh([&] {
+    // The peaks as springPeaks() gave them before the mesh was rebuilt: from a copy.
+    const SpringMesh coarse = blockSprings();
+    SessionAssessment again(coarse, {8.0, 1.18});
+    again.addStep(x, Eigen::Vector3d::Zero(), 0.0, kDt_s);
+    return again.springPeaks();
+  }());
+  const AssessmentSummary after = assessment.summary();
+  // The session's other figures go on.
+  EXPECT_EQ(after.duration_s, before.duration_s);
+  EXPECT_EQ(after.peakToolForce_N, before.peakToolForce_N);
+  EXPECT_EQ(after.largestStretch, before.largestStretch);
+  EXPECT_NEAR(after.organVolume_m3, before.organVolume_m3, 1e-15);
+  // Damage on the new mesh lies in the left half and nowhere in the right.
+  const std::vector<std::uint8_t>& damaged = assessment.damagedSprings();
+  ASSERT_EQ(static_cast<Eigen::Index>(damaged.size()), mesh.springCount());
+  long left = 0, right = 0;
+  for (Eigen::Index s = 0; s < mesh.springCount(); ++s) {
+    if (damaged[static_cast<std::size_t>(s)] == 0) continue;
+    const double middle = 0.5 * (mesh.restPositions_m(0, mesh.springs(0, s)) +
+                                 mesh.restPositions_m(0, mesh.springs(1, s)));
+    (middle < 0.01 ? left : right) += 1;
+  }
+  EXPECT_GT(left, before.damagedSpringCount);  // more, finer springs there
+  EXPECT_EQ(right, 0);
+  EXPECT_EQ(after.damagedSpringCount, left);
+  EXPECT_GT(after.damagedVolume_m3, 0.0);
+  EXPECT_LT(after.damagedVolume_m3, 0.5 * after.organVolume_m3 + 1e-15);
+  // And it goes on judging the new mesh's springs.
+  assessment.addStep(mesh.restPositions_m * 1.25, Eigen::Vector3d::Zero(), 0.0, kDt_s);
+  EXPECT_EQ(assessment.summary().damagedSpringCount, mesh.springCount());
+}
+
 }  // namespace
 }  // namespace tissuesim

@@ -35,7 +35,10 @@ SessionRecording sample() {
   changes.isReset = true;
   changes.softening = false;
   changes.gravity_m_s2 = Eigen::Vector3d(0.0, -9.81, 1.0 / 3.0);
-  recording.events = {pose, tissue, changes};
+  RecordedEvent refined;
+  refined.step = 9;
+  refined.isRefinedTowardsTool = true;
+  recording.events = {pose, tissue, changes, refined};
   recording.steps = 12;
   return recording;
 }
@@ -79,7 +82,7 @@ TEST(SessionRecording, WhatIsWrittenIsReadBackToTheBit) {
   EXPECT_EQ(read.files[0].hash, written.files[0].hash);
   EXPECT_TRUE(read.isLive);
   EXPECT_EQ(read.steps, 12);
-  ASSERT_EQ(read.events.size(), 3u);
+  ASSERT_EQ(read.events.size(), 4u);
   EXPECT_EQ(read.events[0].step, 3);
   EXPECT_EQ(read.events[0].pose->tip_m, written.events[0].pose->tip_m);
   EXPECT_EQ(read.events[0].pose->direction, written.events[0].pose->direction);
@@ -90,6 +93,9 @@ TEST(SessionRecording, WhatIsWrittenIsReadBackToTheBit) {
   EXPECT_TRUE(read.events[2].isReset);
   EXPECT_EQ(*read.events[2].softening, false);
   EXPECT_EQ(*read.events[2].gravity_m_s2, *written.events[2].gravity_m_s2);
+  EXPECT_FALSE(read.events[2].isRefinedTowardsTool);
+  EXPECT_EQ(read.events[3].step, 9);
+  EXPECT_TRUE(read.events[3].isRefinedTowardsTool);
   checkFingerprints(read, path.string());  // the bundled files are as they were
   std::filesystem::remove(path);
 }
@@ -100,7 +106,7 @@ TEST(SessionRecording, ARecordingCutShortIsRefused) {
   std::string text = textOf(path);
   text.erase(text.rfind("{\"end_steps\""));  // the end line lost, as when a save is cut off
   writeText(path, text);
-  EXPECT_NE(refusal(path).find("cut short after line 4: no end line"), std::string::npos);
+  EXPECT_NE(refusal(path).find("cut short after line 5: no end line"), std::string::npos);
   writeText(path, text.substr(0, text.size() / 2));  // cut in the middle of a line
   EXPECT_NE(refusal(path).find("is not valid JSON"), std::string::npos);
   std::filesystem::remove(path);
@@ -121,6 +127,10 @@ TEST(SessionRecording, CorruptLinesAndForeignFilesAreRefused) {
   writeText(path,
             text.substr(0, second) + "{\"step\": 4, \"teleport\": true}\n" + text.substr(second));
   EXPECT_NE(refusal(path).find("line 2 has none of pose, reset"), std::string::npos);
+  writeText(path, text.substr(0, second) + "{\"step\": 4, \"refined_towards_tool\": 1}\n" +
+                      text.substr(second));
+  EXPECT_NE(refusal(path).find("line 2 field 'refined_towards_tool' must be true"),
+            std::string::npos);
   writeText(path, "{\"tissue\": \"../tissues/porcine-liver.json\"}\n");
   EXPECT_NE(refusal(path).find("not a TissueSim recording"), std::string::npos);
   writeText(path, "");
