@@ -18,8 +18,8 @@ namespace tissuesim {
 
 /// The body: the block in cubes of about coarsest_m (Kuhn's six tets each), refined by bisection
 /// towards the top face's centre to edges of finest_m there, growing by `growth` (m per m) away
-/// from it (mesh/TetRefinement.h's grading). The default's updates take about 40 ms on the
-/// bundled FEM scenes' settings (docs/performance-details.md, "The block at the haptic rate").
+/// from it (mesh/TetRefinement.h's grading). The default: a body whose updates fit in the time the
+/// bundled FEM scenes give them (docs/performance-details.md, "The block at the haptic rate").
 struct IndentationBodyGrading {
   double finest_m = 0.0015;
   double growth = 1.0;
