@@ -12,6 +12,7 @@
 #include "app/CommandError.h"
 #include "app/LoadedTissue.h"
 #include "app/OutputFile.h"
+#include "app/Percentile.h"
 #include "fem/FemModel.h"
 
 namespace tissuesim::app {
@@ -57,11 +58,7 @@ IndentationCurve indentAtHapticRate(const IndentCommandOptions& options, const L
   } catch (const std::invalid_argument& error) {
     throw CommandError(std::string("fem-haptic-rate: ") + error.what());
   }
-  std::vector<double> sorted = poke.stepTimes_ms;
-  std::sort(sorted.begin(), sorted.end());
-  const auto quantile = [&](double q) {
-    return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
-  };
+  const auto quantile = [&](double share) { return percentile(poke.stepTimes_ms, share); };
   const double meanUpdate_ms = poke.updates > 0 ? 1e3 * poke.updating_s / poke.updates : 0.0;
   char latency[64] = "its own wall time";
   if (options.updateLatency_ms > 0.0)

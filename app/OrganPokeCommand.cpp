@@ -17,6 +17,7 @@
 #include "app/LoadedTissue.h"
 #include "app/OrganPoke.h"
 #include "app/OutputFile.h"
+#include "app/Percentile.h"
 #include "app/ProbeAtOption.h"
 #include "app/SceneSession.h"
 #include "fem/FemModel.h"
@@ -212,11 +213,7 @@ void runOrganPoke(const OrganPokeOptions& options) {
     } catch (const std::invalid_argument& error) {
       throw CommandError(options.hapticRateMeshPath + ": " + error.what());
     }
-    std::vector<double> sorted = poke.stepTimes_ms;
-    std::sort(sorted.begin(), sorted.end());
-    const auto quantile = [&](double q) {
-      return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
-    };
+    const auto quantile = [&](double share) { return percentile(poke.stepTimes_ms, share); };
     char latency[64] = "their own wall time";
     if (options.updateLatency_ms > 0.0)
       std::snprintf(latency, sizeof latency, "%g ms", options.updateLatency_ms);

@@ -21,6 +21,7 @@
 #include "app/FemForceCache.h"
 #include "app/LoadedTissue.h"
 #include "app/OrganPoke.h"
+#include "app/Percentile.h"
 #include "app/ProcessMemory.h"
 #include "app/SceneSession.h"
 #include "collision/CapsuleContact.h"
@@ -69,14 +70,6 @@ SceneDescription sceneOf(const SceneDescription& bundled, const TradeRow& row) {
     scene.strainCells = row.strainCells;
   }
   return scene;
-}
-
-/// The value below which `share` of the sorted values lie (nearest rank).
-double percentile(std::vector<double> values, double share) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(share * static_cast<double>(values.size())));
-  return values[std::min(values.size() - 1, rank > 0 ? rank - 1 : 0)];
 }
 
 /// The default poke through the scene, timed; its figures as JSON text (the child's reply).

@@ -319,7 +319,6 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
 bool HapticRateBody::isAtRest() const {
   if (!m_heldPoints.empty() || m_letGoSteps > 0 || m_settledProbeForce_N.squaredNorm() > 0.0)
     return false;
-  if (m_settledCorners.cols() != m_startCorners.cols()) return true;  // no step yet
   return (m_settledCorners - m_startCorners).cwiseAbs().maxCoeff() <= kRestingDisplacement_m;
 }
 

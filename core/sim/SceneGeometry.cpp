@@ -47,6 +47,10 @@ void applyGuessedUnit(const SceneMeshSource& source, const std::string& sceneNam
 }  // namespace
 
 SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
+  return completeSceneGeometry(scene, readSceneGeometry(scene));
+}
+
+SceneGeometry readSceneGeometry(const SceneDescription& scene) {
   const std::string name = scene.source.string();
   SceneGeometry geometry;
   try {
@@ -74,6 +78,11 @@ SceneGeometry loadSceneGeometry(const SceneDescription& scene) {
   } catch (const std::invalid_argument& error) {
     throw SceneFileError(name + ": " + error.what());
   }
+  return geometry;
+}
+
+SceneGeometry completeSceneGeometry(const SceneDescription& scene, SceneGeometry geometry) {
+  const std::string name = scene.source.string();
   // Listed fixed nodes are the file's: the refinement's come after them.
   const Eigen::Index fileNodeCount = geometry.mesh.nodeCount();
   Eigen::Matrix2Xi splitEdges(2, 0);

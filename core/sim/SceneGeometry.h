@@ -32,6 +32,13 @@ struct SceneGeometry {
 /// where the mesh is to be refined, a fixed region that selects no node, or a
 /// listed node out of range.
 SceneGeometry loadSceneGeometry(const SceneDescription& scene);
+/// Its two halves: the scene's files read (the surface welded, the tet mesh as read or generated;
+/// no embedding, no fixed nodes), and that completed (refined where the instrument aims, the
+/// surface embedded, the fixed nodes chosen). A scene refined again where its tool aims keeps
+/// the first and completes it anew, so that files changed on disk since it opened play no part.
+/// @throws SceneFileError as loadSceneGeometry.
+SceneGeometry readSceneGeometry(const SceneDescription& scene);
+SceneGeometry completeSceneGeometry(const SceneDescription& scene, SceneGeometry read);
 
 /// Where the ray from `from_m` along unit `direction` first meets the organ at rest: its drawn
 /// surface where the scene names one (what the user sees the tool touch, and what the FEM

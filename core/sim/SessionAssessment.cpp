@@ -89,10 +89,7 @@ void SessionAssessment::setDamageStretch(double damageStretch) {
 SessionAssessment::SpringPeaks SessionAssessment::springPeaks() const {
   SpringPeaks peaks;
   peaks.middles_m.resize(3, m_mesh.springCount());
-  for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
-    peaks.middles_m.col(s) = 0.5 * (m_mesh.restPositions_m.col(m_mesh.springs(0, s)) +
-                                    m_mesh.restPositions_m.col(m_mesh.springs(1, s)));
-  }
+  for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) peaks.middles_m.col(s) = restMiddle(s);
   peaks.peakStretchSquared = m_peakStretchSquared;
   return peaks;
 }
@@ -105,8 +102,7 @@ void SessionAssessment::takeUpMesh(const SpringPeaks& peaks) {
   m_isDamaged.assign(static_cast<std::size_t>(m_mesh.springCount()), 0);
   if (peaks.peakStretchSquared.size() > 0 && peaks.peakStretchSquared.maxCoeff() > 0.0) {
     for (Eigen::Index s = 0; s < m_mesh.springCount(); ++s) {
-      const Eigen::Vector3d middle = 0.5 * (m_mesh.restPositions_m.col(m_mesh.springs(0, s)) +
-                                            m_mesh.restPositions_m.col(m_mesh.springs(1, s)));
+      const Eigen::Vector3d middle = restMiddle(s);
       Eigen::Index nearest = 0;
       (peaks.middles_m.colwise() - middle).colwise().squaredNorm().minCoeff(&nearest);
       m_peakStretchSquared[s] = peaks.peakStretchSquared[nearest];

@@ -96,6 +96,11 @@ class SessionAssessment {
 
  private:
   Eigen::Index partStart(int part) const { return m_mesh.springCount() * part / kParts; }
+  /// Spring s's middle at rest (m).
+  Eigen::Vector3d restMiddle(Eigen::Index s) const {
+    return 0.5 * (m_mesh.restPositions_m.col(m_mesh.springs(0, s)) +
+                  m_mesh.restPositions_m.col(m_mesh.springs(1, s)));
+  }
 
   const SpringMesh& m_mesh;
   ForkJoinPool* m_pool = nullptr;

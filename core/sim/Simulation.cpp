@@ -33,11 +33,22 @@ constexpr double kSettledSpeed_m_s = 1e-4;
 constexpr int kSettlingMaxSteps = 500;
 }  // namespace
 
+namespace {
+bool isRefinedTowardsTool(const SceneDescription& scene) {
+  return scene.model == "fem-haptic-rate" && scene.tetMesh && scene.tetMesh->refinement;
+}
+}  // namespace
+
 Simulation::Simulation(const SceneDescription& scene)
-    : m_scene(scene), m_geometry(loadSceneGeometry(scene)), m_timeStep_s(scene.timeStep_s) {
+    : m_scene(scene),
+      m_readGeometry(isRefinedTowardsTool(scene) ? std::optional(readSceneGeometry(scene))
+                                                 : std::nullopt),
+      m_geometry(m_readGeometry ? completeSceneGeometry(scene, *m_readGeometry)
+                                : loadSceneGeometry(scene)),
+      m_timeStep_s(scene.timeStep_s) {
   // The pose the body is made with (buildPhysics); the scene's start until a step moves it.
   if (scene.instrument) m_pose = {scene.instrument->tipStart_m, scene.instrument->direction, false};
-  if (scene.model == "fem-haptic-rate" && scene.tetMesh && scene.tetMesh->refinement) {
+  if (m_readGeometry) {
     Eigen::Vector3d centre;
     if (firstOrganCrossing(m_geometry, m_pose.tip_m, m_pose.direction, centre))
       m_refinementCentre = centre;
@@ -58,7 +69,7 @@ Simulation::Simulation(const SceneDescription& scene)
 }
 
 bool Simulation::refineTowardsTool() {
-  if (!m_refinementCentre || !m_hapticRate) return false;
+  if (!m_refinementCentre || !m_hapticRate || !m_readGeometry) return false;
   Eigen::Vector3d aim;
   if (!firstOrganCrossing(m_geometry, m_pose.tip_m, m_pose.direction, aim)) return false;
   // The scene's own mesh, refined where the tool aims now (as if the scene had started it there).
@@ -68,7 +79,7 @@ bool Simulation::refineTowardsTool() {
   // Where the body cannot be made (a grading past the tets' limit there), it is not asked for
   // again until the tool aims elsewhere: the window would otherwise try every frame.
   m_refusedAim = aim;
-  SceneGeometry geometry = loadSceneGeometry(aimed);
+  SceneGeometry geometry = completeSceneGeometry(aimed, *m_readGeometry);
   const SessionAssessment::SpringPeaks peaks = m_assessment->springPeaks();
   std::swap(m_geometry, geometry);
   // Made afresh, not continued from the old body (buildPhysics continues a body on the same mesh).

@@ -206,6 +206,8 @@ class Simulation {
   }
 
   SceneDescription m_scene;
+  /// The scene's files as read, kept where the body is refined again where the tool aims.
+  std::optional<SceneGeometry> m_readGeometry;
   SceneGeometry m_geometry;
   std::unique_ptr<TissueParameters> m_parameters;
   std::unique_ptr<StrainEnergy> m_energy;

@@ -4,6 +4,7 @@
 // goes on, and the body is made again only while nothing touches it and the tool aims elsewhere.
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -144,6 +145,30 @@ TEST(RefinedTowardsTool, TheBodyIsMadeAgainOnlyWhileNothingTouchesItAndTheToolAi
   EXPECT_EQ(simulation.geometry().mesh.nodeCount(), nodes);
   EXPECT_EQ(simulation.refinements(), 0);
   EXPECT_TRUE(simulation.events().empty());
+}
+
+TEST(RefinedTowardsTool, TheBodyIsMadeAgainFromTheFilesAsTheSceneOpenedThem) {
+  // The scene and its files copied aside, opened, then its meshes deleted: the body is made
+  // again all the same, from what was read as the scene opened.
+  const std::filesystem::path assets(TISSUESIM_ASSET_DIR);
+  const std::filesystem::path copy =
+      std::filesystem::temp_directory_path() / "tissuesim-refined-files-test";
+  std::filesystem::remove_all(copy);
+  for (const char* file : {"scenes/liver-fem-refined.json", "tissues/porcine-liver.json",
+                           "meshes/liver-smooth.obj", "meshes/liver-haptic-24mm.msh"}) {
+    std::filesystem::create_directories((copy / file).parent_path());
+    std::filesystem::copy_file(assets / file, copy / file);
+  }
+  const SceneDescription scene = loadSceneFile(copy / "scenes/liver-fem-refined.json");
+  Simulation simulation(scene);
+  std::filesystem::remove_all(copy / "meshes");
+  const InstrumentPose start{scene.instrument->tipStart_m, scene.instrument->direction, false};
+  const InstrumentPose second{kSecondSite_m, scene.instrument->direction, false};
+  follow(simulation, {{0.0, start}, {0.5, second}, {0.8, second}});
+  ASSERT_TRUE(simulation.wantsRefinementTowardsTool());
+  EXPECT_TRUE(simulation.refineTowardsTool());
+  EXPECT_EQ(simulation.refinements(), 1);
+  std::filesystem::remove_all(copy);
 }
 
 TEST(RefinedTowardsTool, AScenesBodyNotRefinedTowardsTheToolIsNeverMadeAgain) {
