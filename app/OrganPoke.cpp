@@ -28,25 +28,66 @@ TetMesh readOrganMesh(const std::string& path) {
   }
 }
 
-SceneDescription weightlessPokeScene(SceneDescription scene) {
+namespace {
+
+/// The checks both kinds of poke make.
+void checkPokeScene(const SceneDescription& scene) {
   if (!scene.instrument)
     throw CommandError("the scene " + scene.source.string() + " has no instrument to poke with");
   if (!scene.fixed.box_m) {
     throw CommandError("the scene " + scene.source.string() +
                        " holds listed nodes; the organ poke needs its fixed region as a box");
   }
+}
+
+/// Where the ray first meets the organ as the simulation holds it now: its drawn surface where
+/// the scene names one, carried by the tet mesh (else the mesh's boundary).
+bool firstCrossingNow(const Simulation& simulation, const Eigen::Vector3d& from_m,
+                      const Eigen::Vector3d& direction, Eigen::Vector3d& crossing_m) {
+  const SceneGeometry& geometry = simulation.geometry();
+  const Eigen::Matrix3Xd& x = simulation.state().x;
+  if (geometry.surface && geometry.embedding) {
+    Eigen::Matrix3Xd vertices(3, geometry.surface->vertices_m.cols());
+    geometry.embedding->apply(x, vertices);
+    return firstCrossing(vertices, geometry.surface->triangles, from_m, direction, crossing_m);
+  }
+  return firstCrossing(x, boundaryFaces(geometry.mesh), from_m, direction, crossing_m);
+}
+
+}  // namespace
+
+SceneDescription weightlessPokeScene(SceneDescription scene) {
+  checkPokeScene(scene);
   scene.gravity_m_s2.setZero();
   scene.tray.reset();
   return scene;
 }
 
-OrganPokeSetup organPokeSetup(const SceneDescription& scene, const std::vector<double>& depths_m) {
+SceneDescription weightedPokeScene(SceneDescription scene) {
+  checkPokeScene(scene);
+  if (!(scene.gravity_m_s2.squaredNorm() > 0.0))
+    throw CommandError("the scene " + scene.source.string() +
+                       " has no gravity to poke the organ under");
+  if (scene.tray && scene.tray->friction > 0.0)
+    throw CommandError("the scene " + scene.source.string() +
+                       " has friction on its tray; the reference's tray is frictionless");
+  return scene;
+}
+
+OrganPokeSetup organPokeSetup(const SceneDescription& scene, const std::vector<double>& depths_m,
+                              double density_kg_m3) {
   OrganPokeSetup setup;
   setup.tipStart_m = scene.instrument->tipStart_m;
   setup.direction = scene.instrument->direction;
   setup.probeRadius_m = scene.instrument->shaftRadius_m;
   setup.fixedBox_m = *scene.fixed.box_m;
   setup.depths_m = depths_m;
+  setup.gravity_m_s2 = scene.gravity_m_s2;
+  setup.density_kg_m3 = density_kg_m3;
+  if (scene.tray) {
+    setup.tray =
+        OrganPokeSetup::Tray{scene.tray->up, scene.tray->height_m, scene.tray->stiffness_Pa_per_m};
+  }
   return setup;
 }
 
@@ -67,6 +108,17 @@ std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& 
     key.addNumber(value);
   // The node contact's keys (every kept reference's) stay as they were.
   if (setup.contactSpacing_m > 0.0) key.addNumber(setup.contactSpacing_m);
+  // So are the weightless ones'.
+  if (setup.gravity_m_s2.squaredNorm() > 0.0) {
+    key.addText("weighted");
+    for (int i = 0; i < 3; ++i) key.addNumber(setup.gravity_m_s2[i]);
+    key.addNumber(setup.density_kg_m3);
+    if (setup.tray) {
+      for (int i = 0; i < 3; ++i) key.addNumber(setup.tray->up[i]);
+      key.addNumber(setup.tray->height_m);
+      key.addNumber(setup.tray->stiffness_Pa_per_m);
+    }
+  }
   return key.value();
 }
 
@@ -77,7 +129,11 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
   Simulation& simulation = session.simulation();
   const SceneInstrument& tool = *scene.instrument;
   Eigen::Vector3d entry;
-  if (!firstOrganCrossing(simulation.geometry(), tool.tipStart_m, tool.direction, entry)) {
+  const bool isFound =
+      scene.gravity_m_s2.squaredNorm() > 0.0
+          ? firstCrossingNow(simulation, tool.tipStart_m, tool.direction, entry)
+          : firstOrganCrossing(simulation.geometry(), tool.tipStart_m, tool.direction, entry);
+  if (!isFound) {
     throw CommandError("the instrument's axis in " + scene.source.string() +
                        " does not meet the organ's surface");
   }

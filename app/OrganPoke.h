@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The liver poke against the continuum (`tissuesim organ-poke`, and the map's liver columns in
-// `tissuesim trade`): a scene's organ, weightless and held by its fixed region alone, poked along
+// `tissuesim trade`): a scene's organ, weightless and held by its fixed region alone (or, with
+// organ-poke --weighted, under the scene's gravity and on its tray, settled first), poked along
 // its instrument's axis. This file holds the simulator's side and what both sides share; the
 // FEM's is analysis/OrganPokeExperiment.h.
 
@@ -25,12 +26,19 @@ TetMesh readOrganMesh(const std::string& path);
 /// `scene` weightless (no gravity, no tray), the continuum reference's conditions.
 /// @throws CommandError when it has no instrument or holds listed nodes rather than a box.
 SceneDescription weightlessPokeScene(SceneDescription scene);
+/// `scene` as it is, under its gravity and on its tray. @throws CommandError as
+/// weightlessPokeScene, and when it has no gravity or its tray has friction (the reference's is
+/// frictionless).
+SceneDescription weightedPokeScene(SceneDescription scene);
 
-/// The FEM's setup for the weightless `scene`'s poke to `depths_m`.
-OrganPokeSetup organPokeSetup(const SceneDescription& scene, const std::vector<double>& depths_m);
+/// The FEM's setup for `scene`'s poke to `depths_m` (its gravity and tray, the body at
+/// density_kg_m3 where it has gravity).
+OrganPokeSetup organPokeSetup(const SceneDescription& scene, const std::vector<double>& depths_m,
+                              double density_kg_m3 = OrganPokeSetup{}.density_kg_m3);
 
 /// What the FEM reference's forces depend on (FemForceCache.h): the tissue file, the FEM mesh
-/// file, the probe, the fixed box, the bulk modulus and the solver's settings.
+/// file, the probe, the fixed box, the bulk modulus and the solver's settings; under gravity, it,
+/// the density and the tray.
 /// @throws CommandError when a file cannot be read.
 std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& femMeshPath,
                               const OrganPokeSetup& setup, double bulkModulus_Pa);
@@ -49,9 +57,10 @@ struct SimulatorPoke {
 };
 
 /// The simulator's force along the probe's axis at each depth below where the axis meets the
-/// drawn surface (or the tet mesh's boundary), for `scene` as weightlessPokeScene() makes it: the
-/// probe driven at `speed_m_s` from 1 mm above that point (the weightless organ rests until
-/// touched), the force interpolated between the steps either side of each depth. @throws
+/// drawn surface (or the tet mesh's boundary), for `scene` as weightlessPokeScene() or
+/// weightedPokeScene() makes it: the probe driven at `speed_m_s` from 1 mm above that point (the
+/// organ rests until touched; under gravity, the point on the surface settled as the scene
+/// opens), the force interpolated between the steps either side of each depth. @throws
 /// CommandError when the axis misses the organ or the simulator does not reach the depths.
 SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<double>& depths_m,
                             double speed_m_s);

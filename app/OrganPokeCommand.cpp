@@ -52,6 +52,8 @@ struct OrganPokeOptions {
   bool isHapticRateLinear = false;
   /// The probe's tip starts here (m) instead of at the scene's tip_start_m; empty: there.
   std::vector<double> probeAt_m;
+  /// The organ under the scene's gravity and on its tray (the reference and the simulator).
+  bool isWeighted = false;
 };
 
 /// The deepest poke the command takes (mm): past it the probe nears the far side of an organ.
@@ -61,7 +63,7 @@ constexpr double kMaxDepth_mm = 30.0;
 /// inputs, else solved (minutes) and kept there.
 std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescription& scene,
                               const LoadedTissue& tissue, const std::vector<double>& depths_m) {
-  const OrganPokeSetup setup = organPokeSetup(scene, depths_m);
+  const OrganPokeSetup setup = organPokeSetup(scene, depths_m, tissue.parameters.density_kg_m3);
   const double bulkModulus_Pa = defaultFemBulkModulus(tissue.energy);
   const std::uint64_t key = femReferenceKey(scene, options.femMeshPath, setup, bulkModulus_Pa);
   if (!options.femCachePath.empty()) {
@@ -81,9 +83,11 @@ std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescri
                      setup.direction.normalized(), entry_m))
     throw CommandError(options.femMeshPath +
                        ": the probe's axis does not meet the organ's surface");
-  std::fprintf(stderr,
-               "organ-poke: %s, weightless, a %.1f mm probe along its axis; the FEM on %s\n",
-               scene.name.c_str(), 1e3 * setup.probeRadius_m, options.femMeshPath.c_str());
+  std::fprintf(stderr, "organ-poke: %s, %s, a %.1f mm probe along its axis; the FEM on %s\n",
+               scene.name.c_str(),
+               options.isWeighted ? (scene.tray ? "under gravity on its tray" : "under gravity")
+                                  : "weightless",
+               1e3 * setup.probeRadius_m, options.femMeshPath.c_str());
   IndentationCurve fem;
   try {
     fem = pokeOrganFem(tissue.energy, organ, setup, bulkModulus_Pa,
@@ -100,6 +104,12 @@ std::vector<double> femForces(const OrganPokeOptions& options, const SceneDescri
       fem.nodes, fem.elements, fem.seconds, fem.newtonIterations,
       fem.newtonIterations > 0 ? 1e3 * fem.solving_s / fem.newtonIterations : 0.0,
       fem.unconvergedPoints, fem.worstResidual_N);
+  if (options.isWeighted) {
+    std::fprintf(stderr,
+                 "fem: settled under its weight in %ld Newton iterations, the entry point %.2f "
+                 "mm from where it was at rest\n",
+                 fem.settlingIterations, 1e3 * fem.entrySag_m);
+  }
   // A probe that meets no surface node (the node penalty) on a mesh whose nodes lie further
   // apart than the probe is wide there reads nothing: no reference to compare with.
   for (std::size_t d = 0; d < fem.force_N.size(); ++d) {
@@ -152,8 +162,14 @@ void runOrganPoke(const OrganPokeOptions& options) {
   if (!options.outputPath.empty()) checkOutputWritable(options.outputPath, "--output");
   if (!options.femCachePath.empty()) checkOutputWritable(options.femCachePath, "--fem-cache");
 
-  // Weightless and on nothing but its fixed region: the continuum reference's conditions.
-  SceneDescription scene = weightlessPokeScene(readScene(options.scenePath));
+  if (options.isWeighted && !options.hapticRateMeshPath.empty())
+    throw CommandError(
+        "--haptic-rate-mesh runs weightless; with --weighted, poke a scene whose "
+        "effects.model is fem-haptic-rate");
+  // Weightless and on nothing but its fixed region (the continuum reference's conditions), or
+  // as the scene holds it.
+  SceneDescription scene = options.isWeighted ? weightedPokeScene(readScene(options.scenePath))
+                                              : weightlessPokeScene(readScene(options.scenePath));
   if (probeAt_m) scene.instrument->tipStart_m = *probeAt_m;
   // The haptic-rate row's mesh read before the reference is solved (minutes): a bad file fails
   // at once.
@@ -255,10 +271,10 @@ void registerOrganPokeCommand(CLI::App& app) {
   auto options = std::make_shared<OrganPokeOptions>();
   CLI::App* command = app.add_subcommand(
       "organ-poke",
-      "A scene's organ, weightless, poked along its instrument's axis: the FEM reference on a "
-      "conformal tet mesh of its drawn surface against the simulator as the scene sets it up; "
-      "the probe's force at each depth below the surface and the simulator's error (CSV; a "
-      "table on stderr).");
+      "A scene's organ, weightless (or with --weighted under its gravity and on its tray), poked "
+      "along its instrument's axis: the FEM reference on a conformal tet mesh of its drawn "
+      "surface against the simulator as the scene sets it up; the probe's force at each depth "
+      "below the surface and the simulator's error (CSV; a table on stderr).");
   options->scenePath = bundledAsset("scenes/liver-poke.json").string();
   command->add_option("--scene", options->scenePath, "Scene file (JSON)")->capture_default_str();
   options->femMeshPath = bundledAsset("meshes/liver-fem.msh").string();
@@ -307,6 +323,10 @@ void registerOrganPokeCommand(CLI::App& app) {
                    "graded towards where it meets the organ (assets/meshes/README.md)")
       ->delimiter(',')
       ->expected(3);
+  command->add_flag("--weighted", options->isWeighted,
+                    "The organ under the scene's gravity and on its tray, settled before the probe "
+                    "comes down, in the reference and the simulator alike; the depths below where "
+                    "the probe's axis meets the settled surface (default: weightless)");
   command->add_flag("--haptic-rate-linear", options->isHapticRateLinear,
                     "With --haptic-rate-mesh: its body linear between updates (without the "
                     "stiffening each update measures)");

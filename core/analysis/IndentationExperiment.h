@@ -60,6 +60,10 @@ struct IndentationCurve {
   /// (each iteration assembles the Hessian, factorises it and line-searches).
   long newtonIterations = 0;
   double solving_s = 0.0;
+  /// Those of them that brought the body to balance under its weight before the probe came
+  /// down (the organ poke under gravity's), and how far that moved the entry point (m).
+  long settlingIterations = 0;
+  double entrySag_m = 0.0;
   /// The top face's displacement at the setup's surface samples, at the last depth (m).
   std::vector<Eigen::Vector3d> surfaceDisplacement_m;
   int failedSteps = 0;  ///< at a pace: steps refused or not finite (their state not advanced)

@@ -3,9 +3,10 @@
 // The organ poke's continuum reference: the organ meshed conformally with its drawn surface (a
 // tet mesh whose boundary is that surface, made offline by a mesher: assets/meshes/README.md),
 // its tets made quadratic with one dilatation each (fem/FemModel.h, the indentation test's
-// reference element), the nodes in the scene's fixed box held, weightless; the probe (a capsule
-// along the instrument's axis) lowered quasi-statically into the point where its axis first
-// meets the surface, and the force along the axis on it at each depth below that point.
+// reference element), the nodes in the scene's fixed box held, weightless or under its weight on
+// a tray (below); the probe (a capsule along the instrument's axis) lowered quasi-statically into
+// the point where its axis first meets the surface, and the force along the axis on it at each
+// depth below that point.
 //
 // The probe pushes the surface near that point by a penalty per unit area (CapsulePenalty, as
 // the indentation test's FEM), on one of two samplings of the quadratic surface (the boundary's
@@ -16,6 +17,7 @@
 // the exact Hessian, CHOLMOD). Monotonic loading: no softening.
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -40,13 +42,23 @@ struct OrganPokeSetup {
   double contactReach_m = 0.015;
   /// 0: the penalty on each quadratic surface node; > 0: on points this far apart (m).
   double contactSpacing_m = 0.0;
+  /// The body's weight (zero: weightless) at this density, and a tray under it (none: none).
+  Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();
+  double density_kg_m3 = 1060.0;
+  struct Tray {
+    Eigen::Vector3d up = Eigen::Vector3d::UnitY();  ///< out of the tray into the tissue
+    double height_m = 0.0;                          ///< the plane up . y = height_m
+    double stiffness_Pa_per_m = 1e7;                ///< its penalty per unit area
+  };
+  std::optional<Tray> tray;
 };
 
 /// The FEM reference of the poke on `organ` (linear tets, positively oriented, its boundary the
 /// organ's surface). The curve's force is along the probe's axis, at the setup's depths below
-/// the entry point. @throws std::invalid_argument when the probe's axis misses the organ, no
-/// node lies in the fixed box, or a depth does not increase. `onDepth` (when given) is called
-/// with each depth (m) and its force (N) as it is reached: a reference takes minutes.
+/// the entry point (on the settled surface under gravity). @throws std::invalid_argument when the
+/// probe's axis misses the organ, no node lies in the fixed box, a depth does not increase, or the
+/// body does not come to balance under its weight. `onDepth` (when given) is called with each
+/// depth (m) and its force (N) as it is reached: a reference takes minutes.
 IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
                               const OrganPokeSetup& setup, double bulkModulus_Pa,
                               const std::function<void(double, double)>& onDepth = {});
@@ -81,8 +93,9 @@ struct HapticRatePoke {
   double seconds = 0.0;   ///< wall time, start-up included
 };
 
-/// The setup's contact sampled as it says (contactSpacing_m > 0 is the scheme's). @throws
-/// std::invalid_argument as pokeOrganFem, or when a setting is out of range.
+/// The setup's contact sampled as it says (contactSpacing_m > 0 is the scheme's); weightless.
+/// @throws std::invalid_argument as pokeOrganFem, or when a setting is out of range or the setup
+/// has gravity or a tray.
 HapticRatePoke pokeOrganHapticRate(const StrainEnergy& energy, const TetMesh& organ,
                                    const OrganPokeSetup& setup, double bulkModulus_Pa,
                                    const HapticRateSettings& settings);

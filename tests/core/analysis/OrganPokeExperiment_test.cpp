@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The organ poke's FEM reference: a block poked as an organ gives the indentation test's force;
 // the contact sampled between the nodes converges in its spacing; at the haptic rate it follows the
-// static force where its updates come often enough, and lags where they do not; what cannot be
-// poked is refused.
+// static force where its updates come often enough, and lags where they do not; under its weight
+// the body sags as a held column does and a tray holds it up; what cannot be poked is refused.
 
 #include "analysis/OrganPokeExperiment.h"
 
@@ -135,6 +135,66 @@ TEST(OrganPoke, AtTheHapticRateUpdatesFarApartLagBehindTheStaticForce) {
   EXPECT_GT(std::abs(run.poke.force_N[0] / run.still.force_N[0] - 1.0), 0.1);
 }
 
+/// A column 2 x 2 x 20 mm (2 x 2 x 10 cells), its foot in the fixed box, poked on its top
+/// along -z; g along -z (m/s^2, 0: weightless).
+OrganPokeSetup columnPoke(double g_m_s2) {
+  OrganPokeSetup setup;
+  setup.tipStart_m = {0.001, 0.001, 0.025};
+  setup.direction = -Eigen::Vector3d::UnitZ();
+  setup.fixedBox_m =
+      Eigen::AlignedBox3d(Eigen::Vector3d(-1.0, -1.0, -1.0), Eigen::Vector3d(1.0, 1.0, 1e-9));
+  setup.depths_m = {0.0001};
+  setup.gravity_m_s2 = {0.0, 0.0, -g_m_s2};
+  return setup;
+}
+
+TEST(OrganPoke, UnderItsWeightAHeldColumnSinksAsTheClosedFormSays) {
+  // A slender column standing on its held foot sinks at its top by rho g H^2 / (2 E) under its
+  // own weight, E = 3 mu0 for an incompressible solid at small strain (g kept small for it).
+  // The probe then comes down on the top where it has settled.
+  const StrainEnergy& energy = test::liverEnergy();
+  const double kappa = defaultFemBulkModulus(energy);
+  const double mu0_Pa = 2.0 * energy.secantFromRest(0.0).value;
+  const TetMesh column = makeBlockMesh({0.002, 0.002, 0.02}, {2, 2, 10});
+  const double g_m_s2 = 0.5;
+  const IndentationCurve weighted = pokeOrganFem(energy, column, columnPoke(g_m_s2), kappa);
+  const double closedForm_m = 1060.0 * g_m_s2 * 0.02 * 0.02 / (2.0 * 3.0 * mu0_Pa);
+  ASSERT_GT(closedForm_m, 1e-5);
+  EXPECT_NEAR(weighted.entrySag_m / closedForm_m, 1.0, 0.05);
+  EXPECT_GT(weighted.settlingIterations, 0);
+  EXPECT_EQ(weighted.unconvergedPoints, 0);
+  ASSERT_EQ(weighted.force_N.size(), 1u);
+  EXPECT_GT(weighted.force_N[0], 0.0);
+  // Weightless, the top stays where it was.
+  const IndentationCurve weightless = pokeOrganFem(energy, column, columnPoke(0.0), kappa);
+  EXPECT_EQ(weightless.entrySag_m, 0.0);
+  EXPECT_EQ(weightless.settlingIterations, 0);
+}
+
+TEST(OrganPoke, UnderItsWeightATrayHoldsTheBodyUp) {
+  // The small block held along one side (a cantilever) sags under its weight; a tray 0.1 mm
+  // under its bottom catches it: its top then sinks little more than that.
+  const StrainEnergy& energy = test::liverEnergy();
+  const double kappa = defaultFemBulkModulus(energy);
+  const TetMesh block = makeBlockMesh({0.01, 0.01, 0.005}, {4, 4, 2});
+  OrganPokeSetup hanging = smallBlockPoke();
+  hanging.fixedBox_m =
+      Eigen::AlignedBox3d(Eigen::Vector3d(-1.0, -1.0, -1.0), Eigen::Vector3d(1e-9, 1.0, 1.0));
+  hanging.depths_m = {0.0001};
+  hanging.gravity_m_s2 = {0.0, 0.0, -9.81};
+  const IndentationCurve free = pokeOrganFem(energy, block, hanging, kappa);
+  OrganPokeSetup onTray = hanging;
+  onTray.tray = OrganPokeSetup::Tray{Eigen::Vector3d::UnitZ(), -0.0001, 3e7};
+  const IndentationCurve held = pokeOrganFem(energy, block, onTray, kappa);
+  ASSERT_GT(free.entrySag_m, 0.00025);
+  EXPECT_GT(held.entrySag_m, 0.00005);
+  EXPECT_LT(held.entrySag_m, 0.00015);
+  // A tray needs a weight to press on it.
+  OrganPokeSetup weightless = onTray;
+  weightless.gravity_m_s2.setZero();
+  EXPECT_THROW(pokeOrganFem(energy, block, weightless, kappa), std::invalid_argument);
+}
+
 TEST(OrganPoke, WhatCannotBePokedIsRefused) {
   const StrainEnergy& energy = test::liverEnergy();
   const double kappa = defaultFemBulkModulus(energy);
@@ -161,6 +221,9 @@ TEST(OrganPoke, WhatCannotBePokedIsRefused) {
                  std::invalid_argument);
   }
   EXPECT_THROW(pokeOrganHapticRate(energy, block, beside, kappa, {}), std::invalid_argument);
+  OrganPokeSetup weighted = smallBlockPoke();  // the haptic-rate poke runs weightless
+  weighted.gravity_m_s2 = {0.0, 0.0, -9.81};
+  EXPECT_THROW(pokeOrganHapticRate(energy, block, weighted, kappa, {}), std::invalid_argument);
 }
 
 }  // namespace
