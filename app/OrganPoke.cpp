@@ -9,6 +9,7 @@
 #include "app/SceneSession.h"
 #include "mesh/TetMeshFile.h"
 #include "mesh/TriangleSurface.h"
+#include "sim/HapticRateBody.h"
 #include "sim/SessionRecording.h"
 
 namespace tissuesim::app {
@@ -174,6 +175,10 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
   poke.stepping_s = std::chrono::duration<double>(end - stepping).count();
   poke.events = static_cast<long>(simulation.eventCount());
   poke.eventKinds = eventKindSummary(simulation.events());
+  if (const HapticRateBody* body = simulation.hapticRateBody()) {
+    poke.updates = body->updatesTaken();
+    poke.updateMean_ms = poke.updates > 0 ? 1e3 * body->updating_s() / poke.updates : 0.0;
+  }
   poke.seconds = std::chrono::duration<double>(end - start).count();
   return poke;
 }

@@ -54,6 +54,10 @@ struct SimulatorPoke {
   /// The kinds of the events the simulation kept (its first 100), with counts
   /// (eventKindSummary).
   std::string eventKinds;
+  /// The FEM at its own rate (effects.model fem-haptic-rate): its updates taken in during the
+  /// poke and their mean wall time (ms); 0 for other models.
+  long updates = 0;
+  double updateMean_ms = 0.0;
 };
 
 /// The simulator's force along the probe's axis at each depth below where the axis meets the

@@ -40,9 +40,9 @@ struct TradeOptions {
   std::string femMeshPath;
   /// The organ's meshes on which the FEM is a row of the liver poke; "none": no such rows.
   std::vector<std::string> organMeshPaths;
-  /// The organ's mesh on which the FEM at its own rate, the contact at 1 kHz, is a row; "none":
-  /// no such row.
-  std::string hapticRateMeshPath;
+  /// The scene of the FEM at its own rate, the contact at 1 kHz, that is a row; "none": no such
+  /// row.
+  std::string hapticRateScenePath;
 };
 
 /// One line a task on stderr: a bar of the share done, the count, what runs now.
@@ -120,10 +120,8 @@ void loadOrganReference(const TradeOptions& options, const SceneDescription& bun
       map.settings.organMeshes.push_back(
           OrganMesh{path, std::filesystem::path(path).stem().string()});
     }
-    if (options.hapticRateMeshPath != "none") {
-      map.settings.hapticRateMesh = OrganMesh{
-          options.hapticRateMeshPath, std::filesystem::path(options.hapticRateMeshPath).stem()};
-    }
+    if (options.hapticRateScenePath != "none")
+      map.settings.hapticRateScenePath = options.hapticRateScenePath;
   } catch (const CommandError& error) {
     map.organNote = error.what();
   }
@@ -163,7 +161,6 @@ void runTrade(const TradeOptions& options) {
   std::vector<std::pair<std::string, std::string>> organMeshes;  // option, path
   for (const std::string& path : options.organMeshPaths)
     organMeshes.emplace_back("--organ-meshes", path);
-  organMeshes.emplace_back("--haptic-rate-mesh", options.hapticRateMeshPath);
   for (const auto& [option, path] : organMeshes) {
     if (path == "none") continue;
     if (!std::filesystem::is_regular_file(path) || !isTetMeshFile(path)) {
@@ -174,6 +171,14 @@ void runTrade(const TradeOptions& options) {
       readTetMesh(path);
     } catch (const MeshFileError& failure) {
       throw CommandError(option + ": " + std::string(failure.what()));
+    }
+  }
+  if (options.hapticRateScenePath != "none") {
+    const SceneDescription hapticRate = readScene(options.hapticRateScenePath);
+    if (hapticRate.model != "fem-haptic-rate") {
+      throw CommandError("--haptic-rate-scene " + options.hapticRateScenePath +
+                         ": its effects.model is " + hapticRate.model +
+                         "; expected fem-haptic-rate");
     }
   }
   const SceneDescription bundled = readScene(options.scenePath);
@@ -336,13 +341,13 @@ void registerTradeCommand(CLI::App& app) {
                    "alone; 'none': no such rows (default: the bundled liver's meshes graded to 5, "
                    "2.5 and 1.25 mm at the probe)")
       ->delimiter(',');
-  options->hapticRateMeshPath = bundledAsset("meshes/liver-haptic-2mm.msh").string();
+  options->hapticRateScenePath = bundledAsset("scenes/liver-fem-refined.json").string();
   command
-      ->add_option("--haptic-rate-mesh", options->hapticRateMeshPath,
-                   "The tet mesh of the organ on which the reference's quadratic tets run at "
-                   "their own rate with the probe's contact at 1 kHz (organ-poke "
-                   "--haptic-rate-mesh), a row measured on the liver poke alone; 'none': no "
-                   "such row")
+      ->add_option("--haptic-rate-scene", options->hapticRateScenePath,
+                   "The scene whose model is the reference's quadratic tets at their own rate "
+                   "with the probe's contact at 1 kHz (effects.model fem-haptic-rate): a row "
+                   "measured on the liver poke through its own steps and on the block through "
+                   "the same scheme; 'none': no such row")
       ->capture_default_str();
   command->callback([options] { runTrade(*options); });
 }

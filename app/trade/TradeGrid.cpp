@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/GoodnessOfFit.h"
+#include "analysis/IndentationHapticRate.h"
 #include "analysis/NetworkCalibration.h"
 #include "analysis/TensileExperiment.h"
 #include "app/CommandError.h"
@@ -286,10 +287,21 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
     rows.push_back(quadraticRow(mesh, "fem-quadratic", "quadratic",
                                 "fem quadratic tets, static, on the organ's mesh "));
   }
-  if (settings.hapticRateMesh) {
-    rows.push_back(quadraticRow(
-        *settings.hapticRateMesh, "fem-haptic-rate", "haptic-rate",
-        "fem quadratic tets at their own rate, the contact at 1 kHz, on the organ's mesh "));
+  if (settings.hapticRateScenePath) {
+    const SceneDescription scene = readScene(*settings.hapticRateScenePath);
+    if (scene.model != "fem-haptic-rate" || !scene.tetMesh)
+      throw CommandError(*settings.hapticRateScenePath +
+                         ": the haptic-rate row's scene runs effects.model fem-haptic-rate on a "
+                         "tet mesh");
+    const std::string stem = std::filesystem::path(*settings.hapticRateScenePath).stem().string();
+    TradeRow row = quadraticRow(OrganMesh{scene.tetMesh->file.string(), stem}, "fem-haptic-rate",
+                                "haptic-rate",
+                                "fem quadratic tets at their own rate, the contact at 1 kHz: "
+                                "the scene ");
+    row.bulkModulus_Pa = scene.bulkModulus_Pa;
+    row.newtonIterations = scene.newtonIterations;
+    row.scenePath = *settings.hapticRateScenePath;
+    rows.push_back(row);
   }
   for (const int refinement : settings.femRows) {
     TradeRow row;
@@ -546,33 +558,38 @@ void TradeErrors::measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& o
 }
 
 void TradeErrors::measureHapticRateOrgan(const TradeRow& row, TradeMeasurement& out) {
-  const SceneDescription scene = weightlessPokeScene(m_bundled);
-  OrganPokeSetup setup = organPokeSetup(scene, m_settings.organDepths_m);
-  setup.contactSpacing_m = kHapticRateSpacing_m;
-  HapticRateSettings settings;
-  settings.speed_m_s = m_settings.organSpeed_m_s;
-  settings.updateLatency_s = m_settings.hapticRateLatency_s;
-  const TetMesh organ = readOrganMesh(row.organMeshPath);
-  HapticRatePoke poke;
-  try {
-    poke = pokeOrganHapticRate(m_tissue.energy, organ, setup, row.bulkModulus_Pa, settings);
-  } catch (const std::invalid_argument& error) {
-    throw CommandError(row.organMeshPath + ": " + error.what());
-  }
-  double stepping_s = 0.0;
-  for (const double step_ms : poke.stepTimes_ms) stepping_s += 1e-3 * step_ms;
+  const SceneDescription scene = weightlessPokeScene(readScene(row.scenePath));
+  const SimulatorPoke poke =
+      pokeSimulator(scene, m_settings.organDepths_m, m_settings.organSpeed_m_s);
   out.organForce_N = poke.force_N;
-  out.organEvents = poke.unconvergedSteps;
+  out.organEvents = poke.events;
   out.organStepMedian_ms = percentile(poke.stepTimes_ms, 0.5);
   out.organStepP99_ms = percentile(poke.stepTimes_ms, 0.99);
-  out.organStepsPerSecond = stepping_s > 0.0 ? static_cast<double>(poke.steps) / stepping_s : 0.0;
-  out.organUpdateMean_ms = poke.updates > 0 ? 1e3 * poke.updating_s / poke.updates : 0.0;
+  out.organStepsPerSecond =
+      poke.stepping_s > 0.0 ? static_cast<double>(poke.steps) / poke.stepping_s : 0.0;
+  out.organUpdateMean_ms = poke.updateMean_ms;
   out.cost.nodes = poke.nodes;
-  out.cost.startup_s = poke.seconds - stepping_s - poke.updating_s;
+  out.cost.startup_s = poke.seconds - poke.stepping_s;
   out.cost.stepMedian_ms = out.organStepMedian_ms;
   out.cost.stepP99_ms = out.organStepP99_ms;
   out.cost.stepsPerSecond = out.organStepsPerSecond;
   out.cost.events = out.organEvents;
+
+  // The block through the same scheme and settings, its probe at the liver poke's speed.
+  IndentationSetup setup;
+  setup.depths_m = m_settings.depths_m;
+  HapticRateSettings settings;
+  settings.speed_m_s = m_settings.organSpeed_m_s;
+  settings.newtonIterations = scene.newtonIterations;
+  settings.updateLatency_s = scene.femUpdateLatency_s;
+  try {
+    const HapticRatePoke block =
+        indentHapticRate(m_tissue.energy, setup, IndentationBodyGrading{}, scene.bulkModulus_Pa,
+                         kHapticRateSpacing_m, settings);
+    out.staticForce_N = block.force_N;
+  } catch (const std::invalid_argument& error) {
+    out.failure = std::string("block: ") + error.what();
+  }
 }
 
 void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {

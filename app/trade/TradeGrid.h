@@ -63,8 +63,10 @@ struct TradeRow {
   /// reference's own element (10-node tets, one dilatation each, kappa bulkModulus_Pa) solved
   /// statically at each depth, its step a Newton iteration (assembly, factorisation, line search).
   /// Or "haptic-rate": the same element at its own rate with the probe's contact, sampled on its
-  /// surface, at 1 kHz (fem/HapticRateFem.h), its step the contact's.
+  /// surface, at 1 kHz (fem/HapticRateFem.h), its step the contact's: the scene at scenePath
+  /// (effects.model fem-haptic-rate) as a user runs it, organMeshPath its tet mesh.
   std::string element = "linear";
+  std::string scenePath;
 
   /// The FEM on an organ's mesh: measured on the liver poke alone, error and cost.
   bool isOnOrganMesh() const { return !organMeshPath.empty(); }
@@ -140,11 +142,11 @@ struct TradeSettings {
   /// liver poke alone; none without a liver poke.
   std::vector<OrganMesh> organMeshes;
   double organMeshBulkModulus_Pa = 10e6;  ///< their volume per node's
-  /// The mesh of the organ on which the reference's element at its own rate, with the contact
-  /// at 1 kHz, is a row (liver poke alone); none without a liver poke.
-  std::optional<OrganMesh> hapticRateMesh;
-  /// Its updates used this long after they start (s); 0: their own wall time.
-  double hapticRateLatency_s = 0.0;
+  /// The scene of the reference's element at its own rate with the contact at 1 kHz
+  /// (effects.model fem-haptic-rate) that is a row: the liver poke through the scene's own
+  /// steps, weightless, and the block through the same scheme and settings on indent's body
+  /// refined towards the probe (IndentationBodyGrading); none without a liver poke.
+  std::optional<std::string> hapticRateScenePath;
   /// Where the quadratic rows' forces, once solved (minutes), are kept for the next map, beside
   /// those kept next to each mesh (`<mesh's stem>-poke.csv`, FemForceCache.h); empty: nowhere.
   std::string organCacheFolder;
@@ -191,8 +193,9 @@ class TradeErrors {
   /// the first row measured). For a row on an organ mesh, its cost fields too: nodes, start-up,
   /// the steps' median, 99th percentile and rate, events (no memory figure: it runs in this
   /// process).
-  /// A haptic-rate row's poke runs whole (seconds); its step is the contact's, its events the
-  /// contact steps that stopped short of their tolerance.
+  /// A haptic-rate row's poke runs whole through its scene (seconds); its step is the scene's
+  /// (the contact's, an update taken in now and then), its events the scene's. Its block's
+  /// forces, at 2 mm/s through the same scheme, go into the row's static forces.
   /// A quadratic row's forces are read where they are kept (TradeSettings::organCacheFolder)
   /// and its Newton iterations timed to the first depth; else solved to every depth (minutes) and
   /// kept when no solve left more than a hundred-thousandth of the deepest force on a node. Its

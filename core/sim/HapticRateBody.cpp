@@ -2,6 +2,7 @@
 #include "sim/HapticRateBody.h"
 
 #include <algorithm>
+#include <chrono>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -117,6 +118,7 @@ void HapticRateBody::work() {
     m_wake.wait(lock, [this] { return m_hasJob || m_shouldStop; });
     if (m_shouldStop) return;
     lock.unlock();
+    const auto started = std::chrono::steady_clock::now();
     HapticRateUpdate report;
     std::string error;
     try {
@@ -138,8 +140,11 @@ void HapticRateBody::work() {
       report.hasNext = false;
       error = e.what();
     }
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     lock.lock();
     m_jobReport = report;
+    m_jobWall_s = wall_s;
     m_jobError = std::move(error);
     m_hasJob = false;
     m_isJobDone = true;
@@ -259,6 +264,8 @@ HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::V
     }
     if (isTaken) {
       m_isInFlight = false;
+      ++m_updatesTaken;
+      m_updating_s += m_jobWall_s;
       m_isPassedThrough = m_jobReport.isPassedThrough;
       m_lastResidual_N = m_jobReport.hasNext && !m_jobReport.isPassedThrough
                              ? m_jobReport.residual_N

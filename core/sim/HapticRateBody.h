@@ -179,6 +179,10 @@ class HapticRateBody {
   const std::string& updateProblem() const { return m_updateProblem; }
   /// The updates started so far (none while the body rests: above).
   long updatesStarted() const { return m_updatesStarted; }
+  /// The updates the steps have taken in so far, and their wall time on the worker, all
+  /// together (s): what an update costs on this machine.
+  long updatesTaken() const { return m_updatesTaken; }
+  double updating_s() const { return m_updating_s; }
   /// The probe's travel since the last update started below which it is still (m).
   static constexpr double kRestingProbeTravel_m = 1e-9;
   /// Nothing presses or holds the body and it is back where it starts, within
@@ -239,6 +243,8 @@ class HapticRateBody {
   /// and found the probe on the surface; infinite where not, before any, and after a reset.
   double m_lastResidual_N = std::numeric_limits<double>::infinity();
   long m_updatesStarted = 0;
+  long m_updatesTaken = 0;
+  double m_updating_s = 0.0;
   std::string m_updateProblem;
 
   // The grasp (the haptic thread's): the held surface points, their offsets from the probe's
@@ -262,6 +268,7 @@ class HapticRateBody {
   Eigen::Matrix3Xd m_jobForces;
   Eigen::Vector3d m_jobTip = Eigen::Vector3d::Zero(), m_jobTop = Eigen::Vector3d::Zero();
   HapticRateUpdate m_jobReport;
+  double m_jobWall_s = 0.0;  ///< the job's wall time on the worker
   std::string m_jobError;
 
   std::mutex m_mutex;

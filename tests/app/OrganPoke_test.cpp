@@ -18,6 +18,7 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/IndentationHapticRate.h"
 #include "app/CommandError.h"
 #include "app/FemForceCache.h"
 #include "app/LoadedTissue.h"
@@ -411,17 +412,17 @@ TEST(OrganPoke, TheReferencesElementOnTheOrgansMeshIsARowSolvedOnceAndTimedEachM
   std::filesystem::remove_all(folder);
 }
 
-TEST(OrganPoke, TheReferencesElementAtItsOwnRateIsARowTimedByItsContactStep) {
+TEST(OrganPoke, TheFemSceneAtItsOwnRateIsARowOnTheLiverAndTheBlock) {
+  // The bundled refined FEM scene as the map's row: to 1 mm on the liver through the scene's own
+  // steps, and to 0.5 mm on the block through the same scheme and settings on indent's body;
+  // each as organ-poke and indent measure them.
   BundledMapPoke setup;
   TradeSettings& settings = setup.settings;
-  // To 1 mm at 20 mm/s on a coarse mesh of the organ, each update used 10 ms after it starts
-  // (the same poke whatever the machine): the row's shape is what is checked here.
   settings.organDepths_m = {0.0005, 0.001};
-  settings.organSpeed_m_s = 0.02;
-  settings.hapticRateLatency_s = 0.01;
-  settings.tetBulkModulus_Pa = defaultFemBulkModulus(setup.tissue.energy);
-  const std::string mesh = std::string(TISSUESIM_TEST_DATA_DIR) + "/meshes/liver-fem-coarse.msh";
-  settings.hapticRateMesh = OrganMesh{mesh, "coarse"};
+  settings.organSpeed_m_s = 0.004;
+  settings.depths_m = {0.0005};
+  const std::string scenePath = kAssets + "/scenes/liver-fem-refined.json";
+  settings.hapticRateScenePath = scenePath;
   const std::vector<TradeRow> rows = tradeRows(setup.bundled, settings);
   std::vector<const TradeRow*> hapticRate;
   for (const TradeRow& row : rows) {
@@ -429,39 +430,51 @@ TEST(OrganPoke, TheReferencesElementAtItsOwnRateIsARowTimedByItsContactStep) {
   }
   ASSERT_EQ(hapticRate.size(), 1u);
   const TradeRow& row = *hapticRate.front();
+  const SceneDescription scene = weightlessPokeScene(readScene(scenePath));
   EXPECT_TRUE(row.isHapticRate());
   EXPECT_TRUE(row.isOnOrganMesh());
   EXPECT_FALSE(row.isQuadratic());
-  EXPECT_DOUBLE_EQ(row.bulkModulus_Pa, settings.tetBulkModulus_Pa);
-  settings.hapticRateMesh.reset();
+  EXPECT_EQ(row.scenePath, scenePath);
+  EXPECT_DOUBLE_EQ(row.bulkModulus_Pa, scene.bulkModulus_Pa);
+  EXPECT_EQ(row.newtonIterations, scene.newtonIterations);
+  settings.hapticRateScenePath.reset();
   for (const TradeRow& without : tradeRows(setup.bundled, settings))
     EXPECT_NE(without.knob, "fem-haptic-rate");
+  settings.hapticRateScenePath = kAssets + "/scenes/liver-poke.json";  // springs: refused
+  EXPECT_THROW(tradeRows(setup.bundled, settings), CommandError);
+  settings.hapticRateScenePath = scenePath;
 
   TradeErrors errors(setup.tissue, setup.bundled, settings);
   TradeMeasurement measured;
   errors.measureOrgan(row, measured);
+  EXPECT_TRUE(measured.failure.empty()) << measured.failure;
   ASSERT_EQ(measured.organForce_N.size(), 2u);
   EXPECT_GT(measured.organForce_N[0], 0.0);
   EXPECT_GT(measured.organForce_N[1], measured.organForce_N[0]);
-  // Its step is the contact's: well under a millisecond, against an update of tens of them.
+  // Its step is the scene's: well under a millisecond, against an update of tens of them.
   EXPECT_GT(measured.organStepMedian_ms, 0.0);
   EXPECT_LE(measured.organStepMedian_ms, measured.organStepP99_ms);
   EXPECT_GT(measured.organUpdateMean_ms, measured.organStepMedian_ms);
   EXPECT_DOUBLE_EQ(measured.cost.stepMedian_ms, measured.organStepMedian_ms);
   EXPECT_GT(measured.cost.startup_s, 0.0);
   EXPECT_EQ(measured.cost.events, measured.organEvents);
-  // Organ-poke's haptic-rate row on the same mesh and settings (its contact 1 mm apart).
-  const SceneDescription weightless = weightlessPokeScene(setup.bundled);
-  OrganPokeSetup poke = organPokeSetup(weightless, settings.organDepths_m);
-  poke.contactSpacing_m = 0.001;
-  HapticRateSettings rate;
-  rate.speed_m_s = settings.organSpeed_m_s;
-  rate.updateLatency_s = settings.hapticRateLatency_s;
-  const HapticRatePoke direct = pokeOrganHapticRate(setup.tissue.energy, readTetMesh(mesh), poke,
-                                                    settings.tetBulkModulus_Pa, rate);
+  // The liver: organ-poke's through the same scene.
+  const SimulatorPoke direct =
+      pokeSimulator(scene, settings.organDepths_m, settings.organSpeed_m_s);
   EXPECT_EQ(measured.cost.nodes, direct.nodes);
   EXPECT_EQ(measured.organForce_N, direct.force_N);
-  EXPECT_EQ(measured.organEvents, direct.unconvergedSteps);
+  EXPECT_EQ(measured.organEvents, direct.events);
+  // The block: indent's fem-haptic-rate with the scene's settings, in the static column.
+  IndentationSetup block;
+  block.depths_m = settings.depths_m;
+  HapticRateSettings rate;
+  rate.speed_m_s = settings.organSpeed_m_s;
+  rate.newtonIterations = scene.newtonIterations;
+  rate.updateLatency_s = scene.femUpdateLatency_s;
+  const HapticRatePoke indented = indentHapticRate(
+      setup.tissue.energy, block, IndentationBodyGrading{}, scene.bulkModulus_Pa, 0.001, rate);
+  EXPECT_EQ(measured.staticForce_N, indented.force_N);
+  EXPECT_TRUE(measured.paceForce_N.empty());
 }
 
 }  // namespace

@@ -418,7 +418,7 @@ TEST(TradeOutput, TheReferencesElementOnTheOrgansMeshIsAStaticRowOfTheLiverPoke)
   expectHeadersCellCount(md, text);
 }
 
-TEST(TradeOutput, TheReferencesElementAtItsOwnRateIsTimedByTheContactsStep) {
+TEST(TradeOutput, TheFemSceneAtItsOwnRateIsTimedByItsStepOnTheLiverAndTheBlock) {
   TradeMap map = sampleMap();
   map.settings.organDepths_m = {0.001, 0.004};
   map.organReference_N = {0.02, 0.2};
@@ -438,9 +438,12 @@ TEST(TradeOutput, TheReferencesElementAtItsOwnRateIsTimedByTheContactsStep) {
   measured.organStepP99_ms = 0.5;
   measured.organStepsPerSecond = 9000.0;
   measured.organUpdateMean_ms = 116.0;
+  measured.staticForce_N = {0.102, 0.388};  // the block at the poke's speed: +2 / -3 %
   const std::size_t index = appendOrganRow(map, row, measured);
 
-  EXPECT_TRUE(std::isnan(worstError(map, index)));
+  // On both maps: its block error from its static column, its step the scene's.
+  EXPECT_NEAR(worstError(map, index), 3.0, 1e-9);
+  EXPECT_DOUBLE_EQ(stepCost(map, index), 0.1);
   EXPECT_NEAR(worstOrganError(map, index), 5.0, 1e-9);
   EXPECT_DOUBLE_EQ(organStepCost(map, index), 0.1);
 
@@ -456,6 +459,8 @@ TEST(TradeOutput, TheReferencesElementAtItsOwnRateIsTimedByTheContactsStep) {
   ASSERT_FALSE(fields.empty());
   EXPECT_EQ(fields[law], "fem-haptic-rate");
   EXPECT_EQ(fields[organPareto], "1");  // 5 % at 0.1 ms: nothing beats it
+  EXPECT_EQ(fields[csv.column("error_static_2mm_percent")], "-3.00");
+  EXPECT_EQ(fields[csv.column("pareto")], "1");  // 3 % at 0.1 ms on the block
 
   const std::string md = tradeMarkdown(map);
   const std::string text = markdownRow(md, "fem at its own rate on graded");
@@ -463,7 +468,8 @@ TEST(TradeOutput, TheReferencesElementAtItsOwnRateIsTimedByTheContactsStep) {
                       "FEM update 116 ms) | 9000 |"),
             std::string::npos)
       << text;
-  EXPECT_NE(text.find("| +5 / -5 (3 unsettled contact steps) |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| +2 / -3 (at the poke's speed) | - |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| +5 / -5 (3 events) |"), std::string::npos) << text;
   expectHeadersCellCount(md, text);
 }
 
