@@ -322,6 +322,22 @@ std::vector<double> FemModel::peakShifts() const {
   return shifts;
 }
 
+Eigen::Matrix3Xd FemModel::energyPointsAtRest() const {
+  const auto rule = tetQuadratureDegree2();
+  Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(rule.size()) * m_mesh.tetCount());
+  Eigen::Index at = 0;
+  for (Eigen::Index t = 0; t < m_mesh.tetCount(); ++t) {
+    for (const TetQuadraturePoint& point : rule) {
+      const Eigen::Vector4d l(1.0 - point.xi.sum(), point.xi.x(), point.xi.y(), point.xi.z());
+      const Eigen::Matrix<double, 10, 1> shape = quadraticTetShapeValues(l);
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int a = 0; a < 10; ++a) x += shape(a) * m_mesh.nodes_m.col(m_mesh.tets(a, t));
+      points.col(at++) = x;
+    }
+  }
+  return points;
+}
+
 void FemModel::setPeakShifts(const std::vector<double>& shifts) {
   if (shifts.size() != m_energyPoints.size())
     throw std::invalid_argument("FemModel: one peak a quadrature point");

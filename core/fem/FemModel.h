@@ -96,6 +96,9 @@ class FemModel {
   /// body taken up by another material: the peaks are strains; none without softening).
   std::vector<double> peakShifts() const;
   void setPeakShifts(const std::vector<double>& shifts);
+  /// Where those points lie at rest (3 by 4 #tets, m, in the same order): X = sum_a N_a X_a
+  /// at each point of the degree-2 rule.
+  Eigen::Matrix3Xd energyPointsAtRest() const;
 
   /// E at x, and the element volume ratios.
   FemState evaluate(const Eigen::Matrix3Xd& x) const;

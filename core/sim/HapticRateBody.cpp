@@ -12,6 +12,7 @@
 
 #include "fem/QuadraticTetWeight.h"
 #include "fem/SampledSurface.h"
+#include "mesh/TetLocator.h"
 #include "sim/UnconvergedResidual.h"
 
 namespace tissuesim {
@@ -211,6 +212,34 @@ bool HapticRateBody::settledState(Eigen::Matrix3Xd& body_m, std::vector<int>& ca
   candidates = m_settledOwner->candidates();
   forces_N = m_settledForces;
   return hasBody;
+}
+
+void HapticRateBody::takeUpSoftening(const HapticRateBody& other) {
+  if (!m_settings.softening || !other.m_settings.softening) return;
+  const std::vector<double> otherPeaks = other.m_model->peakShifts();
+  const Eigen::Matrix3Xd otherPoints = other.m_model->energyPointsAtRest();
+  const Eigen::Index pointsPerTet = otherPoints.cols() / other.m_mesh.tetCount();
+  TetMesh otherCorners;
+  otherCorners.nodes_m = other.m_mesh.nodes_m.leftCols(other.m_mesh.cornerCount);
+  otherCorners.tets = other.m_mesh.tets.topRows<4>();
+  const TetLocator locator(otherCorners);
+  std::vector<double> peaks = m_model->peakShifts();
+  const Eigen::Matrix3Xd points = m_model->energyPointsAtRest();
+  for (Eigen::Index p = 0; p < points.cols(); ++p) {
+    const int tet = locator.locate(points.col(p)).tet;
+    double nearest_m = std::numeric_limits<double>::infinity();
+    double peak = 0.0;
+    for (Eigen::Index q = pointsPerTet * tet; q < pointsPerTet * (tet + 1); ++q) {
+      const double distance_m = (otherPoints.col(q) - points.col(p)).norm();
+      if (distance_m < nearest_m) {
+        nearest_m = distance_m;
+        peak = otherPeaks[static_cast<std::size_t>(q)];
+      }
+    }
+    double& own = peaks[static_cast<std::size_t>(p)];
+    own = std::max(own, peak);
+  }
+  m_model->setPeakShifts(peaks);
 }
 
 void HapticRateBody::continueFrom(HapticRateBody& other, const Eigen::Vector3d& tip_m,

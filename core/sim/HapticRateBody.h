@@ -161,6 +161,13 @@ class HapticRateBody {
   /// @throws std::invalid_argument where `other` is not on the same mesh.
   void continueFrom(HapticRateBody& other, const Eigen::Vector3d& tip_m,
                     const Eigen::Vector3d& top_m);
+  /// Takes up the softening `other` (the same scene's organ on another mesh, at rest, its
+  /// worker idle) has left: each of this body's material points takes the peak of the nearest
+  /// point of the element of `other` that holds it at rest (mesh/TetLocator.h, on the corners),
+  /// where that is higher than its own, so that what a poke softened stays soft in a body made
+  /// again (Simulation::refineTowardsTool). The peaks are strains: the body at rest does not
+  /// move. Nothing without softening.
+  void takeUpSoftening(const HapticRateBody& other);
 
   Eigen::Index nodeCount() const { return m_mesh.nodeCount(); }
   /// The body's corners (3 by #corners, m) where it starts and a reset returns it: at rest, or

@@ -91,6 +91,8 @@ bool Simulation::refineTowardsTool() {
     m_hapticRate = std::move(old);
     throw;
   }
+  // What the trainee's pokes softened stays soft in the new body.
+  m_hapticRate->takeUpSoftening(*old);
   old.reset();
   m_assessment->setThreadPool(m_pool.get());
   m_assessment->takeUpMesh(peaks);

@@ -171,8 +171,9 @@ class Simulation {
   /// now (the caller pauses any loop stepping this simulation first): the geometry, the spring
   /// mesh (rebuilt in place), the body at rest on the new mesh. Time, events and the session's
   /// assessment go on (each spring's largest stretch taken from the old spring nearest it:
-  /// SessionAssessment::takeUpMesh); the softening's history at the material points starts
-  /// afresh with the new body. Views of the geometry and the spring mesh must be rebuilt.
+  /// SessionAssessment::takeUpMesh), and so does the softening the pokes left at the material
+  /// points (HapticRateBody::takeUpSoftening). Views of the geometry and the spring mesh must be
+  /// rebuilt.
   /// @returns false, changing nothing, where the tool's axis misses the organ or the scene is
   /// not refined towards the tool. @throws SceneFileError where the new body cannot be made
   /// (the simulation is left as it was).

@@ -3,6 +3,7 @@
 // body made again is the one the scene would have made with its tool started there, the session
 // goes on, and the body is made again only while nothing touches it and the tool aims elsewhere.
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -97,8 +98,12 @@ TEST(RefinedTowardsTool, TheBodyMadeAgainIsTheOneTheSceneMakesWithItsToolStarted
             0.0);
   EXPECT_LT((opened.state().x - moved.state().x).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((*opened.refinementCentre() - *moved.refinementCentre()).norm(), 1e-12);
-  // And both feel the same poke there.
-  const std::vector<double> movedForce = pokeFromHere(moved);
+  // And both feel the same poke there, where nothing has been pressed before (the first press
+  // leaves its softening in the body made again: WhatAPokeSoftenedStaysSoftInTheBodyMadeAgain).
+  Simulation unpressed(scene);
+  follow(unpressed, {{0.0, start}, {0.5, second}, {0.8, second}});
+  ASSERT_TRUE(unpressed.refineTowardsTool());
+  const std::vector<double> movedForce = pokeFromHere(unpressed);
   const std::vector<double> openedForce = pokeFromHere(opened);
   ASSERT_EQ(movedForce.size(), openedForce.size());
   double peak_N = 0.0, largestDifference_N = 0.0;
@@ -109,6 +114,7 @@ TEST(RefinedTowardsTool, TheBodyMadeAgainIsTheOneTheSceneMakesWithItsToolStarted
   ASSERT_GT(peak_N, 0.01);
   EXPECT_LT(largestDifference_N, 1e-9 * peak_N);
   EXPECT_TRUE(moved.events().empty());
+  EXPECT_TRUE(unpressed.events().empty());
 }
 
 TEST(RefinedTowardsTool, TheBodyIsMadeAgainOnlyWhileNothingTouchesItAndTheToolAimsElsewhere) {
@@ -169,6 +175,39 @@ TEST(RefinedTowardsTool, TheBodyIsMadeAgainFromTheFilesAsTheSceneOpenedThem) {
   EXPECT_TRUE(simulation.refineTowardsTool());
   EXPECT_EQ(simulation.refinements(), 1);
   std::filesystem::remove_all(copy);
+}
+
+TEST(RefinedTowardsTool, WhatAPokeSoftenedStaysSoftInTheBodyMadeAgain) {
+  // Pressed 3 mm where the scene starts the tool, then taken to the second site (the body made
+  // again there) and back (made again where it started): pressed again, it is softer below the
+  // first press's peak (the Mullins effect), as in a body never made again, not the virgin tissue.
+  const SceneDescription scene = refinedScene();
+  const InstrumentPose start{scene.instrument->tipStart_m, scene.instrument->direction, false};
+  const InstrumentPose second{kSecondSite_m, scene.instrument->direction, false};
+  Simulation travelled(scene);
+  const std::vector<double> first = pokeFromHere(travelled);
+  follow(travelled, {{0.0, start}, {0.5, second}, {0.8, second}});
+  ASSERT_TRUE(travelled.wantsRefinementTowardsTool());
+  ASSERT_TRUE(travelled.refineTowardsTool());
+  follow(travelled, {{0.0, second}, {0.5, start}, {0.8, start}});
+  ASSERT_TRUE(travelled.wantsRefinementTowardsTool());
+  ASSERT_TRUE(travelled.refineTowardsTool());
+  const std::vector<double> again = pokeFromHere(travelled);
+  // The same two presses with the body kept.
+  Simulation kept(scene);
+  const std::vector<double> keptFirst = pokeFromHere(kept);
+  follow(kept, {{0.0, start}, {0.5, second}, {0.8, second}, {1.3, start}, {1.6, start}});
+  const std::vector<double> keptAgain = pokeFromHere(kept);
+  ASSERT_EQ(first.size(), again.size());
+  ASSERT_EQ(keptFirst, first);
+  // Halfway up the first press's force, on the way in.
+  const double peak_N = *std::max_element(first.begin(), first.end());
+  ASSERT_GT(peak_N, 0.05);
+  std::size_t half = 0;
+  while (first[half] < 0.5 * peak_N) ++half;
+  EXPECT_LT(again[half], 0.97 * first[half]);  // the virgin tissue would read the first's
+  EXPECT_NEAR(again[half] / keptAgain[half], 1.0, 0.01);
+  EXPECT_TRUE(travelled.events().empty());
 }
 
 TEST(RefinedTowardsTool, AScenesBodyNotRefinedTowardsTheToolIsNeverMadeAgain) {
