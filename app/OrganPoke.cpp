@@ -147,7 +147,10 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
   // A refused step leaves the time, and so the probe, where it was: count attempts, not steps.
   const long attemptLimit =
       2 * static_cast<long>(std::ceil(travel_m / speed_m_s / simulation.timeStep_s()));
-  poke.nodes = static_cast<int>(simulation.springMesh().nodeCount());
+  const HapticRateBody* body = simulation.hapticRateBody();
+  poke.nodes = body != nullptr ? static_cast<int>(body->nodeCount())
+                               : static_cast<int>(simulation.springMesh().nodeCount());
+  double waiting_s = 0.0;
   poke.stepTimes_ms.reserve(static_cast<std::size_t>(attemptLimit) + 2);
   const auto stepping = std::chrono::steady_clock::now();
   for (long attempt = 0; poke.force_N.size() < depths_m.size(); ++attempt) {
@@ -158,8 +161,11 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
     }
     const auto before = std::chrono::steady_clock::now();
     const StepOutcome outcome = simulation.step();
+    const double waited_s = body != nullptr ? body->lastWait_s() : 0.0;
+    waiting_s += waited_s;
     poke.stepTimes_ms.push_back(
-        1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count());
+        1e3 * (std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count() -
+               waited_s));
     ++poke.steps;
     const double depth = (simulation.instrumentPose().tip_m - entry).dot(tool.direction);
     const double force = -outcome.contact.toolForce_N.dot(tool.direction);
@@ -172,10 +178,10 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
     lastForce = force;
   }
   const auto end = std::chrono::steady_clock::now();
-  poke.stepping_s = std::chrono::duration<double>(end - stepping).count();
+  poke.stepping_s = std::chrono::duration<double>(end - stepping).count() - waiting_s;
   poke.events = static_cast<long>(simulation.eventCount());
   poke.eventKinds = eventKindSummary(simulation.events());
-  if (const HapticRateBody* body = simulation.hapticRateBody()) {
+  if (body != nullptr) {
     poke.updates = body->updatesTaken();
     poke.updateMean_ms = poke.updates > 0 ? 1e3 * body->updating_s() / poke.updates : 0.0;
   }

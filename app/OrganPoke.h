@@ -44,13 +44,17 @@ std::uint64_t femReferenceKey(const SceneDescription& scene, const std::string& 
                               const OrganPokeSetup& setup, double bulkModulus_Pa);
 
 struct SimulatorPoke {
-  std::vector<double> force_N;       ///< along the axis, at each depth
-  double seconds = 0.0;              ///< wall time, start-up included
-  long steps = 0;                    ///< steps taken (refused ones included)
-  double stepping_s = 0.0;           ///< wall time of the steps alone: stepping_s / steps a step
-  std::vector<double> stepTimes_ms;  ///< each step's wall time
-  int nodes = 0;                     ///< the organ's mesh's
-  long events = 0;                   ///< instability events
+  std::vector<double> force_N;  ///< along the axis, at each depth
+  double seconds = 0.0;         ///< wall time, start-up included
+  long steps = 0;               ///< steps taken (refused ones included)
+  /// Wall time of the steps alone (stepping_s / steps a step), and each step's. The FEM at its
+  /// own rate's steps leave out the time they waited for an update at its latency: run faster
+  /// than real time they wait for each, which at 1 kHz is done by then where it takes less than
+  /// its latency (updateMean_ms against the scene's fem_update_latency_ms).
+  double stepping_s = 0.0;
+  std::vector<double> stepTimes_ms;
+  int nodes = 0;    ///< the organ's mesh's (the FEM at its own rate: its quadratic nodes)
+  long events = 0;  ///< instability events
   /// The kinds of the events the simulation kept (its first 100), with counts
   /// (eventKindSummary).
   std::string eventKinds;

@@ -201,6 +201,13 @@ void runOrganPoke(const OrganPokeOptions& options) {
                  "the probe at %g mm/s\n",
                  row.mesh.c_str(), poke.seconds, poke.steps, 1e3 * poke.stepping_s / poke.steps,
                  poke.events, kinds.c_str(), options.speed_mm_s);
+    if (poke.updates > 0) {
+      std::fprintf(stderr,
+                   "simulator (%s): %d quadratic nodes; %ld FEM updates at %.0f ms mean, each "
+                   "used %g ms after it started (the steps' times leave out their wait for it)\n",
+                   row.mesh.c_str(), poke.nodes, poke.updates, poke.updateMean_ms,
+                   1e3 * row.scene.femUpdateLatency_s);
+    }
     for (std::size_t d = 0; d < depths_m.size(); ++d) {
       const double error = 100.0 * (simulator[d] / femForce_N[d] - 1.0);
       std::fprintf(stderr, "%5.1f mm: fem %.4f N, simulator %.4f N (%+.0f %%)\n",

@@ -214,8 +214,9 @@ bool HapticRateBody::settledState(Eigen::Matrix3Xd& body_m, std::vector<int>& ca
   return hasBody;
 }
 
-void HapticRateBody::takeUpSoftening(const HapticRateBody& other) {
+void HapticRateBody::takeUpSoftening(HapticRateBody& other) {
   if (!m_settings.softening || !other.m_settings.softening) return;
+  if (other.m_isInFlight) other.waitForUpdate();  // its worker writes nothing read here now
   const std::vector<double> otherPeaks = other.m_model->peakShifts();
   const Eigen::Matrix3Xd otherPoints = other.m_model->energyPointsAtRest();
   const Eigen::Index pointsPerTet = otherPoints.cols() / other.m_mesh.tetCount();
@@ -282,11 +283,17 @@ void HapticRateBody::waitForUpdate() {
 HapticRateStep HapticRateBody::step(const Eigen::Vector3d& tip_m, const Eigen::Vector3d& top_m,
                                     Eigen::Matrix3Xd& corners_m, bool isGrasping) {
   HapticRateStep outcome;
+  m_lastWait_s = 0.0;
   if (m_isInFlight) {
     bool isTaken = false;
     if (m_settings.latencySteps > 0) {
       isTaken = m_stepsSinceUpdate >= m_settings.latencySteps;
-      if (isTaken) waitForUpdate();
+      if (isTaken) {
+        const auto waiting = std::chrono::steady_clock::now();
+        waitForUpdate();
+        m_lastWait_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - waiting).count();
+      }
     } else {
       std::lock_guard<std::mutex> lock(m_mutex);
       isTaken = m_isJobDone;

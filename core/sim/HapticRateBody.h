@@ -161,13 +161,13 @@ class HapticRateBody {
   /// @throws std::invalid_argument where `other` is not on the same mesh.
   void continueFrom(HapticRateBody& other, const Eigen::Vector3d& tip_m,
                     const Eigen::Vector3d& top_m);
-  /// Takes up the softening `other` (the same scene's organ on another mesh, at rest, its
-  /// worker idle) has left: each of this body's material points takes the peak of the nearest
-  /// point of the element of `other` that holds it at rest (mesh/TetLocator.h, on the corners),
-  /// where that is higher than its own, so that what a poke softened stays soft in a body made
-  /// again (Simulation::refineTowardsTool). The peaks are strains: the body at rest does not
+  /// Takes up the softening `other` (the same scene's organ on another mesh, at rest; an update
+  /// in flight there is waited for) has left: each of this body's material points takes the peak of
+  /// the nearest point of the element of `other` that holds it at rest (mesh/TetLocator.h, on the
+  /// corners), where that is higher than its own, so that what a poke softened stays soft in a body
+  /// made again (Simulation::refineTowardsTool). The peaks are strains: the body at rest does not
   /// move. Nothing without softening.
-  void takeUpSoftening(const HapticRateBody& other);
+  void takeUpSoftening(HapticRateBody& other);
 
   Eigen::Index nodeCount() const { return m_mesh.nodeCount(); }
   /// The body's corners (3 by #corners, m) where it starts and a reset returns it: at rest, or
@@ -190,6 +190,10 @@ class HapticRateBody {
   /// together (s): what an update costs on this machine.
   long updatesTaken() const { return m_updatesTaken; }
   double updating_s() const { return m_updating_s; }
+  /// How long the last step() waited for an update to finish (s): with latencySteps, a step
+  /// run faster than real time waits for each update, which a step at 1 kHz finds done where
+  /// the update takes less than its latency.
+  double lastWait_s() const { return m_lastWait_s; }
   /// The probe's travel since the last update started below which it is still (m).
   static constexpr double kRestingProbeTravel_m = 1e-9;
   /// Nothing presses or holds the body and it is back where it starts, within
@@ -252,6 +256,7 @@ class HapticRateBody {
   long m_updatesStarted = 0;
   long m_updatesTaken = 0;
   double m_updating_s = 0.0;
+  double m_lastWait_s = 0.0;
   std::string m_updateProblem;
 
   // The grasp (the haptic thread's): the held surface points, their offsets from the probe's

@@ -451,10 +451,12 @@ TEST(OrganPoke, TheFemSceneAtItsOwnRateIsARowOnTheLiverAndTheBlock) {
   ASSERT_EQ(measured.organForce_N.size(), 2u);
   EXPECT_GT(measured.organForce_N[0], 0.0);
   EXPECT_GT(measured.organForce_N[1], measured.organForce_N[0]);
-  // Its step is the scene's: well under a millisecond, against an update of tens of them.
+  // Its step is the scene's: well under a millisecond, against an update of tens of them, even
+  // at the 99th percentile, whose steps taking an update in no longer wait for it here (run
+  // faster than real time, each waits for the update its latency has it take).
   EXPECT_GT(measured.organStepMedian_ms, 0.0);
   EXPECT_LE(measured.organStepMedian_ms, measured.organStepP99_ms);
-  EXPECT_GT(measured.organUpdateMean_ms, measured.organStepMedian_ms);
+  EXPECT_LT(10.0 * measured.organStepP99_ms, measured.organUpdateMean_ms);
   EXPECT_DOUBLE_EQ(measured.cost.stepMedian_ms, measured.organStepMedian_ms);
   EXPECT_GT(measured.cost.startup_s, 0.0);
   EXPECT_EQ(measured.cost.events, measured.organEvents);
