@@ -425,8 +425,9 @@ std::string tradeMarkdown(const TradeMap& map) {
         "face's displacement with the FEM's at the last depth, every 1 mm to 15 mm from the "
         "axis along x and the diagonal.\n\n";
 
-  md << "## The Pareto front\n\nThe largest |force error| at pace over the depths, against the "
-        "median step: no other setting is both faster and closer (by more than half a point).\n\n";
+  md << "## The Pareto front\n\nThe largest |force error| at pace over the depths (the FEM at "
+        "its own rate: at the liver poke's speed), against the median step: no other setting is "
+        "both faster and closer (by more than half a point).\n\n";
   md << frontList(map);
 
   if (hasOrgan) {
