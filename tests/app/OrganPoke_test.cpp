@@ -202,9 +202,10 @@ TEST(OrganPoke, TheWeightedPokesKeptForcesAreTheDefaultScenes) {
 TEST(OrganPoke, TheFemAtItsOwnRateUnderGravityFollowsTheWeightedReference) {
   // The refined FEM scene given the default scene's weight and tray, its body refined to 2.5 mm
   // where the tool aims (the scene's 4 mm reads far too stiff under gravity:
-  // docs/performance-details.md, "The liver under its weight"): the poke through the scene's own
-  // steps from the surface as it settled, against the weighted reference. The first millimetre,
-  // where the taut surface first bends round the probe, is the hardest.
+  // docs/performance-details.md, "The liver under its weight against the continuum"): the poke
+  // through the scene's own steps from the surface as it settled, against the weighted
+  // reference. The first millimetre, where the taut surface first bends round the probe, is the
+  // hardest.
   SceneDescription scene =
       heldAsTheDefaultScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
   ASSERT_TRUE(scene.tetMesh->refinement.has_value());
