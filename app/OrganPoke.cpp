@@ -19,18 +19,6 @@ namespace {
 /// surface (m).
 constexpr double kApproach_m = 0.001;
 
-}  // namespace
-
-TetMesh readOrganMesh(const std::string& path) {
-  try {
-    return readTetMesh(path);
-  } catch (const MeshFileError& error) {
-    throw CommandError(error.what());
-  }
-}
-
-namespace {
-
 /// The checks both kinds of poke make.
 void checkPokeScene(const SceneDescription& scene) {
   if (!scene.instrument)
@@ -41,21 +29,15 @@ void checkPokeScene(const SceneDescription& scene) {
   }
 }
 
-/// Where the ray first meets the organ as the simulation holds it now: its drawn surface where
-/// the scene names one, carried by the tet mesh (else the mesh's boundary).
-bool firstCrossingNow(const Simulation& simulation, const Eigen::Vector3d& from_m,
-                      const Eigen::Vector3d& direction, Eigen::Vector3d& crossing_m) {
-  const SceneGeometry& geometry = simulation.geometry();
-  const Eigen::Matrix3Xd& x = simulation.state().x;
-  if (geometry.surface && geometry.embedding) {
-    Eigen::Matrix3Xd vertices(3, geometry.surface->vertices_m.cols());
-    geometry.embedding->apply(x, vertices);
-    return firstCrossing(vertices, geometry.surface->triangles, from_m, direction, crossing_m);
-  }
-  return firstCrossing(x, boundaryFaces(geometry.mesh), from_m, direction, crossing_m);
-}
-
 }  // namespace
+
+TetMesh readOrganMesh(const std::string& path) {
+  try {
+    return readTetMesh(path);
+  } catch (const MeshFileError& error) {
+    throw CommandError(error.what());
+  }
+}
 
 SceneDescription weightlessPokeScene(SceneDescription scene) {
   checkPokeScene(scene);
@@ -130,9 +112,12 @@ SimulatorPoke pokeSimulator(const SceneDescription& scene, const std::vector<dou
   Simulation& simulation = session.simulation();
   const SceneInstrument& tool = *scene.instrument;
   Eigen::Vector3d entry;
+  // Under gravity on the surface as the organ opened settled; weightless, the drawn surface as
+  // read (the same place, without the embedding's round-off).
   const bool isFound =
       scene.gravity_m_s2.squaredNorm() > 0.0
-          ? firstCrossingNow(simulation, tool.tipStart_m, tool.direction, entry)
+          ? firstOrganCrossing(simulation.geometry(), simulation.state().x, tool.tipStart_m,
+                               tool.direction, entry)
           : firstOrganCrossing(simulation.geometry(), tool.tipStart_m, tool.direction, entry);
   if (!isFound) {
     throw CommandError("the instrument's axis in " + scene.source.string() +

@@ -120,8 +120,6 @@ void loadOrganReference(const TradeOptions& options, const SceneDescription& bun
       map.settings.organMeshes.push_back(
           OrganMesh{path, std::filesystem::path(path).stem().string()});
     }
-    if (options.hapticRateScenePath != "none")
-      map.settings.hapticRateScenePath = options.hapticRateScenePath;
   } catch (const CommandError& error) {
     map.organNote = error.what();
   }
@@ -173,11 +171,12 @@ void runTrade(const TradeOptions& options) {
       throw CommandError(option + ": " + std::string(failure.what()));
     }
   }
+  std::optional<SceneDescription> hapticRate;
   if (options.hapticRateScenePath != "none") {
-    const SceneDescription hapticRate = readScene(options.hapticRateScenePath);
-    if (hapticRate.model != "fem-haptic-rate") {
+    hapticRate = readScene(options.hapticRateScenePath);
+    if (hapticRate->model != "fem-haptic-rate") {
       throw CommandError("--haptic-rate-scene " + options.hapticRateScenePath +
-                         ": its effects.model is " + hapticRate.model +
+                         ": its effects.model is " + hapticRate->model +
                          "; expected fem-haptic-rate");
     }
   }
@@ -189,6 +188,8 @@ void runTrade(const TradeOptions& options) {
   // The liver poke's reference first: it adds the rows on the organ's meshes.
   map.settings.organCacheFolder = options.outputFolder;
   loadOrganReference(options, bundled, tissue, map);
+  // The FEM scene's row, with a liver poke to measure it on.
+  if (!map.settings.organDepths_m.empty()) map.settings.hapticRateScene = hapticRate;
   map.rows = tradeRows(bundled, map.settings);
   if (!map.organNote.empty())
     std::fprintf(stderr, "trade: no liver poke: %s\n", map.organNote.c_str());

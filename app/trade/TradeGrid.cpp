@@ -287,20 +287,19 @@ std::vector<TradeRow> tradeRows(const SceneDescription& bundled, const TradeSett
     rows.push_back(quadraticRow(mesh, "fem-quadratic", "quadratic",
                                 "fem quadratic tets, static, on the organ's mesh "));
   }
-  if (settings.hapticRateScenePath) {
-    const SceneDescription scene = readScene(*settings.hapticRateScenePath);
+  if (settings.hapticRateScene) {
+    const SceneDescription& scene = *settings.hapticRateScene;
     if (scene.model != "fem-haptic-rate" || !scene.tetMesh)
-      throw CommandError(*settings.hapticRateScenePath +
+      throw CommandError(scene.source.string() +
                          ": the haptic-rate row's scene runs effects.model fem-haptic-rate on a "
                          "tet mesh");
-    const std::string stem = std::filesystem::path(*settings.hapticRateScenePath).stem().string();
+    const std::string stem = scene.source.stem().string();
     TradeRow row = quadraticRow(OrganMesh{scene.tetMesh->file.string(), stem}, "fem-haptic-rate",
                                 "haptic-rate",
                                 "fem quadratic tets at their own rate, the contact at 1 kHz: "
                                 "the scene ");
     row.bulkModulus_Pa = scene.bulkModulus_Pa;
     row.newtonIterations = scene.newtonIterations;
-    row.scenePath = *settings.hapticRateScenePath;
     rows.push_back(row);
   }
   for (const int refinement : settings.femRows) {
@@ -557,8 +556,8 @@ void TradeErrors::measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& o
   out.cost.events = out.organEvents;
 }
 
-void TradeErrors::measureHapticRateOrgan(const TradeRow& row, TradeMeasurement& out) {
-  const SceneDescription scene = weightlessPokeScene(readScene(row.scenePath));
+void TradeErrors::measureHapticRateOrgan(TradeMeasurement& out) {
+  const SceneDescription scene = weightlessPokeScene(*m_settings.hapticRateScene);
   const SimulatorPoke poke =
       pokeSimulator(scene, m_settings.organDepths_m, m_settings.organSpeed_m_s);
   out.organForce_N = poke.force_N;
@@ -598,7 +597,7 @@ void TradeErrors::measureOrgan(const TradeRow& row, TradeMeasurement& out) {
     return;
   }
   if (row.isHapticRate()) {
-    measureHapticRateOrgan(row, out);
+    measureHapticRateOrgan(out);
     return;
   }
   char key[512];

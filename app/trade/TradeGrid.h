@@ -63,10 +63,9 @@ struct TradeRow {
   /// reference's own element (10-node tets, one dilatation each, kappa bulkModulus_Pa) solved
   /// statically at each depth, its step a Newton iteration (assembly, factorisation, line search).
   /// Or "haptic-rate": the same element at its own rate with the probe's contact, sampled on its
-  /// surface, at 1 kHz (fem/HapticRateFem.h), its step the contact's: the scene at scenePath
-  /// (effects.model fem-haptic-rate) as a user runs it, organMeshPath its tet mesh.
+  /// surface, at 1 kHz (fem/HapticRateFem.h), its step the contact's: the settings'
+  /// hapticRateScene as a user runs it, organMeshPath its tet mesh.
   std::string element = "linear";
-  std::string scenePath;
 
   /// The FEM on an organ's mesh: measured on the liver poke alone, error and cost.
   bool isOnOrganMesh() const { return !organMeshPath.empty(); }
@@ -146,7 +145,7 @@ struct TradeSettings {
   /// (effects.model fem-haptic-rate) that is a row: the liver poke through the scene's own
   /// steps, weightless, and the block through the same scheme and settings on indent's body
   /// refined towards the probe (IndentationBodyGrading); none without a liver poke.
-  std::optional<std::string> hapticRateScenePath;
+  std::optional<SceneDescription> hapticRateScene;
   /// Where the quadratic rows' forces, once solved (minutes), are kept for the next map, beside
   /// those kept next to each mesh (`<mesh's stem>-poke.csv`, FemForceCache.h); empty: nowhere.
   std::string organCacheFolder;
@@ -204,7 +203,7 @@ class TradeErrors {
 
  private:
   void measureQuadraticOrgan(const TradeRow& row, TradeMeasurement& out);
-  void measureHapticRateOrgan(const TradeRow& row, TradeMeasurement& out);
+  void measureHapticRateOrgan(TradeMeasurement& out);
 
   const LoadedTissue& m_tissue;
   SceneDescription m_bundled;

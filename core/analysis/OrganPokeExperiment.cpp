@@ -44,7 +44,9 @@ Eigen::VectorXd surfaceShares(const TetMesh& organ, const QuadraticTetMesh& quad
 /// surface nodes near the entry that the probe may touch.
 struct PokeBody {
   PokeBody(const TetMesh& organ, const OrganPokeSetup& setup)
-      : direction(setup.direction.normalized()), mesh(makeQuadraticTetMesh(organ)) {
+      : direction(setup.direction.normalized()),
+        mesh(makeQuadraticTetMesh(organ)),
+        shares(surfaceShares(organ, mesh)) {
     if (!firstCrossing(organ.nodes_m, boundaryFaces(organ), setup.tipStart_m, direction, entry))
       throw std::invalid_argument("the probe's axis does not meet the organ's surface");
     restEntry = entry;
@@ -70,7 +72,6 @@ struct PokeBody {
                               setup.pressureStiffness_Pa_m, centre_m, setup.contactReach_m);
       return;
     }
-    const Eigen::VectorXd shares = surfaceShares(organ, mesh);
     for (int node = 0; node < static_cast<int>(shares.size()); ++node) {
       if (!(shares[node] > 0.0) ||
           (mesh.nodes_m.col(node) - centre_m).norm() > setup.contactReach_m)
@@ -87,7 +88,6 @@ struct PokeBody {
     const Eigen::Matrix3Xd corners = x.leftCols(organ.nodes_m.cols());
     if (!firstCrossing(corners, boundaryFaces(organ), setup.tipStart_m, direction, entry))
       throw std::invalid_argument("the probe's axis does not meet the organ's settled surface");
-    const Eigen::VectorXd shares = surfaceShares(organ, mesh);
     Eigen::Index nearest = -1;
     double nearestDistance_m = std::numeric_limits<double>::infinity();
     for (Eigen::Index node = 0; node < shares.size(); ++node) {
@@ -111,6 +111,7 @@ struct PokeBody {
   Eigen::Vector3d entry;      ///< on the surface the probe comes down on (settled)
   Eigen::Vector3d restEntry;  ///< on the surface at rest
   QuadraticTetMesh mesh;
+  Eigen::VectorXd shares;  ///< surfaceShares'
   std::vector<char> isFixed;
   std::vector<CapsulePenalty::Point> points;
 };
@@ -120,10 +121,11 @@ struct PokeBody {
 /// far for one Newton solve from rest), an increment that does not converge tried again in
 /// halves. The caller sets the model's definite tangent for it: the exact one is indefinite over
 /// much of a hanging liver's path, and shifted into definiteness took several times the
-/// iterations to the same balance. The iterations into curve's counts. @throws
-/// std::invalid_argument where an increment of kSmallestLoadShare does not converge.
-void settleUnderWeight(const FemModel& model, const std::vector<char>& isFixed, NodalLoads& weight,
-                       FemStaticSolver& solver, Eigen::Matrix3Xd& x, IndentationCurve& curve) {
+/// iterations to the same balance. The iterations into curve's counts. @returns the weight's size
+/// (N). @throws std::invalid_argument where an increment of kSmallestLoadShare does not converge.
+double settleUnderWeight(const FemModel& model, const std::vector<char>& isFixed,
+                         NodalLoads& weight, FemStaticSolver& solver, Eigen::Matrix3Xd& x,
+                         IndentationCurve& curve) {
   const Eigen::Matrix3Xd fullLoads_N = weight.forces_N;
   const double weight_N = fullLoads_N.rowwise().sum().norm();
   double share = 0.0, increment = kFirstLoadShare;
@@ -152,6 +154,7 @@ void settleUnderWeight(const FemModel& model, const std::vector<char>& isFixed, 
                                   " % of it)");
     }
   }
+  return weight_N;
 }
 
 void checkDepths(const std::vector<double>& depths_m) {
@@ -187,12 +190,12 @@ IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
     if (setup.tray) {
       if (!(setup.tray->stiffness_Pa_per_m > 0.0))
         throw std::invalid_argument("the tray's stiffness must be > 0");
-      const Eigen::VectorXd shares = surfaceShares(organ, body.mesh);
       std::vector<CapsulePenalty::Point> trayPoints;
-      for (int node = 0; node < static_cast<int>(shares.size()); ++node) {
-        if (shares[node] > 0.0)
-          trayPoints.push_back(
-              {{node, node, node}, {1.0, 0.0, 0.0}, shares[node] * setup.tray->stiffness_Pa_per_m});
+      for (int node = 0; node < static_cast<int>(body.shares.size()); ++node) {
+        if (body.shares[node] > 0.0)
+          trayPoints.push_back({{node, node, node},
+                                {1.0, 0.0, 0.0},
+                                body.shares[node] * setup.tray->stiffness_Pa_per_m});
       }
       tray = std::make_unique<PlanePenalty>(std::move(trayPoints), setup.tray->up,
                                             setup.tray->height_m);
@@ -200,19 +203,17 @@ IndentationCurve pokeOrganFem(const StrainEnergy& energy, const TetMesh& organ,
     }
     model.setExtraEnergy(&support);
     model.setTangent(FemTangent::Definite);
-    settleUnderWeight(model, body.isFixed, weight, solver, x, curve);
+    weight_N = settleUnderWeight(model, body.isFixed, weight, solver, x, curve);
     model.setTangent(FemTangent::Exact);
     body.settleAt(organ, setup, x);
     curve.entrySag_m = (body.entry - body.restEntry).norm();
-    weight_N = weight.forces_N.rowwise().sum().norm();
   } else if (setup.tray) {
     throw std::invalid_argument("a tray needs gravity to hold the organ on it");
   }
   CapsulePenalty probe(body.points);
   probe.radius_m = setup.probeRadius_m;
   support.terms.push_back(&probe);
-  model.setExtraEnergy(support.terms.size() > 1 ? static_cast<const FemExtraEnergy*>(&support)
-                                                : &probe);
+  model.setExtraEnergy(&support);
   const auto force = [&] { return probe.reaction(x).dot(-body.direction); };
   double depth = 0.0;
   double lastForce_N = 0.0;

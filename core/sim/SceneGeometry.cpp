@@ -156,4 +156,15 @@ bool firstOrganCrossing(const SceneGeometry& geometry, const Eigen::Vector3d& fr
                        crossing_m);
 }
 
+bool firstOrganCrossing(const SceneGeometry& geometry, const Eigen::Matrix3Xd& x,
+                        const Eigen::Vector3d& from_m, const Eigen::Vector3d& direction,
+                        Eigen::Vector3d& crossing_m) {
+  if (geometry.surface && geometry.embedding) {
+    Eigen::Matrix3Xd vertices(3, geometry.surface->vertices_m.cols());
+    geometry.embedding->apply(x, vertices);
+    return firstCrossing(vertices, geometry.surface->triangles, from_m, direction, crossing_m);
+  }
+  return firstCrossing(x, boundaryFaces(geometry.mesh), from_m, direction, crossing_m);
+}
+
 }  // namespace tissuesim

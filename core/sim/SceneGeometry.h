@@ -48,5 +48,11 @@ SceneGeometry completeSceneGeometry(const SceneDescription& scene, SceneGeometry
 /// model would be credited with that offset). false when the ray misses.
 bool firstOrganCrossing(const SceneGeometry& geometry, const Eigen::Vector3d& from_m,
                         const Eigen::Vector3d& direction, Eigen::Vector3d& crossing_m);
+/// The same with the organ where its tet mesh's nodes are at x (3 by #V, m): the drawn surface
+/// carried by its embedding, else the mesh's boundary. The liver poke's entry point on the organ
+/// settled under its weight.
+bool firstOrganCrossing(const SceneGeometry& geometry, const Eigen::Matrix3Xd& x,
+                        const Eigen::Vector3d& from_m, const Eigen::Vector3d& direction,
+                        Eigen::Vector3d& crossing_m);
 
 }  // namespace tissuesim

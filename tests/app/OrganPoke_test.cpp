@@ -423,7 +423,7 @@ TEST(OrganPoke, TheFemSceneAtItsOwnRateIsARowOnTheLiverAndTheBlock) {
   settings.organSpeed_m_s = 0.004;
   settings.depths_m = {0.0005};
   const std::string scenePath = kAssets + "/scenes/liver-fem-refined.json";
-  settings.hapticRateScenePath = scenePath;
+  settings.hapticRateScene = readScene(scenePath);
   const std::vector<TradeRow> rows = tradeRows(setup.bundled, settings);
   std::vector<const TradeRow*> hapticRate;
   for (const TradeRow& row : rows) {
@@ -435,15 +435,15 @@ TEST(OrganPoke, TheFemSceneAtItsOwnRateIsARowOnTheLiverAndTheBlock) {
   EXPECT_TRUE(row.isHapticRate());
   EXPECT_TRUE(row.isOnOrganMesh());
   EXPECT_FALSE(row.isQuadratic());
-  EXPECT_EQ(row.scenePath, scenePath);
+  EXPECT_EQ(row.organMeshPath, scene.tetMesh->file.string());
   EXPECT_DOUBLE_EQ(row.bulkModulus_Pa, scene.bulkModulus_Pa);
   EXPECT_EQ(row.newtonIterations, scene.newtonIterations);
-  settings.hapticRateScenePath.reset();
+  settings.hapticRateScene.reset();
   for (const TradeRow& without : tradeRows(setup.bundled, settings))
     EXPECT_NE(without.knob, "fem-haptic-rate");
-  settings.hapticRateScenePath = kAssets + "/scenes/liver-poke.json";  // springs: refused
+  settings.hapticRateScene = readScene(kAssets + "/scenes/liver-poke.json");  // springs: refused
   EXPECT_THROW(tradeRows(setup.bundled, settings), CommandError);
-  settings.hapticRateScenePath = scenePath;
+  settings.hapticRateScene = readScene(scenePath);
 
   TradeErrors errors(setup.tissue, setup.bundled, settings);
   TradeMeasurement measured;
