@@ -3,14 +3,59 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <system_error>
+#include <thread>
 #include <utility>
 
 #include <Eigen/CholmodSupport>
 
 namespace tissuesim {
+namespace {
+
+/// Right-hand sides from which a solve is split between two threads: a body's response to its
+/// contact's candidates (a hundred columns on a refined body) takes as long as the
+/// factorisation on one thread, a Newton step's single column a small share of it.
+constexpr Eigen::Index kColumnsForTwoThreads = 16;
+
+}  // namespace
+
+/// CHOLMOD's supernodal LL^T, its factor solved with from a second thread with that thread's own
+/// workspace (CHOLMOD's solves only read the factor; its Common is the workspace).
+class FemStaticSolver::SupernodalCholesky
+    : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
+ public:
+  /// columns overwritten by A^-1 columns, with the workspace given. @returns false where CHOLMOD
+  /// could not (out of memory).
+  bool solveColumns(Eigen::Ref<Eigen::MatrixXd> columns, cholmod_common& workspace) const {
+    cholmod_dense rhs;
+    rhs.nrow = static_cast<std::size_t>(columns.rows());
+    rhs.ncol = static_cast<std::size_t>(columns.cols());
+    rhs.nzmax = rhs.nrow * rhs.ncol;
+    rhs.d = static_cast<std::size_t>(columns.outerStride());
+    rhs.x = columns.data();
+    rhs.z = nullptr;
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* solved = cholmod_solve(CHOLMOD_A, m_cholmodFactor, &rhs, &workspace);
+    if (solved == nullptr) return false;
+    columns = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
+        static_cast<const double*>(solved->x), columns.rows(), columns.cols(),
+        Eigen::OuterStride<>(static_cast<Eigen::Index>(solved->d)));
+    cholmod_free_dense(&solved, &workspace);
+    return true;
+  }
+};
 
 struct FemStaticSolver::Factorization {
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
+  Factorization() {
+    cholmod_start(&secondWorkspace);
+    secondWorkspace.print = 0;
+  }
+  ~Factorization() { cholmod_finish(&secondWorkspace); }
+  Factorization(const Factorization&) = delete;
+  Factorization& operator=(const Factorization&) = delete;
+  SupernodalCholesky cholesky;
+  cholmod_common secondWorkspace;  ///< the second thread's, for a solve split in two
 };
 
 FemStaticSolver::FemStaticSolver(double tolerance_N, int maxIterations)
@@ -86,7 +131,30 @@ void FemStaticSolver::solveFactorized(Eigen::MatrixXd& rhs) const {
   for (Eigen::Index d = 0; d < rhs.rows(); ++d) {
     if (m_analysedFixed[static_cast<std::size_t>(d)] != 0) rhs.row(d).setZero();
   }
-  rhs = m_factorization->cholesky.solve(rhs).eval();
+  const Eigen::Index columns = rhs.cols();
+  if (columns < kColumnsForTwoThreads) {
+    rhs = m_factorization->cholesky.solve(rhs).eval();
+  } else {
+    // The columns' two halves at once, each thread with its own workspace; all on the caller's
+    // where no thread can be started.
+    const Eigen::Index half = columns / 2;
+    bool isSecondSolved = false;
+    std::thread second;
+    try {
+      second = std::thread([&] {
+        isSecondSolved = m_factorization->cholesky.solveColumns(rhs.rightCols(columns - half),
+                                                                m_factorization->secondWorkspace);
+      });
+    } catch (const std::system_error&) {
+      isSecondSolved = m_factorization->cholesky.solveColumns(rhs.rightCols(columns - half),
+                                                              m_factorization->cholesky.cholmod());
+    }
+    const bool isFirstSolved = m_factorization->cholesky.solveColumns(
+        rhs.leftCols(half), m_factorization->cholesky.cholmod());
+    if (second.joinable()) second.join();
+    if (!isFirstSolved || !isSecondSolved)
+      throw std::runtime_error("FemStaticSolver: CHOLMOD could not solve (out of memory)");
+  }
   for (Eigen::Index d = 0; d < rhs.rows(); ++d) {
     if (m_analysedFixed[static_cast<std::size_t>(d)] != 0) rhs.row(d).setZero();
   }

@@ -55,7 +55,9 @@ class FemStaticSolver {
                  FemState& state);
   /// Whether a factorisation stands to solve with: the last solve()'s or factorize()'s.
   bool isFactorized() const { return m_isFactorized; }
-  /// rhs (3#V by any) overwritten by the last factorisation's solve; fixed DOFs' rows zero.
+  /// rhs (3#V by any) overwritten by the last factorisation's solve; fixed DOFs' rows zero. Many
+  /// columns (a contact's compliance) are solved in two halves on two threads, the caller's and
+  /// one started for the call. @throws std::runtime_error where CHOLMOD runs out of memory.
   void solveFactorized(Eigen::MatrixXd& rhs) const;
 
  private:
@@ -64,7 +66,8 @@ class FemStaticSolver {
   Eigen::Matrix3Xd m_gradient, m_trialGradient, m_trial;
   Eigen::SparseMatrix<double> m_hessian;
   FemHessianAssembly m_assembly;  ///< m_hessian's pattern, kept from Hessian to Hessian
-  struct Factorization;           // CHOLMOD's, kept out of this header
+  class SupernodalCholesky;       // CHOLMOD's, kept out of this header
+  struct Factorization;
   std::unique_ptr<Factorization> m_factorization;
   std::vector<char> m_analysedFixed;  ///< the fixed set the pattern was analysed for
   bool m_isFactorized = false;

@@ -251,6 +251,45 @@ TEST(FemModel, AKeptAssemblyGivesTheSameHessianAsANewOne) {
   EXPECT_GT(kept.nonZeros(), pattern);  // no fixed DOFs: more entries
 }
 
+TEST(FemModel, ManyRightHandSidesSolvedOnTwoThreadsAreEachColumnsOwnSolve) {
+  // A contact's compliance (a column per candidate DOF) is solved in two halves on two threads:
+  // each column as solved alone, and K X = B on the free DOFs (fixed rows zero). The definite
+  // tangent, which the solver factorises unshifted.
+  DeformedQuadraticBlock block;
+  block.model.setTangent(FemTangent::Definite);
+  std::vector<char> isFixed(static_cast<std::size_t>(block.x.size()), 0);
+  std::fill_n(isFixed.begin(), 9, char{1});
+  FemStaticSolver solver;
+  FemState state;
+  ASSERT_TRUE(solver.factorize(block.model, block.x, isFixed, state));
+  const Eigen::Index dofs = block.x.size();
+  constexpr Eigen::Index kColumns = 41;  // two threads' halves of unequal size
+  Eigen::MatrixXd loads = Eigen::MatrixXd::Zero(dofs, kColumns);
+  for (Eigen::Index j = 0; j < kColumns; ++j) loads(dofs - 1 - 2 * j, j) = 1.0 + 0.1 * j;
+  Eigen::MatrixXd together = loads;
+  solver.solveFactorized(together);
+  Eigen::SparseMatrix<double> hessian;
+  Eigen::Matrix3Xd gradient;
+  block.model.evaluate(block.x, gradient, hessian, isFixed);
+  const Eigen::SparseMatrix<double> symmetric = hessian.selfadjointView<Eigen::Lower>();
+  const Eigen::MatrixXd dense(symmetric);
+  for (Eigen::Index j = 0; j < kColumns; ++j) {
+    Eigen::MatrixXd alone = loads.col(j);
+    solver.solveFactorized(alone);
+    const double scale = alone.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 0.0) << j;
+    EXPECT_LT((together.col(j) - alone).cwiseAbs().maxCoeff(), 1e-12 * scale) << j;
+    Eigen::VectorXd residual = dense * together.col(j) - loads.col(j);
+    for (Eigen::Index d = 0; d < dofs; ++d) {
+      if (isFixed[static_cast<std::size_t>(d)] != 0) {
+        EXPECT_EQ(together(d, j), 0.0);
+        residual[d] = 0.0;
+      }
+    }
+    EXPECT_LT(residual.cwiseAbs().maxCoeff(), 1e-9 * loads.col(j).cwiseAbs().maxCoeff()) << j;
+  }
+}
+
 /// The closed form of the same energy in homogeneous uniaxial stretch: F = diag(lambda, s, s),
 /// s such that the lateral stress vanishes; returns P_11 (Pa).
 double closedFormUniaxialStress(double lambda, double bulkModulus_Pa) {
