@@ -61,7 +61,8 @@ enum class FemTangent { Exact, Definite };
 /// was made with (FemModel::evaluate fills it).
 struct FemHessianAssembly {
   std::vector<char> isFixed;
-  std::vector<Eigen::Index> slots;  ///< per element entry, in the assembly's order
+  std::vector<Eigen::Index> slots;        ///< per element entry, in the assembly's order
+  std::vector<std::size_t> firstEntries;  ///< per element, its first entry among slots
 };
 
 struct FemState {
@@ -82,6 +83,12 @@ class FemModel {
   double bulkModulus() const { return m_bulkModulus_Pa; }
   /// Which Hessian evaluate() assembles (FemTangent::Exact unless set).
   void setTangent(FemTangent tangent) { m_tangent = tangent; }
+  /// Threads an evaluation's elements are shared among (1 or 2; 2 unless set): a mesh of at least
+  /// kElementsForTwoThreads elements is cut in two node-disjoint halves, one on a thread started
+  /// for the call, the elements across the cut after both. The same count gives the same bits.
+  /// @throws std::invalid_argument on another count.
+  void setElementThreads(int threads);
+  static constexpr Eigen::Index kElementsForTwoThreads = 256;
 
   /// Stress softening per isochoric quadrature point (fem/IsochoricSoftening.h), which must
   /// outlive its use here; null (the default): none, the virgin curve. softenAt(x) raises each
@@ -124,6 +131,7 @@ class FemModel {
   struct DirectAssembly {
     double* values;
     const Eigen::Index* slots;
+    const std::size_t* firstEntries;  ///< per element, its first entry
   };
   /// elementEntries (when given): how many of the triplets are the elements' (the rest are the
   /// extra energy's). With direct.values, the elements' entries go there and triplets gets the
@@ -131,7 +139,17 @@ class FemModel {
   FemState accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                       std::vector<Eigen::Triplet<double>>* triplets,
                       const std::vector<char>* isFixed, std::size_t* elementEntries = nullptr,
-                      DirectAssembly direct = {nullptr, nullptr}) const;
+                      DirectAssembly direct = {nullptr, nullptr, nullptr}) const;
+  /// Element t's energy into state (and its volume ratio), its gradient into gradient, its
+  /// Hessian's entries into triplets or direct's values from its first entry on (where given).
+  /// @returns false where it is inverted or past the chain's locking (state left as it was).
+  bool addElement(Eigen::Index t, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
+                  std::vector<Eigen::Triplet<double>>* triplets, const std::vector<char>* isFixed,
+                  DirectAssembly direct, FemState& state) const;
+  /// The elements listed, in order, into a state of their own: inadmissible at the first that is.
+  FemState addElements(const std::vector<Eigen::Index>& elements, const Eigen::Matrix3Xd& x,
+                       Eigen::Matrix3Xd* gradient, const std::vector<char>* isFixed,
+                       DirectAssembly direct) const;
 
   const QuadraticTetMesh& m_mesh;
   const StrainEnergy& m_energy;
@@ -143,6 +161,10 @@ class FemModel {
   FemTangent m_tangent = FemTangent::Exact;
   const StressSoftening* m_softening = nullptr;
   std::vector<IsochoricPeak> m_peaks;  ///< one an isochoric point (empty: none)
+  /// The elements cut in two along the rest mesh's longest side, at its nodes' median: those
+  /// with every node below it, every node above, and the rest (setElementThreads).
+  std::vector<Eigen::Index> m_lowerElements, m_upperElements, m_elementsAcross;
+  int m_elementThreads = 2;
 };
 
 }  // namespace tissuesim

@@ -251,6 +251,53 @@ TEST(FemModel, AKeptAssemblyGivesTheSameHessianAsANewOne) {
   EXPECT_GT(kept.nonZeros(), pattern);  // no fixed DOFs: more entries
 }
 
+TEST(FemModel, TwoThreadsEvaluateWhatOneDoes) {
+  // A block of enough elements to be cut in two: its energy, gradient and Hessian (made anew and
+  // through a kept assembly, with fixed DOFs) on two threads as on one, to round-off, the same
+  // bits from call to call; and an inverted element found on either.
+  const QuadraticTetMesh mesh = makeQuadraticTetMesh(makeBlockMesh({0.04, 0.02, 0.02}, {8, 4, 4}));
+  ASSERT_GE(mesh.tetCount(), FemModel::kElementsForTwoThreads);
+  const test::DeformedPositions deformed = test::stretchedAndJiggled(mesh.nodes_m, 3, 2e-4);
+  std::vector<char> isFixed(static_cast<std::size_t>(mesh.nodes_m.size()), 0);
+  std::fill_n(isFixed.begin(), 30, char{1});
+  struct Evaluated {
+    FemState state;
+    Eigen::Matrix3Xd gradient;
+    Eigen::MatrixXd hessian;
+  };
+  const auto evaluated = [&](int threads) {
+    FemModel model{mesh, test::liverEnergy(), 50.0 * test::liverEnergy().initialShearModulus()};
+    model.setElementThreads(threads);
+    FemHessianAssembly assembly;
+    Eigen::SparseMatrix<double> hessian;
+    Evaluated result;
+    model.evaluate(mesh.nodes_m, result.gradient, hessian, isFixed, &assembly);  // the pattern
+    result.state = model.evaluate(deformed.x, result.gradient, hessian, isFixed, &assembly);
+    result.hessian = Eigen::MatrixXd(hessian);
+    Eigen::Matrix3Xd again;
+    EXPECT_EQ(model.evaluate(deformed.x, again).energy_J, result.state.energy_J);
+    EXPECT_TRUE(again == result.gradient);
+    Eigen::Matrix3Xd inverted = deformed.x;
+    inverted.col(mesh.tets(0, mesh.tetCount() - 1)) =
+        inverted.col(mesh.tets(1, mesh.tetCount() - 1));
+    EXPECT_FALSE(model.evaluate(inverted).isAdmissible);
+    return result;
+  };
+  const Evaluated one = evaluated(1), two = evaluated(2);
+  ASSERT_TRUE(one.state.isAdmissible);
+  ASSERT_TRUE(two.state.isAdmissible);
+  EXPECT_NEAR(two.state.energy_J, one.state.energy_J, 1e-12 * std::abs(one.state.energy_J));
+  EXPECT_EQ(two.state.minVolumeRatio, one.state.minVolumeRatio);
+  EXPECT_EQ(two.state.maxVolumeRatio, one.state.maxVolumeRatio);
+  const double forces = one.gradient.cwiseAbs().maxCoeff();
+  ASSERT_GT(forces, 0.0);
+  EXPECT_LT((two.gradient - one.gradient).cwiseAbs().maxCoeff(), 1e-12 * forces);
+  const double stiffness = one.hessian.cwiseAbs().maxCoeff();
+  EXPECT_LT((two.hessian - one.hessian).cwiseAbs().maxCoeff(), 1e-12 * stiffness);
+  EXPECT_THROW(FemModel(mesh, test::liverEnergy(), 1e5).setElementThreads(3),
+               std::invalid_argument);
+}
+
 TEST(FemModel, ManyRightHandSidesSolvedOnTwoThreadsAreEachColumnsOwnSolve) {
   // A contact's compliance (a column per candidate DOF) is solved in two halves on two threads:
   // each column as solved alone, and K X = B on the free DOFs (fixed rows zero). The definite
