@@ -11,6 +11,7 @@
 #include "app/CommandError.h"
 #include "app/bench/ContactBenchmarks.h"
 #include "app/bench/DynamicsBenchmarks.h"
+#include "app/bench/FemUpdateBenchmarks.h"
 #include "app/bench/MaterialBenchmarks.h"
 #include "app/bench/RenderBenchmarks.h"
 
@@ -27,6 +28,7 @@ void runBench(const BenchOptions& options) {
   registerMaterialBenchmarks(options.tissuePath);
   registerDynamicsBenchmarks(options.tissuePath);
   registerContactBenchmarks(options.scenePath);
+  registerFemUpdateBenchmarks();
   registerRenderBenchmarks(options.scenePath);
   std::vector<std::string> arguments = {"tissuesim bench"};
   arguments.insert(arguments.end(), options.benchmarkArguments.begin(),
