@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
-#include <thread>
+#include <utility>
 
 #include <Eigen/LU>
 
@@ -77,12 +77,18 @@ FemModel::FemModel(const QuadraticTetMesh& mesh, const StrainEnergy& energy, dou
     for (int a = 0; a < 10; ++a) below += mesh.nodes_m(axis, mesh.tets(a, t)) < median ? 1 : 0;
     (below == 10 ? m_lowerElements : below == 0 ? m_upperElements : m_elementsAcross).push_back(t);
   }
+  setElementThreads(2);
 }
 
 void FemModel::setElementThreads(int threads) {
   if (threads != 1 && threads != 2)
     throw std::invalid_argument("FemModel: an evaluation's elements go on 1 or 2 threads");
-  m_elementThreads = threads;
+  m_pool.reset();
+  if (threads == 1 || m_lowerElements.empty() || m_upperElements.empty()) return;
+  try {
+    m_pool = std::make_unique<ForkJoinPool>(2);
+  } catch (const std::system_error&) {  // no thread to be had: the caller's alone
+  }
 }
 
 FemState FemModel::evaluate(const Eigen::Matrix3Xd& x) const {
@@ -127,7 +133,10 @@ FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradien
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(900 * static_cast<std::size_t>(m_mesh.tetCount()));
   std::size_t elementEntries = 0;
-  const FemState state = accumulate(x, &gradient, &triplets, &isFixed, &elementEntries);
+  std::vector<std::size_t> firstEntries;
+  const FemState state =
+      accumulate(x, &gradient, &triplets, &isFixed, &elementEntries, {nullptr, nullptr, nullptr},
+                 assembly != nullptr ? &firstEntries : nullptr);
   for (Eigen::Index d = 0; d < dofs; ++d) {
     if (!isFixed.empty() && isFixed[static_cast<std::size_t>(d)] != 0)
       triplets.emplace_back(d, d, 1.0);
@@ -144,22 +153,7 @@ FemState FemModel::evaluate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& gradien
       assembly->slots[e] =
           std::lower_bound(begin, end, triplets[e].row()) - hessian.innerIndexPtr();
     }
-    // Each element's entries, one per pair of its free DOFs (accumulate's order).
-    assembly->firstEntries.resize(static_cast<std::size_t>(m_mesh.tetCount()));
-    std::size_t entries = 0;
-    for (Eigen::Index t = 0; t < m_mesh.tetCount(); ++t) {
-      assembly->firstEntries[static_cast<std::size_t>(t)] = entries;
-      std::size_t free = 0;
-      for (int a = 0; a < 10; ++a) {
-        for (int i = 0; i < 3; ++i) {
-          const auto dof = static_cast<std::size_t>(3 * m_mesh.tets(a, t) + i);
-          if (isFixed.empty() || isFixed[dof] == 0) ++free;
-        }
-      }
-      entries += free * free;
-    }
-    if (entries != elementEntries)
-      throw std::logic_error("FemModel: the elements' entries are not one per free DOF pair");
+    assembly->firstEntries = std::move(firstEntries);
   }
   return state;
 }
@@ -334,28 +328,23 @@ FemState FemModel::addElements(const std::vector<Eigen::Index>& elements, const 
 FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                               std::vector<Eigen::Triplet<double>>* triplets,
                               const std::vector<char>* isFixed, std::size_t* elementEntries,
-                              DirectAssembly direct) const {
+                              DirectAssembly direct, std::vector<std::size_t>* firstEntries) const {
   FemState state;
   state.minVolumeRatio = std::numeric_limits<double>::infinity();
   state.maxVolumeRatio = -std::numeric_limits<double>::infinity();
   // Triplets made anew go in the elements' order (the slots are made from it): on one thread.
-  const bool isInTwo = m_elementThreads == 2 && !m_lowerElements.empty() &&
-                       !m_upperElements.empty() &&
-                       (triplets == nullptr || direct.values != nullptr);
+  const bool isInTwo = m_pool != nullptr && (triplets == nullptr || direct.values != nullptr);
   if (isInTwo) {
     // The halves share no node, so neither writes a gradient column or a Hessian entry the
-    // other does; the elements across the cut after both. Summed in that order whatever the
-    // threads' timing: the same bits each time.
-    FemState lower, upper;
-    std::thread second;
-    try {
-      second =
-          std::thread([&] { upper = addElements(m_upperElements, x, gradient, isFixed, direct); });
-    } catch (const std::system_error&) {  // no thread to be had: the caller's
-      upper = addElements(m_upperElements, x, gradient, isFixed, direct);
-    }
-    lower = addElements(m_lowerElements, x, gradient, isFixed, direct);
-    if (second.joinable()) second.join();
+    // other does; the elements across the cut after both. Summed in that order whatever thread
+    // ran which half: the same bits each time.
+    std::array<FemState, 2> halves;
+    m_pool->run(2, [&](int part) {
+      halves[static_cast<std::size_t>(part)] =
+          addElements(part == 0 ? m_lowerElements : m_upperElements, x, gradient, isFixed, direct);
+    });
+    const FemState& lower = halves[0];
+    const FemState& upper = halves[1];
     const FemState across = addElements(m_elementsAcross, x, gradient, isFixed, direct);
     for (const FemState* part : std::array<const FemState*, 3>{&lower, &upper, &across}) {
       if (!part->isAdmissible) {
@@ -368,7 +357,10 @@ FemState FemModel::accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradi
       state.maxVolumeRatio = std::max(state.maxVolumeRatio, part->maxVolumeRatio);
     }
   } else {
+    if (firstEntries != nullptr) firstEntries->resize(static_cast<std::size_t>(m_mesh.tetCount()));
     for (Eigen::Index t = 0; t < m_mesh.tetCount(); ++t) {
+      if (firstEntries != nullptr && triplets != nullptr)
+        (*firstEntries)[static_cast<std::size_t>(t)] = triplets->size();
       if (!addElement(t, x, gradient, direct.values != nullptr ? nullptr : triplets, isFixed,
                       direct, state)) {
         state.isAdmissible = false;

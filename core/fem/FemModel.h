@@ -35,6 +35,7 @@
 //
 // Shapes: x 3 by #V (m), gradients 3 by #V (N), the Hessian 3#V square (N/m, node-major DOFs).
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -44,6 +45,7 @@
 #include "fem/QuadraticTetMesh.h"
 #include "forces/FemExtraEnergy.h"
 #include "material/StrainEnergy.h"
+#include "parallel/ForkJoinPool.h"
 
 namespace tissuesim {
 
@@ -84,8 +86,10 @@ class FemModel {
   /// Which Hessian evaluate() assembles (FemTangent::Exact unless set).
   void setTangent(FemTangent tangent) { m_tangent = tangent; }
   /// Threads an evaluation's elements are shared among (1 or 2; 2 unless set): a mesh of at least
-  /// kElementsForTwoThreads elements is cut in two node-disjoint halves, one on a thread started
-  /// for the call, the elements across the cut after both. The same count gives the same bits.
+  /// kElementsForTwoThreads elements is cut in two node-disjoint halves, run as two parts on a
+  /// ForkJoinPool of two threads that the model keeps (the caller runs both where its worker is
+  /// not running), the elements across the cut after both. The same count gives the same bits.
+  /// With two, evaluate() is called from one thread at a time.
   /// @throws std::invalid_argument on another count.
   void setElementThreads(int threads);
   static constexpr Eigen::Index kElementsForTwoThreads = 256;
@@ -134,15 +138,18 @@ class FemModel {
     const std::size_t* firstEntries;  ///< per element, its first entry
   };
   /// elementEntries (when given): how many of the triplets are the elements' (the rest are the
-  /// extra energy's). With direct.values, the elements' entries go there and triplets gets the
-  /// extra energy's alone.
+  /// extra energy's), and firstEntries (when given, with triplets) where each element's begin
+  /// among them. With direct.values, the elements' entries go there and triplets gets the extra
+  /// energy's alone.
   FemState accumulate(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                       std::vector<Eigen::Triplet<double>>* triplets,
                       const std::vector<char>* isFixed, std::size_t* elementEntries = nullptr,
-                      DirectAssembly direct = {nullptr, nullptr, nullptr}) const;
+                      DirectAssembly direct = {nullptr, nullptr, nullptr},
+                      std::vector<std::size_t>* firstEntries = nullptr) const;
   /// Element t's energy into state (and its volume ratio), its gradient into gradient, its
   /// Hessian's entries into triplets or direct's values from its first entry on (where given).
-  /// @returns false where it is inverted or past the chain's locking (state left as it was).
+  /// @returns false where it is inverted or past the chain's locking (the caller's state is then
+  /// inadmissible, whatever was added to it).
   bool addElement(Eigen::Index t, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* gradient,
                   std::vector<Eigen::Triplet<double>>* triplets, const std::vector<char>* isFixed,
                   DirectAssembly direct, FemState& state) const;
@@ -164,7 +171,7 @@ class FemModel {
   /// The elements cut in two along the rest mesh's longest side, at its nodes' median: those
   /// with every node below it, every node above, and the rest (setElementThreads).
   std::vector<Eigen::Index> m_lowerElements, m_upperElements, m_elementsAcross;
-  int m_elementThreads = 2;
+  std::unique_ptr<ForkJoinPool> m_pool;  ///< the halves' two threads; null: one thread
 };
 
 }  // namespace tissuesim

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "fem/FemStaticSolver.h"
 
+#include <array>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <system_error>
-#include <thread>
 #include <utility>
 
 #include <Eigen/CholmodSupport>
+
+#include "parallel/ForkJoinPool.h"
 
 namespace tissuesim {
 namespace {
@@ -55,7 +58,11 @@ struct FemStaticSolver::Factorization {
   Factorization(const Factorization&) = delete;
   Factorization& operator=(const Factorization&) = delete;
   SupernodalCholesky cholesky;
-  cholmod_common secondWorkspace;  ///< the second thread's, for a solve split in two
+  cholmod_common secondWorkspace;  ///< the second half's, for a solve split in two
+  /// The halves' two threads, made at the first solve split in two (null before, or where no
+  /// thread could be had: the caller's thread solves both).
+  std::unique_ptr<ForkJoinPool> pool;
+  bool isPoolTried = false;
 };
 
 FemStaticSolver::FemStaticSolver(double tolerance_N, int maxIterations)
@@ -135,24 +142,26 @@ void FemStaticSolver::solveFactorized(Eigen::MatrixXd& rhs) const {
   if (columns < kColumnsForTwoThreads) {
     rhs = m_factorization->cholesky.solve(rhs).eval();
   } else {
-    // The columns' two halves at once, each thread with its own workspace; all on the caller's
-    // where no thread can be started.
-    const Eigen::Index half = columns / 2;
-    bool isSecondSolved = false;
-    std::thread second;
-    try {
-      second = std::thread([&] {
-        isSecondSolved = m_factorization->cholesky.solveColumns(rhs.rightCols(columns - half),
-                                                                m_factorization->secondWorkspace);
-      });
-    } catch (const std::system_error&) {
-      isSecondSolved = m_factorization->cholesky.solveColumns(rhs.rightCols(columns - half),
-                                                              m_factorization->cholesky.cholmod());
+    // The columns' two halves as two parts on a pool of two threads, each half with its own
+    // workspace whichever thread runs it.
+    Factorization& factorization = *m_factorization;
+    if (!factorization.isPoolTried) {
+      factorization.isPoolTried = true;
+      try {
+        factorization.pool = std::make_unique<ForkJoinPool>(2);
+      } catch (const std::system_error&) {  // no thread to be had: the caller's alone
+      }
     }
-    const bool isFirstSolved = m_factorization->cholesky.solveColumns(
-        rhs.leftCols(half), m_factorization->cholesky.cholmod());
-    if (second.joinable()) second.join();
-    if (!isFirstSolved || !isSecondSolved)
+    const Eigen::Index half = columns / 2;
+    std::array<bool, 2> isSolved{false, false};
+    runParts(factorization.pool.get(), 2, [&](int part) {
+      isSolved[static_cast<std::size_t>(part)] =
+          part == 0 ? factorization.cholesky.solveColumns(rhs.leftCols(half),
+                                                          factorization.cholesky.cholmod())
+                    : factorization.cholesky.solveColumns(rhs.rightCols(columns - half),
+                                                          factorization.secondWorkspace);
+    });
+    if (!isSolved[0] || !isSolved[1])
       throw std::runtime_error("FemStaticSolver: CHOLMOD could not solve (out of memory)");
   }
   for (Eigen::Index d = 0; d < rhs.rows(); ++d) {

@@ -56,8 +56,9 @@ class FemStaticSolver {
   /// Whether a factorisation stands to solve with: the last solve()'s or factorize()'s.
   bool isFactorized() const { return m_isFactorized; }
   /// rhs (3#V by any) overwritten by the last factorisation's solve; fixed DOFs' rows zero. Many
-  /// columns (a contact's compliance) are solved in two halves on two threads, the caller's and
-  /// one started for the call. @throws std::runtime_error where CHOLMOD runs out of memory.
+  /// columns (a contact's compliance) are solved in two halves on two threads (a ForkJoinPool the
+  /// solver keeps), each half with a workspace of its own. @throws std::runtime_error where CHOLMOD
+  /// runs out of memory.
   void solveFactorized(Eigen::MatrixXd& rhs) const;
 
  private:
