@@ -259,11 +259,15 @@ void HapticRateBody::continueFrom(HapticRateBody& other, const Eigen::Vector3d& 
   HapticRateUpdate report;
   report.hasNext = false;
   // The strains the old material reached are this one's history too.
-  m_model->setPeakShifts(other.m_model->peakShifts());
+  const std::vector<double> peaks = other.m_model->peakShifts();
+  m_model->setPeakShifts(peaks);
   if (hasBody)
     report = m_fem->linearizeAt(body_m, tip_m, top_m, m_settings.probeRadius_m, *m_inUse);
-  if (!report.hasNext) {  // the new material cannot take that state up: from rest, as before
+  if (!report.hasNext) {
+    // The old body free of the probe (its contact has no body), or a state the new material
+    // cannot take up: from rest, as before, the history kept (the peaks are strains).
     m_fem->restart();
+    m_model->setPeakShifts(peaks);
     restartSettled();
     return;
   }

@@ -456,6 +456,29 @@ TEST(HapticRateBody, ASecondPokeOfTheSoftenedLiverIsSofterAndAResetForgetsIt) {
   }
 }
 
+TEST(HapticRateBody, ANewTissueWithTheProbeClearKeepsTheSofteningHistory) {
+  // Poked 5 mm deep, the probe then drawn 1 cm clear of the liver, so that its contact holds no
+  // point of the surface: the new tissue takes the body up from rest, and keeps what the poke
+  // softened all the same, so the second poke reads less than the first at 3 mm.
+  const SceneDescription scene = hapticRateScene();
+  ASSERT_TRUE(scene.isSoftening);
+  Simulation simulation(scene);
+  const double speed_m_s = 0.005;
+  const AxisPoke first = pokeAlongTheAxis(simulation, 0.0015, 0.005, speed_m_s);
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  const InstrumentPose above{entryPoint(simulation) - 0.0015 * direction, direction, false};
+  const InstrumentPose clear{entryPoint(simulation) - 0.01 * direction, direction, false};
+  const InstrumentScript away({{simulation.time_s(), above}, {simulation.time_s() + 0.2, clear}});
+  simulation.setInstrumentSource(&away);
+  for (int n = 0; n < 500; ++n) ASSERT_TRUE(simulation.step().isGood) << n;
+  simulation.setInstrumentSource(nullptr);
+  simulation.replaceTissue(TissueParameters(simulation.parameters()));
+  const AxisPoke second = pokeAlongTheAxis(simulation, 0.0015, 0.0032, speed_m_s);
+  EXPECT_LT(forceAtDepth(second, 0.003), 0.95 * forceAtDepth(first, 0.003));
+  for (const InstabilityEvent& event : second.events)
+    ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
+}
+
 TEST(HapticRateBody, APokeTooFastToFollowIsReportedAndTheLiverComesBack) {
   // The springs' default poke, 4 cm along the tool at 4 cm/s, seven times the speed the scheme
   // follows: the steps whose contact does not settle and the updates left out of balance are
