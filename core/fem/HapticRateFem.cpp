@@ -46,6 +46,7 @@ HapticRateUpdate HapticRateFem::settle(const Eigen::Vector3d& tip_m, const Eigen
   m_loads.forces_N.resize(3, 0);
   m_lastLargestLoad_N = 0.0;
   m_stiffeningRate_per_m = 0.0;
+  m_lastTip_m.reset();
   m_x = m_model.mesh().nodes_m;
   m_settled = m_x;
   FemSolveReport solved;
@@ -72,6 +73,7 @@ HapticRateUpdate HapticRateFem::settle(const Eigen::Vector3d& tip_m, const Eigen
   m_model.softenAt(m_x);  // the weight's own strain is the body's history from the start
   report.isStepped = true;
   linearize(tip_m, top_m, radius_m, next, report);
+  m_settledTip_m = m_lastTip_m;
   return report;
 }
 
@@ -92,6 +94,7 @@ void HapticRateFem::setHeldPoints(std::vector<int> points) {
 
 void HapticRateFem::restart() {
   m_x = m_settled;
+  m_lastTip_m = m_settledTip_m;
   m_model.clearSoftening();
   m_model.softenAt(m_settled);
   std::fill(m_isInContact.begin(), m_isInContact.end(), char{0});
@@ -181,6 +184,7 @@ HapticRateUpdate HapticRateFem::linearizeAt(const Eigen::Matrix3Xd& body_m,
   m_loads.nodes.clear();
   m_loads.forces_N.resize(3, 0);
   m_stiffeningRate_per_m = 0.0;  // the new material's own, found afresh
+  m_lastTip_m.reset();
   FemState state;
   m_model.softenAt(body_m);
   if (!m_model.evaluate(body_m).isAdmissible ||
@@ -205,7 +209,13 @@ int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d
   Eigen::MatrixXd correction = Eigen::Map<const Eigen::VectorXd>(internal.data(), internal.size());
   m_solver.solveFactorized(correction);
 
-  // The candidates: the surface points near the probe where the body now is, and their nodes.
+  // The candidates: the surface points near the probe where the body now is, and their nodes,
+  // as far out as the probe's pace carries it while this contact is in use.
+  const double travel_m = m_lastTip_m ? (tip_m - *m_lastTip_m).norm() : 0.0;
+  m_lastTip_m = tip_m;
+  const double margin_m = std::max(
+      m_candidateMargin_m,
+      std::min(m_candidateMargin_m + kCandidateTravelShare * travel_m, kLargestCandidateMargin_m));
   std::vector<int> points, nodes;
   int passed = 0;
   // A point the probe has passed through (kPassedThrough_m: inside a body reset to rest, or gone
@@ -219,7 +229,7 @@ int HapticRateFem::linearize(const Eigen::Vector3d& tip_m, const Eigen::Vector3d
         !m_heldPoints.empty() &&
         std::binary_search(m_heldPoints.begin(), m_heldPoints.end(), static_cast<int>(p));
     if (gap_m < -kGoneThrough_m && wasInContact && !isHeld) ++passed;
-    if (!isHeld && (gap_m > m_candidateMargin_m || gap_m < -kPassedThrough_m)) continue;
+    if (!isHeld && (gap_m > margin_m || gap_m < -kPassedThrough_m)) continue;
     m_isInContact[p] = 1;
     points.push_back(static_cast<int>(p));
     nodes.insert(nodes.end(), point.nodes.begin(), point.nodes.end());

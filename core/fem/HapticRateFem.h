@@ -28,6 +28,7 @@
 //
 // Shapes: x 3 by #V (m); the surface points' nodes are the model's mesh's.
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -95,11 +96,23 @@ class HapticRateFem {
   static constexpr double kStiffeningLoadChange = 0.05;
   static constexpr double kMaxStiffeningRate_per_m = 1e4;
 
+  /// The candidates' reach grows with the probe's pace: each update's contact takes the points
+  /// within candidateMargin_m plus this many times the probe's travel (its tip's) since the last
+  /// update, since that contact is in use from one latency after the update starts to two, while
+  /// the probe goes on as far again; the margin at most kLargestCandidateMargin_m (m, unless
+  /// candidateMargin_m is wider): twice the travel an update at the window's tool limit near the
+  /// organ, where a wider contact (a probe put elsewhere between two updates, or moved faster
+  /// through the API) costs each haptic step more than it buys (its dense Newton grows as the
+  /// cube of the candidates; docs/performance-details.md, "The candidates' margin").
+  static constexpr double kCandidateTravelShare = 2.0;
+  static constexpr double kLargestCandidateMargin_m = 0.001;
+
   /// `model` (its tangent set definite here, no extra energy: the contact is the haptic
   /// loop's) must outlive this object. isFixed: 3#V flags. surface: the points the probe may
   /// touch (CapsulePenalty's, on the model's nodes). A point within the probe's radius plus
-  /// candidateMargin_m of its axis segment at an update is in the next contact, unless it is
-  /// more than kPassedThrough_m inside the probe (passed through, not pressed).
+  /// candidateMargin_m (plus the travel's share, above) of its axis segment at an update is in
+  /// the next contact, unless it is more than kPassedThrough_m inside the probe (passed
+  /// through, not pressed).
   /// newtonIterations: an update's, >= 0 (0: the body linearised where the contact has it).
   /// support: what holds the body besides its fixed DOFs and loads it besides the probe (its
   /// weight, a tray: an energy that must outlive this object; null: none), in every update.
@@ -187,7 +200,10 @@ class HapticRateFem {
   std::vector<char> m_isFixed;
   std::vector<CapsulePenalty::Point> m_surface;
   double m_candidateMargin_m;
-  int m_newtonIterations;  ///< an update's
+  /// The probe's tip at the last contact made (none: no travel counted at the next).
+  std::optional<Eigen::Vector3d> m_lastTip_m;
+  std::optional<Eigen::Vector3d> m_settledTip_m;  ///< settle()'s, which restart() returns to
+  int m_newtonIterations;                         ///< an update's
   FemStaticSolver m_solver;
   Eigen::Matrix3Xd m_x, m_body, m_candidate;
   Eigen::Matrix3Xd m_settled;        ///< where restart() puts the body

@@ -69,7 +69,7 @@ struct HapticRateBodySettings {
   double probeRadius_m = 0.0025;
   double contactSpacing_m = 0.001;       ///< the surface's penalty points, about this far apart
   double pressureStiffness_Pa_m = 1e11;  ///< the probe's penalty per unit area
-  double candidateMargin_m = 0.001;      ///< HapticRateFem's
+  double candidateMargin_m = 0.0003;     ///< HapticRateFem's (with the probe's travel's share)
   int newtonIterations = 2;              ///< an update's
   long latencySteps = 0;                 ///< > 0: fixed (deterministic); 0: when done
   Eigen::Vector3d gravity_m_s2 = Eigen::Vector3d::Zero();  ///< zero: weightless
