@@ -8,7 +8,12 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <deque>
 #include <functional>
+#include <mutex>
+#include <system_error>
+#include <tuple>
+#include <utility>
 
 #include "mesh/IsolatedMeshRead.h"
 
@@ -176,13 +181,79 @@ std::vector<std::string> listSurfaceParts(const std::filesystem::path& path) {
   return names;
 }
 
+namespace {
+
+/// A surface read, by the file as it was then (its canonical path, size and modification time)
+/// and the options it was read with.
+struct SurfaceReadKey {
+  std::string path;
+  std::uintmax_t bytes = 0;
+  std::filesystem::file_time_type::rep modified = 0;
+  double metresPerUnit = 1.0;
+  std::string part;
+
+  bool operator==(const SurfaceReadKey& other) const {
+    return std::tie(path, bytes, modified, metresPerUnit, part) ==
+           std::tie(other.path, other.bytes, other.modified, other.metresPerUnit, other.part);
+  }
+};
+
+/// The last surfaces this process read. A scene opened again (a second simulation of it, the
+/// window's next scene on the same organ) takes its surface from here instead of parsing the file
+/// again in a child process: a fork while other threads run (a body's updates, a thread pool) is
+/// safe with glibc's allocator, not with every one (AddressSanitizer's keeps its locks across
+/// it, and a child forked while another thread held one never finishes).
+class ReadSurfaces {
+ public:
+  static constexpr std::size_t kKept = 8;
+
+  bool find(const SurfaceReadKey& key, TriangleSurface& surface) {
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    for (const auto& [kept, keptSurface] : m_read) {
+      if (kept == key) {
+        surface = keptSurface;
+        return true;
+      }
+    }
+    return false;
+  }
+  void keep(SurfaceReadKey key, const TriangleSurface& surface) {
+    const std::lock_guard<std::mutex> lock(m_mutex);
+    if (m_read.size() == kKept) m_read.pop_front();
+    m_read.emplace_back(std::move(key), surface);
+  }
+
+ private:
+  std::mutex m_mutex;
+  std::deque<std::pair<SurfaceReadKey, TriangleSurface>> m_read;
+};
+
+ReadSurfaces& readSurfaces() {
+  static ReadSurfaces instance;
+  return instance;
+}
+
+}  // namespace
+
 TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceReadOptions& options) {
   const std::string name = path.string();
   if (!(options.metresPerUnit > 0.0) || !std::isfinite(options.metresPerUnit)) {
     throw MeshFileError(name + ": the scale must be a positive number of metres per unit");
   }
   checkSurfaceFile(path);
-  return readSurfaceIsolated(path, [&] { return importSurface(path, options); });
+  std::array<std::error_code, 3> errors;
+  SurfaceReadKey key;
+  key.path = std::filesystem::canonical(path, errors[0]).string();
+  key.bytes = std::filesystem::file_size(path, errors[1]);
+  key.modified = std::filesystem::last_write_time(path, errors[2]).time_since_epoch().count();
+  key.metresPerUnit = options.metresPerUnit;
+  key.part = options.part;
+  const bool isKnowable = !errors[0] && !errors[1] && !errors[2];
+  TriangleSurface surface;
+  if (isKnowable && readSurfaces().find(key, surface)) return surface;
+  surface = readSurfaceIsolated(path, [&] { return importSurface(path, options); });
+  if (isKnowable) readSurfaces().keep(std::move(key), surface);
+  return surface;
 }
 
 }  // namespace tissuesim

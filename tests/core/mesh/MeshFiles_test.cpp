@@ -98,6 +98,28 @@ TEST(SurfaceReader, RefusesBadFiles) {
   std::filesystem::remove(scene);
 }
 
+TEST(SurfaceReader, AFileReadAgainIsTheSameAndAChangedOneIsReadAnew) {
+  // A surface read again (a scene opened a second time) is the one read first; the same file
+  // changed on disk since is read anew, not taken from what the process kept, and so is it at
+  // another scale.
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "tissuesim-read-again.obj";
+  const auto write = [&](double x) {
+    std::ofstream out(file);
+    out << "v 0 0 0\nv " << x << " 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  };
+  write(1.0);
+  const TriangleSurface first = readSurface(file, {0.01, ""});
+  const TriangleSurface again = readSurface(file, {0.01, ""});
+  EXPECT_EQ(again.vertices_m, first.vertices_m);
+  EXPECT_EQ(again.triangles, first.triangles);
+  EXPECT_DOUBLE_EQ(first.vertices_m.row(0).maxCoeff(), 0.01);
+  EXPECT_DOUBLE_EQ(readSurface(file, {0.02, ""}).vertices_m.row(0).maxCoeff(), 0.02);
+  write(2.5);
+  EXPECT_DOUBLE_EQ(readSurface(file, {0.01, ""}).vertices_m.row(0).maxCoeff(), 0.025);
+  std::filesystem::remove(file);
+}
+
 TEST(MeshFiles, FarTooLargeFilesAreRefusedBeforeReading) {
   const std::filesystem::path big =
       std::filesystem::temp_directory_path() / "tissuesim-too-big.stl";
