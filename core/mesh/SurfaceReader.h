@@ -25,7 +25,9 @@ constexpr std::uintmax_t kMaxMeshFileBytes = 256ull << 20;
 /// The parts (named meshes) in a file, in order.
 std::vector<std::string> listSurfaceParts(const std::filesystem::path& path);
 
-/// Reads, scales and merges (or selects) the parts. Vertices are not welded here.
+/// Reads, scales and merges (or selects) the parts. Vertices are not welded here. The same file
+/// read again unchanged (its size and modification time), with the same options, comes from the
+/// process's last eight reads rather than a new child process (SurfaceReader.cpp says why).
 /// @throws MeshFileError naming the file: unreadable, unknown format, no triangles, unknown
 /// part, non-finite or absurd coordinates (beyond 100 m after scaling: check the units).
 TriangleSurface readSurface(const std::filesystem::path& path, const SurfaceReadOptions& options);
