@@ -233,6 +233,23 @@ PY
         --fem-cache assets/meshes/liver-fem-weighted-poke.csv \
         --output "$out/organ-poke-weighted-$scene.csv"
     done
+    # The refined scene under gravity with its body refined to 2 mm growing 1 mm per mm, each
+    # update used 150 ms after it starts (docs/performance-details.md, "Under gravity within 10 %
+    # at every depth, given the update's time"), at 2 mm/s and at 3 and 3.2 mm/s.
+    python3 - "$out/liver-fem-refined-weighted.json" "$out/liver-fem-refined-weighted-2mm.json" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["tet_mesh"]["refine_towards_tool"].update(finest_mm=2, growth=1.0)
+scene["physics"]["fem_update_latency_ms"] = 150
+json.dump(scene, open(sys.argv[2], "w"), indent=2)
+PY
+    for speed in 2 3 3.2; do
+      say "the liver poke under gravity (the 2 mm body, updates used 150 ms after they start) at $speed mm/s"
+      build/app/tissuesim organ-poke --scene "$out/liver-fem-refined-weighted-2mm.json" --weighted \
+        --depths-mm 1,2,3,4,5 --speed-mm-s "$speed" \
+        --fem-cache assets/meshes/liver-fem-weighted-poke.csv \
+        --output "$out/organ-poke-weighted-2mm-150ms-$speed.csv"
+    done
     # The block of the map's error column through the FEM at its own rate, as the bundled FEM
     # scenes run it (one Newton iteration an update at a tenth of the reference's bulk
     # modulus, each update used 60 ms after it starts), against the refinement-3 reference.
