@@ -112,6 +112,17 @@ TEST(OrganPoke, TheSecondSitesKeptForcesAreTheBundledScenesProbeMovedThere) {
   EXPECT_FALSE(secondSiteKeptForces(bundled, why).has_value());
 }
 
+/// A poke through a scene's own steps with no event, its force at each depth from `first` on
+/// within `tolerance` of the reference's (as a ratio).
+void expectWithinAtEachDepth(const SimulatorPoke& poke, const std::vector<double>& reference,
+                             const std::vector<double>& depths_mm, double tolerance,
+                             std::size_t first = 0) {
+  EXPECT_EQ(poke.events, 0);
+  for (std::size_t d = first; d < depths_mm.size(); ++d) {
+    EXPECT_NEAR(poke.force_N[d] / reference[d], 1.0, tolerance) << depths_mm[d] << " mm";
+  }
+}
+
 TEST(OrganPoke, TheRefinedFemSceneIsWithinTenPerCentOfTheReferenceAtTheBundledEntry) {
   // The coarse body refined where the tool aims, its boundary bent onto the drawn surface: the
   // liver poke through the scene's own steps, against the bundled poke's kept reference, at every
@@ -123,11 +134,8 @@ TEST(OrganPoke, TheRefinedFemSceneIsWithinTenPerCentOfTheReferenceAtTheBundledEn
   const auto reference = keptPokeForces(scene, "liver-fem.msh", "liver-fem-poke.csv", why);
   const std::vector<double> depths_m = organPokeDepths_m();
   ASSERT_TRUE(reference.has_value()) << why;
-  const SimulatorPoke refined = pokeSimulator(scene, depths_m, 0.002);
-  EXPECT_EQ(refined.events, 0);
-  for (std::size_t d = 0; d < depths_m.size(); ++d) {
-    EXPECT_NEAR(refined.force_N[d] / (*reference)[d], 1.0, 0.10) << kOrganPokeDepths_mm[d] << " mm";
-  }
+  expectWithinAtEachDepth(pokeSimulator(scene, depths_m, 0.002), *reference, kOrganPokeDepths_mm,
+                          0.10);
 }
 
 TEST(OrganPoke, TheFemSceneRefinedAtTheSecondSiteIsWithinTenPerCentOfItsReference) {
@@ -143,12 +151,8 @@ TEST(OrganPoke, TheFemSceneRefinedAtTheSecondSiteIsWithinTenPerCentOfItsReferenc
   std::string why;
   const auto reference = secondSiteKeptForces(moved, why);
   ASSERT_TRUE(reference.has_value()) << why;
-  const SimulatorPoke refined = pokeSimulator(moved, kSecondSiteDepths_m, 0.002);
-  EXPECT_EQ(refined.events, 0);
-  for (std::size_t d = 0; d < kSecondSiteDepths_m.size(); ++d) {
-    EXPECT_NEAR(refined.force_N[d] / (*reference)[d], 1.0, 0.10)
-        << kSecondSiteDepths_mm[d] << " mm";
-  }
+  expectWithinAtEachDepth(pokeSimulator(moved, kSecondSiteDepths_m, 0.002), *reference,
+                          kSecondSiteDepths_mm, 0.10);
   // The same body as the file has it, 24 mm tets there: far too stiff.
   SceneDescription coarse = moved;
   coarse.tetMesh->refinement.reset();
@@ -214,11 +218,8 @@ TEST(OrganPoke, TheFemAtItsOwnRateUnderGravityFollowsTheWeightedReference) {
   const auto reference = weightedKeptForces(scene, why);
   ASSERT_TRUE(reference.has_value()) << why;
   const SimulatorPoke poke = pokeSimulator(scene, kWeightedDepths_m, 0.002);
-  EXPECT_EQ(poke.events, 0);
   EXPECT_NEAR(poke.force_N[0] / (*reference)[0], 1.0, 0.20);
-  for (std::size_t d = 1; d < kWeightedDepths_m.size(); ++d) {
-    EXPECT_NEAR(poke.force_N[d] / (*reference)[d], 1.0, 0.10) << kWeightedDepths_mm[d] << " mm";
-  }
+  expectWithinAtEachDepth(poke, *reference, kWeightedDepths_mm, 0.10, 1);
 }
 
 TEST(OrganPoke, UnderGravityABodyRefinedTo2MmIsWithinTenPerCentGivenItsUpdatesTime) {
@@ -236,11 +237,8 @@ TEST(OrganPoke, UnderGravityABodyRefinedTo2MmIsWithinTenPerCentGivenItsUpdatesTi
   std::string why;
   const auto reference = weightedKeptForces(scene, why);
   ASSERT_TRUE(reference.has_value()) << why;
-  const SimulatorPoke poke = pokeSimulator(scene, kWeightedDepths_m, 0.003);
-  EXPECT_EQ(poke.events, 0);
-  for (std::size_t d = 0; d < kWeightedDepths_m.size(); ++d) {
-    EXPECT_NEAR(poke.force_N[d] / (*reference)[d], 1.0, 0.10) << kWeightedDepths_mm[d] << " mm";
-  }
+  expectWithinAtEachDepth(pokeSimulator(scene, kWeightedDepths_m, 0.003), *reference,
+                          kWeightedDepths_mm, 0.10);
 }
 
 TEST(OrganPoke, TheKeyChangesWithTheProbe) {
