@@ -226,8 +226,8 @@ TEST(OrganPoke, UnderGravityABodyRefinedTo2MmIsWithinTenPerCentGivenItsUpdatesTi
   // Refined to 2 mm growing 1 mm per mm, the body bends round the probe from the first
   // millimetre, but its updates take longer than the scene's 60 ms on a two-core machine: each
   // is used 150 ms after it starts, and the probe at 3 mm/s travels 0.45 mm an update, within
-  // the scheme's reach under gravity (docs/performance-details.md, "The liver under its weight
-  // against the continuum").
+  // the scheme's reach under gravity (docs/performance-details.md, "Under gravity within 10 % at
+  // every depth, given the update's time").
   SceneDescription scene =
       heldAsTheDefaultScene(readScene(kAssets + "/scenes/liver-fem-refined.json"));
   ASSERT_TRUE(scene.tetMesh->refinement.has_value());
