@@ -23,6 +23,7 @@ void InstrumentInteractorStyle::OnMouseWheelForward() {
     return;
   }
   vtkInteractorStyleTrackballCamera::OnMouseWheelForward();
+  if (onCameraMoved) onCameraMoved();
 }
 
 void InstrumentInteractorStyle::OnMouseWheelBackward() {
@@ -31,6 +32,25 @@ void InstrumentInteractorStyle::OnMouseWheelBackward() {
     return;
   }
   vtkInteractorStyleTrackballCamera::OnMouseWheelBackward();
+  if (onCameraMoved) onCameraMoved();
+}
+
+void InstrumentInteractorStyle::OnLeftButtonUp() {
+  const bool wasMoving = GetState() != VTKIS_NONE;
+  vtkInteractorStyleTrackballCamera::OnLeftButtonUp();
+  if (wasMoving && onCameraMoved) onCameraMoved();
+}
+
+void InstrumentInteractorStyle::OnMiddleButtonUp() {
+  const bool wasMoving = GetState() != VTKIS_NONE;
+  vtkInteractorStyleTrackballCamera::OnMiddleButtonUp();
+  if (wasMoving && onCameraMoved) onCameraMoved();
+}
+
+void InstrumentInteractorStyle::OnRightButtonUp() {
+  const bool wasMoving = GetState() != VTKIS_NONE;
+  vtkInteractorStyleTrackballCamera::OnRightButtonUp();
+  if (wasMoving && onCameraMoved) onCameraMoved();
 }
 
 }  // namespace tissuesim::app

@@ -14,6 +14,7 @@
 #include <vtkRenderer.h>
 #include <vtkWindowToImageFilter.h>
 #include <QAction>
+#include <QCursor>
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -95,6 +96,7 @@ MainWindow::MainWindow(const QString& scenePath, QWidget* parent) : QMainWindow(
   m_style = vtkSmartPointer<InstrumentInteractorStyle>::New();
   m_style->onHover = [this](int x, int y) { moveInstrumentToDisplay(x, y); };
   m_style->onWheel = [this](int notches) { pushInstrument(notches * kWheelStep_m); };
+  m_style->onCameraMoved = [this] { putCursorOnInstrument(); };
   m_renderWindow->GetInteractor()->SetInteractorStyle(m_style);
 
   m_statusLabel = new QLabel(this);
@@ -681,6 +683,26 @@ void MainWindow::moveInstrumentToDisplay(int x, int y) {
   if (!tip.allFinite()) return;
   m_pose.tip_m = tip;
   publishPose();
+}
+
+void MainWindow::putCursorOnInstrument() {
+  if (!m_view || !m_session || m_session->liveInstrument() == nullptr) return;
+  if (m_playback) return;  // the recording drives the tool
+  vtkRenderer* renderer = m_view->renderer();
+  renderer->SetWorldPoint(m_pose.tip_m.x(), m_pose.tip_m.y(), m_pose.tip_m.z(), 1.0);
+  renderer->WorldToDisplay();
+  const double* display = renderer->GetDisplayPoint();
+  if (!std::isfinite(display[0]) || !std::isfinite(display[1]) || display[2] <= 0.0 ||
+      display[2] >= 1.0)
+    return;  // behind the camera or past its clipping range
+  // VTK's display pixels (origin bottom-left, device pixels) to the widget's (top-left,
+  // logical), as QVTKInteractorAdapter maps them the other way.
+  const double ratio = m_vtkWidget->devicePixelRatioF();
+  const int heightPixels = m_renderWindow->GetSize()[1];
+  const QPoint onWidget(static_cast<int>(std::lround(display[0] / ratio)),
+                        static_cast<int>(std::lround((heightPixels - 1 - display[1]) / ratio)));
+  if (!m_vtkWidget->rect().contains(onWidget)) return;
+  QCursor::setPos(m_vtkWidget->mapToGlobal(onWidget));
 }
 
 void MainWindow::pushInstrument(double distance_m) {

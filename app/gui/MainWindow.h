@@ -88,6 +88,9 @@ class MainWindow : public QMainWindow {
 
   /// Puts the tool tip under display point (x, y) (pixels, origin bottom-left) at its depth.
   void moveInstrumentToDisplay(int x, int y);
+  /// Puts the cursor where the tool tip is drawn (after a camera move: the tip stays where it
+  /// is, and the next hover steers it from there); nothing where the tip is not in the view.
+  void putCursorOnInstrument();
   /// Moves the tool along its shaft by `distance_m` (positive: deeper).
   void pushInstrument(double distance_m);
   /// Tilts the shaft about its tip by the given angles (rad): `right` turns the tip towards

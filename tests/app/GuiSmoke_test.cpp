@@ -14,6 +14,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QMessageBox>
+#include <QScreen>
 #include <QSurfaceFormat>
 #include <QTemporaryDir>
 #include <QWheelEvent>
@@ -84,6 +85,55 @@ class GuiSmokeTest : public QObject {
     QMouseEvent back(QEvent::MouseMove, view()->rect().center(), Qt::NoButton, Qt::NoButton,
                      Qt::NoModifier);
     QApplication::sendEvent(view(), &back);
+  }
+
+  void aCameraMoveLeavesTheToolWhereItIs() {
+    // The tip follows the cursor at its depth, so after the camera moves, the cursor is put where
+    // the tip is now drawn: the next hover steers the tool on from where it was, not from the
+    // point of the scene the move brought under the cursor.
+    const auto send = [&](QEvent::Type type, const QPoint& at, Qt::MouseButton button,
+                          Qt::MouseButtons held) {
+      QMouseEvent event(type, at, view()->mapToGlobal(at), button, held, Qt::NoModifier);
+      QApplication::sendEvent(view(), &event);
+    };
+    const QPoint centre = view()->rect().center();
+    send(QEvent::MouseMove, centre, Qt::NoButton, Qt::NoButton);
+    const Eigen::Vector3d before = m_window->instrumentPose().tip_m;
+    // A right drag upwards zooms in (VTK's trackball dolly), about the view's centre, where the
+    // tip is drawn; the tool stays meanwhile.
+    send(QEvent::MouseButtonPress, centre, Qt::RightButton, Qt::RightButton);
+    QPoint at = centre;
+    for (int i = 0; i < 8; ++i) {
+      at += QPoint(0, -12);
+      send(QEvent::MouseMove, at, Qt::NoButton, Qt::RightButton);
+      QTest::qWait(10);
+    }
+    QCursor::setPos(view()->mapToGlobal(at));  // where the pointer is as the drag ends
+    QTRY_COMPARE_WITH_TIMEOUT(view()->mapFromGlobal(QCursor::pos()), at, 2000);
+    send(QEvent::MouseButtonRelease, at, Qt::RightButton, Qt::NoButton);
+    QCOMPARE(m_window->instrumentPose().tip_m, before);
+    // The cursor is back over the tip, near the view's centre.
+    QPoint cursor;
+    QTRY_VERIFY_WITH_TIMEOUT(
+        (cursor = view()->mapFromGlobal(QCursor::pos()), (cursor - at).manhattanLength() > 60),
+        2000);
+    send(QEvent::MouseMove, cursor, Qt::NoButton, Qt::NoButton);
+    const double moved_m = (m_window->instrumentPose().tip_m - before).norm();
+    QVERIFY2(moved_m < 5e-4, qPrintable(QString("the tip jumped %1 mm").arg(1e3 * moved_m)));
+    // And steers on from there.
+    send(QEvent::MouseMove, cursor + QPoint(20, 0), Qt::NoButton, Qt::NoButton);
+    QVERIFY((m_window->instrumentPose().tip_m - before).norm() > 1e-3);
+    // Back to the scene's view, the pointer off the window (the tests after send their own
+    // events) and the tool over the poke point.
+    for (QAction* action : m_window->findChildren<QAction*>()) {
+      if (action->text() == "Reset &camera") action->trigger();
+    }
+    const QPoint offWindow = QGuiApplication::primaryScreen()->geometry().bottomRight();
+    QVERIFY(!m_window->frameGeometry().contains(offWindow));
+    QCursor::setPos(offWindow);
+    QTRY_COMPARE_WITH_TIMEOUT(QCursor::pos(), offWindow, 2000);
+    QTest::qWait(50);
+    send(QEvent::MouseMove, centre, Qt::NoButton, Qt::NoButton);
   }
 
   void arrowKeysTiltTheToolAboutItsTip() {
