@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -113,6 +114,28 @@ HapticRateBody::~HapticRateBody() {
   m_worker.join();
 }
 
+std::string refusedUpdateReason(double residual_N, double travel_m, double reach_m) {
+  char figures[160];
+  if (reach_m > 0.0) {
+    std::snprintf(figures, sizeof figures,
+                  "its Newton iterations left %.3g N out of balance, the probe %.2f mm on since "
+                  "the update before started (an update follows %.2f mm)",
+                  residual_N, 1e3 * travel_m, 1e3 * reach_m);
+  } else {
+    std::snprintf(figures, sizeof figures,
+                  "its Newton iterations left %.3g N out of balance, the probe %.2f mm on since "
+                  "the update before started",
+                  residual_N, 1e3 * travel_m);
+  }
+  // A tool held to its limit travels the reach an update to round-off.
+  if (reach_m > 0.0 && travel_m <= reach_m * (1.0 + 1e-6)) {
+    return std::string(figures) +
+           ": the body moved further than one update follows (pressed deep, where the tissue is "
+           "stiffer than where the reach was measured, or sliding off the frictionless probe)";
+  }
+  return std::string(figures) + ": the probe moved further than one update can follow";
+}
+
 void HapticRateBody::work() {
   std::unique_lock<std::mutex> lock(m_mutex);
   for (;;) {
@@ -128,8 +151,7 @@ void HapticRateBody::work() {
       report = m_fem->update(isFromContact ? &m_jobBody : nullptr, m_jobCandidates, m_jobForces,
                              m_jobTip, m_jobTop, m_settings.probeRadius_m, *m_next);
       if (report.isOutOfBalance) {
-        error = "its Newton iterations left " + std::to_string(report.residual_N) +
-                " N out of balance: the probe moved further than one update can follow";
+        error = refusedUpdateReason(report.residual_N, m_jobTravel_m, m_settings.reach_m);
       } else if (!report.hasNext) {
         error = "no definite Hessian within reach of the body's state";
       } else if (report.isPassedThrough) {
@@ -166,6 +188,8 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
   // forces, it would repeat the refused one exactly.
   m_jobGoesOn = m_isRefusing;
   m_jobHeld = m_heldPoints;
+  m_jobTravel_m = m_lastJobTip ? (tip_m - *m_lastJobTip).norm() : 0.0;
+  m_lastJobTip = tip_m;
   m_jobTip = tip_m;
   m_jobTop = top_m;
   m_stepsSinceUpdate = 0;
@@ -494,6 +518,7 @@ void HapticRateBody::reset() {
   m_isRefusing = false;
   m_isPassedThrough = false;
   m_updateProblem.clear();
+  m_lastJobTip.reset();
 }
 
 }  // namespace tissuesim

@@ -85,7 +85,17 @@ struct HapticRateBodySettings {
   /// boundary's quadratic faces bent onto it (fem/CurvedBoundary.h), so that the probe meets
   /// the tissue where it is drawn rather than on the coarse mesh's chords inside it.
   const TriangleSurface* drawnSurface = nullptr;
+  /// The probe's travel between updates that the scheme follows (m; sim/HapticRateReach.h),
+  /// named where an update is refused (refusedUpdateReason); 0: none named.
+  double reach_m = 0.0;
 };
+
+/// Why an update whose Newton iterations left residual_N (N) out of balance was refused, the
+/// probe having travelled travel_m (m) since the update before it started, the scheme following
+/// reach_m (m; 0: unknown): past the reach, the probe outran the updates; within it, the body did
+/// (pressed deep, where the tissue is stiffer than where the reach was measured, or sliding off
+/// the frictionless probe, its balance jumping).
+std::string refusedUpdateReason(double residual_N, double travel_m, double reach_m);
 
 /// One haptic step's outcome.
 struct HapticRateStep {
@@ -279,6 +289,10 @@ class HapticRateBody {
   std::vector<int> m_jobHeld;
   Eigen::Matrix3Xd m_jobForces;
   Eigen::Vector3d m_jobTip = Eigen::Vector3d::Zero(), m_jobTop = Eigen::Vector3d::Zero();
+  /// The probe's travel since the update before the job started (m; 0 for the first since the
+  /// body was made or reset), and that update's tip.
+  double m_jobTravel_m = 0.0;
+  std::optional<Eigen::Vector3d> m_lastJobTip;
   HapticRateUpdate m_jobReport;
   double m_jobWall_s = 0.0;  ///< the job's wall time on the worker
   std::string m_jobError;

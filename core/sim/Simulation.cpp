@@ -198,6 +198,8 @@ void Simulation::buildPhysics(const TissueParameters& parameters) {
     settings.gravity_m_s2 = scene.gravity_m_s2;
     settings.density_kg_m3 = newParameters->density_kg_m3;
     settings.letGoTravel_m = hapticRateToolSpeed_m_s(scene, *energy) * scene.timeStep_s;
+    settings.reach_m = hapticRateReach_m(scene.newtonIterations, scene.bulkModulus_Pa,
+                                         scene.gravity_m_s2.squaredNorm() > 0.0, *energy);
     // The body meets the probe on the surface the trainee sees (fem/CurvedBoundary.h).
     if (m_geometry.surface) settings.drawnSurface = &*m_geometry.surface;
     // The same softening as the springs', per material point, its onset rounded for the
@@ -334,7 +336,7 @@ std::vector<int> Simulation::heldNodes() const {
 const char* eventKindWords(const char* kind) {
   static constexpr std::pair<std::string_view, const char*> kWords[] = {
       {"refused", "a step refused"},
-      {"outrun", "the probe outran the FEM's updates"},
+      {"outrun", "an FEM update could not follow the probe"},
       {"non-finite", "a non-finite step, rolled back"},
       {"unconverged", "a step left unconverged"},
       {"locking", "springs past locking"},

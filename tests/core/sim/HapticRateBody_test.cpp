@@ -479,6 +479,85 @@ TEST(HapticRateBody, ANewTissueWithTheProbeClearKeepsTheSofteningHistory) {
     ADD_FAILURE() << event.kind << " at step " << event.step << ": " << event.detail;
 }
 
+TEST(HapticRateBody, ARefusedUpdateSaysWhetherTheProbeOrTheBodyOutranIt) {
+  // Past the scheme's reach the probe outran the updates; within it the body moved further than
+  // the reach measured (deep in, or sliding off the probe), which a slower tool would not cure.
+  const std::string past = refusedUpdateReason(0.25, 0.0024, 0.00036);
+  EXPECT_NE(past.find("0.25 N out of balance, the probe 2.40 mm on"), std::string::npos) << past;
+  EXPECT_NE(past.find("(an update follows 0.36 mm)"), std::string::npos) << past;
+  EXPECT_NE(past.find("the probe moved further than one update can follow"), std::string::npos)
+      << past;
+  const std::string within = refusedUpdateReason(0.25, 0.00036, 0.00036);
+  EXPECT_NE(within.find("the probe 0.36 mm on"), std::string::npos) << within;
+  EXPECT_NE(within.find("the body moved further than one update follows"), std::string::npos)
+      << within;
+  EXPECT_EQ(within.find("the probe moved further"), std::string::npos) << within;
+  const std::string justPast = refusedUpdateReason(0.25, 0.000364, 0.00036);
+  EXPECT_NE(justPast.find("the probe moved further"), std::string::npos) << justPast;
+  // No reach known: the probe is blamed, as before the reach was named.
+  const std::string unknown = refusedUpdateReason(0.25, 0.00036, 0.0);
+  EXPECT_EQ(unknown.find("an update follows"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("the probe moved further than one update can follow"), std::string::npos)
+      << unknown;
+}
+
+/// The bundled scene's tool pressed depth_m along its axis in press_s, from below_m past its
+/// start: the reasons of the updates refused out of balance, and how many name the reach.
+struct RefusedUpdates {
+  std::vector<std::string> reasons;
+  int namingTheReach = 0;
+};
+RefusedUpdates refusedUpdatesOfAPoke(double below_m, double depth_m, double press_s) {
+  const SceneDescription scene = hapticRateScene();
+  Simulation simulation(scene);
+  const Eigen::Vector3d direction = scene.instrument->direction;
+  const InstrumentScript script = InstrumentScript::poke(
+      {scene.instrument->tipStart_m + below_m * direction, direction}, depth_m, press_s);
+  simulation.setInstrumentSource(&script);
+  const long steps = std::lround(press_s / simulation.timeStep_s());
+  for (long n = 0; n < steps; ++n) EXPECT_TRUE(simulation.step().isGood) << "step " << n;
+  char reach[64];
+  std::snprintf(reach, sizeof reach, "(an update follows %.2f mm)",
+                1e3 * hapticRateReach_m(scene.newtonIterations, scene.bulkModulus_Pa, false,
+                                        simulation.energy()));
+  RefusedUpdates refused;
+  for (const InstabilityEvent& event : simulation.events()) {
+    if (event.kind != "outrun" || event.detail.find("out of balance") == std::string::npos)
+      continue;
+    refused.reasons.push_back(event.detail);
+    if (event.detail.find(reach) != std::string::npos) ++refused.namingTheReach;
+  }
+  return refused;
+}
+
+TEST(HapticRateBody, AnUpdateRefusedBehindAFastProbeBlamesTheProbe) {
+  // 2.4 cm at 24 mm/s, four times the speed the scheme follows: 1.44 mm between updates.
+  const RefusedUpdates refused = refusedUpdatesOfAPoke(0.0, 0.024, 1.0);
+  ASSERT_FALSE(refused.reasons.empty()) << "an update was left out of balance";
+  EXPECT_EQ(refused.namingTheReach, static_cast<int>(refused.reasons.size()));
+  for (const std::string& reason : refused.reasons) {
+    EXPECT_NE(reason.find("the probe 1.44 mm on"), std::string::npos) << reason;
+    EXPECT_NE(reason.find("the probe moved further than one update can follow"), std::string::npos)
+        << reason;
+  }
+}
+
+TEST(HapticRateBody, AnUpdateRefusedDeepInAtTheToolsLimitBlamesTheBodyNotTheProbe) {
+  // Pressed 3.5 cm along the tool (2.7 cm into the liver) at the speed the window's tool keeps
+  // near the organ, to about 10 N: deeper than the reach was measured, where the stiffened tissue
+  // outruns one update's linearisation though the probe moves no further than the reach: the
+  // reason says the body, not the probe, went further than the update follows.
+  const SceneDescription scene = hapticRateScene();
+  const double limit_m_s = hapticRateToolSpeed_m_s(scene, Simulation(scene).energy());
+  const RefusedUpdates refused = refusedUpdatesOfAPoke(0.0, 0.035, 0.035 / limit_m_s);
+  ASSERT_FALSE(refused.reasons.empty()) << "an update was left out of balance";
+  EXPECT_EQ(refused.namingTheReach, static_cast<int>(refused.reasons.size()));
+  for (const std::string& reason : refused.reasons) {
+    EXPECT_NE(reason.find("the body moved further than one update follows"), std::string::npos)
+        << reason;
+  }
+}
+
 TEST(HapticRateBody, APokeTooFastToFollowIsReportedAndTheLiverComesBack) {
   // The springs' default poke, 4 cm along the tool at 4 cm/s, seven times the speed the scheme
   // follows: the steps whose contact does not settle and the updates left out of balance are
