@@ -115,15 +115,15 @@ HapticRateBody::~HapticRateBody() {
 }
 
 std::string refusedUpdateReason(double residual_N, double travel_m, double reach_m) {
-  char figures[160];
+  char figures[256];
   if (reach_m > 0.0) {
     std::snprintf(figures, sizeof figures,
-                  "its Newton iterations left %.3g N out of balance, the probe %.2f mm on since "
+                  "its Newton iterations left %.3g N out of balance, the probe moved %.2f mm since "
                   "the update before started (an update follows %.2f mm)",
                   residual_N, 1e3 * travel_m, 1e3 * reach_m);
   } else {
     std::snprintf(figures, sizeof figures,
-                  "its Newton iterations left %.3g N out of balance, the probe %.2f mm on since "
+                  "its Newton iterations left %.3g N out of balance, the probe moved %.2f mm since "
                   "the update before started",
                   residual_N, 1e3 * travel_m);
   }

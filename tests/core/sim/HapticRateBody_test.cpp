@@ -483,12 +483,13 @@ TEST(HapticRateBody, ARefusedUpdateSaysWhetherTheProbeOrTheBodyOutranIt) {
   // Past the scheme's reach the probe outran the updates; within it the body moved further than
   // the reach measured (deep in, or sliding off the probe), which a slower tool would not cure.
   const std::string past = refusedUpdateReason(0.25, 0.0024, 0.00036);
-  EXPECT_NE(past.find("0.25 N out of balance, the probe 2.40 mm on"), std::string::npos) << past;
+  EXPECT_NE(past.find("0.25 N out of balance, the probe moved 2.40 mm since"), std::string::npos)
+      << past;
   EXPECT_NE(past.find("(an update follows 0.36 mm)"), std::string::npos) << past;
   EXPECT_NE(past.find("the probe moved further than one update can follow"), std::string::npos)
       << past;
   const std::string within = refusedUpdateReason(0.25, 0.00036, 0.00036);
-  EXPECT_NE(within.find("the probe 0.36 mm on"), std::string::npos) << within;
+  EXPECT_NE(within.find("the probe moved 0.36 mm since"), std::string::npos) << within;
   EXPECT_NE(within.find("the body moved further than one update follows"), std::string::npos)
       << within;
   EXPECT_EQ(within.find("the probe moved further"), std::string::npos) << within;
@@ -536,7 +537,7 @@ TEST(HapticRateBody, AnUpdateRefusedBehindAFastProbeBlamesTheProbe) {
   ASSERT_FALSE(refused.reasons.empty()) << "an update was left out of balance";
   EXPECT_EQ(refused.namingTheReach, static_cast<int>(refused.reasons.size()));
   for (const std::string& reason : refused.reasons) {
-    EXPECT_NE(reason.find("the probe 1.44 mm on"), std::string::npos) << reason;
+    EXPECT_NE(reason.find("the probe moved 1.44 mm since"), std::string::npos) << reason;
     EXPECT_NE(reason.find("the probe moved further than one update can follow"), std::string::npos)
         << reason;
   }
