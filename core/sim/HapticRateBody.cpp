@@ -116,16 +116,13 @@ HapticRateBody::~HapticRateBody() {
 
 std::string refusedUpdateReason(double residual_N, double travel_m, double reach_m) {
   char figures[256];
-  if (reach_m > 0.0) {
-    std::snprintf(figures, sizeof figures,
-                  "its Newton iterations left %.3g N out of balance, the probe moved %.2f mm since "
-                  "the update before started (an update follows %.2f mm)",
-                  residual_N, 1e3 * travel_m, 1e3 * reach_m);
-  } else {
-    std::snprintf(figures, sizeof figures,
-                  "its Newton iterations left %.3g N out of balance, the probe moved %.2f mm since "
-                  "the update before started",
-                  residual_N, 1e3 * travel_m);
+  int length = std::snprintf(figures, sizeof figures,
+                             "its Newton iterations left %.3g N out of balance, the probe moved "
+                             "%.2f mm since the update before started",
+                             residual_N, 1e3 * travel_m);
+  if (reach_m > 0.0 && length > 0 && static_cast<std::size_t>(length) < sizeof figures) {
+    std::snprintf(figures + length, sizeof figures - static_cast<std::size_t>(length),
+                  " (an update follows %.2f mm)", 1e3 * reach_m);
   }
   // A tool held to its limit travels the reach an update to round-off.
   if (reach_m > 0.0 && travel_m <= reach_m * (1.0 + 1e-6)) {
@@ -188,8 +185,8 @@ void HapticRateBody::startUpdate(const Eigen::Vector3d& tip_m, const Eigen::Vect
   // forces, it would repeat the refused one exactly.
   m_jobGoesOn = m_isRefusing;
   m_jobHeld = m_heldPoints;
-  m_jobTravel_m = m_lastJobTip ? (tip_m - *m_lastJobTip).norm() : 0.0;
-  m_lastJobTip = tip_m;
+  m_jobTravel_m = m_hasJobTip ? (tip_m - m_jobTip).norm() : 0.0;
+  m_hasJobTip = true;
   m_jobTip = tip_m;
   m_jobTop = top_m;
   m_stepsSinceUpdate = 0;
@@ -518,7 +515,7 @@ void HapticRateBody::reset() {
   m_isRefusing = false;
   m_isPassedThrough = false;
   m_updateProblem.clear();
-  m_lastJobTip.reset();
+  m_hasJobTip = false;
 }
 
 }  // namespace tissuesim

@@ -290,9 +290,9 @@ class HapticRateBody {
   Eigen::Matrix3Xd m_jobForces;
   Eigen::Vector3d m_jobTip = Eigen::Vector3d::Zero(), m_jobTop = Eigen::Vector3d::Zero();
   /// The probe's travel since the update before the job started (m; 0 for the first since the
-  /// body was made or reset), and that update's tip.
+  /// body was made or reset: m_jobTip is that update's tip only where m_hasJobTip).
   double m_jobTravel_m = 0.0;
-  std::optional<Eigen::Vector3d> m_lastJobTip;
+  bool m_hasJobTip = false;
   HapticRateUpdate m_jobReport;
   double m_jobWall_s = 0.0;  ///< the job's wall time on the worker
   std::string m_jobError;
